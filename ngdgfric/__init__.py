@@ -1,0 +1,19 @@
+"""ngdgfric: DG methods for frictional contact with normal compliance on NGSolve.
+
+Porwal & Tanvi, "Unified analysis of DG methods for frictional contact problem with normal
+compliance": model (1.1)-(1.10), DG forms of Section 3, Uzawa solver of Section 6.
+"""
+
+from .discretization import Discretization
+from .errors import SolverError
+from .examples import example_6_1, example_6_2
+from .forms import METHODS
+from .kkt import contact_state, kkt_residuals
+from .meshes import check_mesh, netgen_mesh, uniform_mesh
+from .norms import energy_norm
+from .problem import ContactProblem, Polygon
+from .solution import Solution, solve
+
+__all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_mesh", "netgen_mesh",
+           "check_mesh", "Discretization", "solve", "Solution", "SolverError", "energy_norm", "METHODS",
+           "contact_state", "kkt_residuals"]

@@ -1,0 +1,139 @@
+"""The discrete problem (3.1)/(3.3) on one mesh: spaces, the assembled linear DG part, contact forms."""
+
+import time
+from numbers import Integral, Real
+
+import ngsolve as ngs
+import numpy as np
+
+from .contact import compliance, contact_measure, contact_points, multiplier_space, normal_tangent
+from .forms import default_eta, dg_terms, edge_length, get_method, load_terms
+from .meshes import check_mesh
+
+__all__ = ["Discretization", "dg_space"]
+
+
+def dg_space(mesh, order, dgjumps=True):
+    """V_h: discontinuous vector polynomials of degree ``order`` (Section 2.1).
+
+    ``dgjumps=False`` gives the same space and numbering without the facet couplings in the
+    matrix pattern; mixed forms with the multiplier space need it (NGSolve 6.2.2608 crashes
+    assembling a mixed skeleton form whose test space has ``dgjumps=True``).
+    """
+    return ngs.L2(mesh, order=order, dgjumps=dgjumps) ** 2
+
+
+def _check_order(order):
+    if not isinstance(order, Integral) or isinstance(order, bool) or order < 1:
+        raise ValueError(f"order must be an integer >= 1, got {order!r}")
+    return int(order)
+
+
+def _check_eta(eta):
+    if isinstance(eta, ngs.CoefficientFunction):
+        return eta
+    if not isinstance(eta, Real) or isinstance(eta, bool) or not np.isfinite(eta) or eta <= 0:
+        raise ValueError(f"eta must be a positive number, got {eta!r}")
+    return float(eta)
+
+
+class Discretization:
+    """Everything of (3.3) that does not depend on the solution, built once per mesh.
+
+    Attributes: ``V`` (DG space), ``Q`` (multiplier space on Gamma_C), ``A`` (matrix of B_h),
+    ``F`` (load vector of (f, v)), ``compliance`` (nonlinear form of j_n on V), ``G`` (matrix of
+    g(lam, v) = int c_tau l v.t ds, trial Q, test V), ``M_inv`` (inverse Gauss-rule mass matrix
+    of Q), ``h_e``, ``timings``.
+    """
+
+    def __init__(self, problem, mesh, method="sipg", order=1, eta=None):
+        check_mesh(problem, mesh)
+        self.problem, self.mesh = problem, mesh
+        self.method = get_method(method)
+        self.order = _check_order(order)
+        self.eta = _check_eta(default_eta(problem, self.method) if eta is None else eta)
+        self.timings = {}
+        start = time.perf_counter()
+        self.V = dg_space(mesh, self.order)
+        self.Q = multiplier_space(problem, mesh, self.order)
+        self.h_e = edge_length(mesh)
+        self.dS = contact_measure(problem, mesh, self.order)
+        u, v = self.V.TnT()
+        with ngs.TaskManager():
+            a = ngs.BilinearForm(self.V)
+            for term in dg_terms(problem, mesh, u, v, self.method, self.eta, self.order, self.h_e):
+                a += term
+            a.Assemble()
+            self.A = a.mat
+            f = ngs.LinearForm(self.V)
+            for term in load_terms(problem, mesh, v):
+                f += term
+            f.Assemble()
+            self.F = f.vec
+            self.timings["assemble"] = time.perf_counter() - start
+            lam, q = self.Q.TnT()
+            _, t = normal_tangent()
+            v0 = dg_space(mesh, self.order, dgjumps=False).TestFunction()
+            g = ngs.BilinearForm(trialspace=self.Q, testspace=v0.space)
+            g += self.c_tau * lam * (v0 * t) * self.dS
+            g.Assemble()
+            self.G = g.mat
+            m = ngs.BilinearForm(self.Q)
+            m += lam * q * self.dS
+            m.Assemble()
+            self.M_inv = m.mat.Inverse(inverse="sparsecholesky")
+        self.compliance = ngs.BilinearForm(self.V)
+        self.compliance += self.compliance_form(u, v)
+        self._check_contact_data()
+        self.timings["setup"] = time.perf_counter() - start
+
+    @property
+    def c_tau(self):
+        return self.problem.c_tau if isinstance(self.problem.c_tau, ngs.CoefficientFunction) \
+            else ngs.CF(self.problem.c_tau)
+
+    @property
+    def symmetric(self):
+        """B_h is symmetric for every method but NIPG."""
+        return self.method.symmetry == 1
+
+    def compliance_form(self, u, v):
+        """j_n(u, v) = int_{Gamma_C} c_n (u_n - g_a)_+^{m_n} v_n ds (Gauss rule), a symbolic integral."""
+        n, _ = normal_tangent()
+        return compliance(self.problem, u) * (v * n) * self.dS
+
+    def residual(self, u, lam, out=None):
+        """Residual of (3.3): A u + j_n(u, .) + G l - F, as a vector on V."""
+        r = out if out is not None else self.F.CreateVector()
+        self.compliance.Apply(u.vec, r)
+        r.data += self.A * u.vec + self.G * lam.vec - self.F
+        return r
+
+    def contact_points(self):
+        """Mapped Gauss points on Gamma_C (see :func:`ngdgfric.contact.contact_points`)."""
+        return contact_points(self.problem, self.mesh, self.order)
+
+    def contact_groups(self, extra=None):
+        """For each edge on Gamma_C, the V-dofs of its element (+ ``extra(edge)`` dofs)."""
+        groups = []
+        for el in self.mesh.Elements(ngs.BND):
+            if el.mat != self.problem.contact:
+                continue
+            edge = el.edges[0]
+            volume = self.mesh[edge].elements[0]
+            dofs = list(self.V.GetDofNrs(volume))
+            if extra is not None:
+                dofs += list(extra(el))
+            groups.append(dofs)
+        return groups
+
+    def _check_contact_data(self):
+        """Spatially varying c_n, c_tau must be >= 0 on Gamma_C (checked at the Gauss points)."""
+        points = self.contact_points()
+        for name in ("c_n", "c_tau"):
+            value = getattr(self.problem, name)
+            if isinstance(value, ngs.CoefficientFunction):
+                values = np.asarray(value(points)).ravel()
+                if np.any(values < 0) or not np.all(np.isfinite(values)):
+                    k = int(np.argmin(np.where(np.isfinite(values), values, -np.inf)))
+                    raise ValueError(f"{name} must be >= 0 on Gamma_C, got {values[k]!r} at a contact point")

@@ -1,0 +1,134 @@
+"""The DG bilinear forms B_h^(1..5) of Section 3 and the load functional, as one construction.
+
+All five methods share the volume term and the consistency terms
+
+    B_h(u, v) = (sigma_h(u), eps_h(v)) - s <[u], {sigma_h(v)}> - <[v], {sigma_h(u)}> + stabilisation,
+
+with s = +1 except NIPG (s = -1), and differ only in the stabilisation:
+
+    method   s    penalty on E_h^o                             global lifting
+    sipg    +1    eta p^2 / h_e [u]:[v]                         -
+    nipg    -1    eta p^2 / h_e [u]:[v]                         -
+    bassi   +1    sum_e eta (C r_e[u], r_e[v])                 -
+    brezzi  +1    sum_e eta (C r_e[u], r_e[v])                 (C r_0[u], r_0[v])
+    ldg     +1    eta p^2 / h_e [u]:[v]                         (C r_0[u], r_0[v])
+
+Jumps are the symmetric tensor jumps of Section 2.1, [v] = sym(v+ (x) n+ + v- (x) n-), on
+interior edges and [v] = sym(v (x) n) on Dirichlet edges (E_h^o = E_h^i u E_h^D); the
+averages are {sigma} = (sigma+ + sigma-)/2 and {sigma} = sigma on the boundary.  For p = 1 the
+edge penalty is the paper's eta h_e^-1; for p > 1 it carries the usual factor p^2 (p the larger
+order of the two neighbours), which keeps the coercivity threshold of eta independent of h and p
+up to a constant.
+"""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+
+__all__ = ["Method", "METHODS", "get_method", "default_eta", "strain", "stress", "edge_length",
+           "dg_terms", "load_terms", "jump_inner"]
+
+
+@dataclass(frozen=True)
+class Method:
+    """One row of the table in the module docstring."""
+
+    name: str
+    symmetry: int        # s in -s <[u], {sigma(v)}>
+    penalty: str         # "edge": eta p^2/h_e [u]:[v];  "lift": sum_e eta (C r_e[u], r_e[v])
+    global_lift: bool    # adds (C r_0[u], r_0[v])
+    reference: str
+
+
+METHODS = {
+    "sipg": Method("sipg", +1, "edge", False, "B_h^(1), SIPG"),
+    "nipg": Method("nipg", -1, "edge", False, "B_h^(2), NIPG"),
+}
+
+
+def get_method(name):
+    """The :class:`Method` called ``name`` (case-insensitive); ValueError for an unknown name."""
+    key = str(name).lower()
+    if key not in METHODS:
+        raise ValueError(f"method must be one of {sorted(METHODS)}, got {name!r}")
+    return METHODS[key]
+
+
+def default_eta(problem, method):
+    """Default penalty: eta = 30 mu for the edge-penalty methods (Section 6)."""
+    return 30 * problem.mu
+
+
+def strain(w):
+    """eps(w) = (grad w + grad w^T)/2, (1.1)."""
+    return ngs.Sym(ngs.Grad(w))
+
+
+def stress(problem, e):
+    """sigma = C e = lam tr(e) I + 2 mu e for a strain e, (1.3)."""
+    return 2 * problem.mu * e + problem.lam * ngs.Trace(e) * ngs.Id(2)
+
+
+def jump_inner(a, b, n):
+    """[a]:[b] for symmetric tensor jumps [a] = sym(a (x) n), [b] = sym(b (x) n) with |n| = 1.
+
+    sym(a (x) n) : sym(b (x) n) = (a.b + (a.n)(b.n)) / 2; ``a``, ``b`` are the vector jumps
+    v+ - v- (interior edges, n = n+) or v (Dirichlet edges).
+    """
+    return 0.5 * (a * b + (a * n) * (b * n))
+
+
+def edge_length(mesh):
+    """CoefficientFunction equal to h_e = |e| on every edge of a straight-sided triangle mesh.
+
+    On a facet, NGSolve's ``specialcf.mesh_size`` is |det J_T| / |e| = 2 |T| / |e|, so
+    |e| = 2 |T| / mesh_size with the element area |T| stored in an order-0 L2 GridFunction.
+    """
+    area = ngs.GridFunction(ngs.L2(mesh, order=0))
+    area.vec.FV().NumPy()[:] = ngs.Integrate(ngs.CF(1) * ngs.dx, mesh, element_wise=True).NumPy()
+    return 2 * area / ngs.specialcf.mesh_size
+
+
+def _stress_normal(problem, w, n):
+    return stress(problem, strain(w)) * n
+
+
+def dg_terms(problem, mesh, u, v, method, eta, order, h_e=None):
+    """The integrals of B_h(u, v) for the edge-penalty part of ``method`` (Section 3).
+
+    Returns a list of symbolic integrals (one integrator each: NGSolve assembles separate
+    skeleton integrators several times faster than their sum).  Lifting terms are added by the
+    caller from :mod:`ngdgfric.liftings`.  ``u``, ``v`` are trial and test functions (or any
+    vector proxies) of a DG space with ``dgjumps=True``.
+    """
+    s = method.symmetry
+    n = ngs.specialcf.normal(2)
+    dirichlet = mesh.Boundaries(problem.dirichlet)
+    interior = ngs.dx(skeleton=True)
+    boundary = ngs.ds(skeleton=True, definedon=dirichlet)
+    ju, jv = u - u.Other(), v - v.Other()
+    avg_sn = lambda w: 0.5 * (_stress_normal(problem, w, n) + _stress_normal(problem, w.Other(), n))  # noqa: E731
+    terms = [
+        ngs.InnerProduct(stress(problem, strain(u)), strain(v)) * ngs.dx,
+        -s * ju * avg_sn(v) * interior,
+        -jv * avg_sn(u) * interior,
+        -s * u * _stress_normal(problem, v, n) * boundary,
+        -v * _stress_normal(problem, u, n) * boundary,
+    ]
+    if method.penalty == "edge":
+        if h_e is None:
+            h_e = edge_length(mesh)
+        weight = eta * order**2 / h_e
+        terms += [weight * jump_inner(ju, jv, n) * interior,
+                  weight * jump_inner(u, v, n) * boundary]
+    return terms
+
+
+def load_terms(problem, mesh, v):
+    """(f, v) of (1.4): body force on Omega and traction g on Gamma_F."""
+    f = ngs.CF(tuple(problem.f)) if not isinstance(problem.f, ngs.CoefficientFunction) else problem.f
+    g = ngs.CF(tuple(problem.g)) if not isinstance(problem.g, ngs.CoefficientFunction) else problem.g
+    terms = [f * v * ngs.dx]
+    if problem.traction in mesh.GetBoundaries():
+        terms.append(g * v * ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.traction)))
+    return terms

@@ -1,0 +1,84 @@
+"""Sparse-matrix plumbing: add contact blocks to a fixed linear matrix without re-assembly.
+
+The nonlinearity of (3.1) lives on Gamma_C only, so every Jacobian is J = A + K with the linear
+DG matrix A assembled once and K nonzero only in the blocks coupling the degrees of freedom of
+the elements on Gamma_C (and the multiplier on the same edge).  :class:`BlockSum` builds the
+pattern of J once and refreshes its values with two numpy scatters.
+"""
+
+import ngsolve as ngs
+import numpy as np
+
+__all__ = ["BlockSum", "csr_keys", "direct_inverse"]
+
+
+def csr_keys(mat, ncols=None):
+    """Sorted int64 keys row * ncols + col of the stored entries of an NGSolve sparse matrix."""
+    _, cols, rowptr = mat.CSR()
+    rowptr = np.asarray(rowptr, dtype=np.int64)
+    rows = np.repeat(np.arange(len(rowptr) - 1, dtype=np.int64), np.diff(rowptr))
+    return rows * (ncols or mat.width) + np.asarray(cols, dtype=np.int64)
+
+
+def _block_keys(groups, n):
+    keys = [np.add.outer(np.asarray(g, dtype=np.int64) * n, np.asarray(g, dtype=np.int64)).ravel()
+            for g in groups if len(g)]
+    return np.unique(np.concatenate(keys)) if keys else np.zeros(0, dtype=np.int64)
+
+
+def _positions(sorted_keys, keys):
+    """Positions of ``keys`` in ``sorted_keys`` and a mask of those present."""
+    pos = np.searchsorted(sorted_keys, keys)
+    pos_clipped = np.minimum(pos, len(sorted_keys) - 1)
+    found = sorted_keys[pos_clipped] == keys if len(sorted_keys) else np.zeros(len(keys), bool)
+    return pos_clipped, found
+
+
+class BlockSum:
+    """J = A (embedded in an n x n matrix) + K restricted to dense blocks ``groups`` x ``groups``.
+
+    A: NGSolve sparse matrix of size m <= n (its dofs are the first m of J).
+    groups: lists of dof numbers in J's numbering; K may be nonzero only inside each group x group.
+    """
+
+    def __init__(self, A, groups, n=None):
+        n = n or A.height
+        self.n = n
+        keys_a = csr_keys(A, n)
+        keys_b = _block_keys(groups, n)
+        _, found = _positions(keys_a, keys_b)
+        new = keys_b[~found]
+        if len(new) == 0 and n == A.height:
+            keys_j, self.J = keys_a, A.CreateMatrix()
+        else:
+            keys_j = np.insert(keys_a, np.searchsorted(keys_a, new), new)
+            self.J = ngs.la.SparseMatrixd.CreateFromCOO(keys_j // n, keys_j % n, np.zeros(len(keys_j)), n, n)
+        self._pos_a = np.searchsorted(keys_j, keys_a)
+        self._pos_b = np.searchsorted(keys_j, keys_b)
+        self._keys_b = keys_b
+        self._k_positions = None
+        self._a_values = np.asarray(A.AsVector().FV().NumPy()).copy()
+
+    def update(self, K):
+        """Set J = A + K (K restricted to the blocks) and return J."""
+        if self._k_positions is None:
+            self._k_positions = _positions(csr_keys(K, self.n), self._keys_b)
+        pos, found = self._k_positions
+        values = self.J.AsVector().FV().NumPy()
+        values[:] = 0.0
+        values[self._pos_a] = self._a_values
+        k_values = K.AsVector().FV().NumPy()
+        values[self._pos_b[found]] += k_values[pos[found]]
+        return self.J
+
+    def block_values(self, K):
+        """The entries of K inside the blocks (to detect an unchanged Jacobian)."""
+        if self._k_positions is None:
+            self._k_positions = _positions(csr_keys(K, self.n), self._keys_b)
+        pos, found = self._k_positions
+        return K.AsVector().FV().NumPy()[pos[found]].copy()
+
+
+def direct_inverse(mat, symmetric):
+    """Sparse direct inverse: Cholesky for symmetric positive definite matrices, else UMFPACK."""
+    return mat.Inverse(inverse="sparsecholesky" if symmetric else "umfpack")

@@ -1,0 +1,181 @@
+"""Problem data of the frictional contact problem (1.4)-(1.10) with normal compliance.
+
+A :class:`ContactProblem` is a frozen dataclass of numbers and NGSolve
+CoefficientFunctions of ``x, y``; it also carries its geometry (a polygon whose
+sides are labelled as Gamma_D, Gamma_F or Gamma_C) so that meshes can be built
+from it.  Validation runs in ``__post_init__``, so ``dataclasses.replace``
+checks the new values too.
+"""
+
+from dataclasses import dataclass, field
+from numbers import Real
+
+import ngsolve as ngs
+
+__all__ = ["ContactProblem", "Polygon"]
+
+
+def _is_number(value):
+    return isinstance(value, Real) and not isinstance(value, bool)
+
+
+def _check_scalar(name, value):
+    """A datum is a real number or a scalar CoefficientFunction."""
+    if _is_number(value):
+        return
+    if isinstance(value, ngs.CoefficientFunction) and value.dim == 1:
+        return
+    raise ValueError(f"{name} must be a number or a scalar CoefficientFunction, got {value!r}")
+
+
+def _check_vector(name, value):
+    """A vector datum is a pair of scalar data or a CoefficientFunction of dimension 2."""
+    if isinstance(value, ngs.CoefficientFunction):
+        if value.dim != 2:
+            raise ValueError(f"{name} must have 2 components, got a CoefficientFunction of dimension {value.dim}")
+        return
+    if isinstance(value, (tuple, list)) and len(value) == 2:
+        for i, component in enumerate(value):
+            _check_scalar(f"{name}[{i}]", component)
+        return
+    raise ValueError(f"{name} must be a pair (f_x, f_y) or a 2-vector CoefficientFunction, got {value!r}")
+
+
+def _check_number(name, value, low=None, high=None, low_open=False, high_open=True):
+    """A number in [low, high) (or with the given open/closed ends); CFs are checked later, pointwise."""
+    if not _is_number(value):
+        return
+    if value != value:  # NaN
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    if low is not None and (value < low or (low_open and value == low)):
+        bound = f"> {low}" if low_open else f">= {low}"
+        raise ValueError(f"{name} must be {bound}, got {value!r}")
+    if high is not None and (value > high or (high_open and value == high)):
+        bound = f"< {high}" if high_open else f"<= {high}"
+        raise ValueError(f"{name} must be {bound}, got {value!r}")
+
+
+@dataclass(frozen=True)
+class Polygon:
+    """A polygonal domain Omega, vertices counter-clockwise.
+
+    ``labels[i]`` names the side from ``vertices[i]`` to ``vertices[i+1]`` (cyclic);
+    each label is one of the problem's boundary names.
+    """
+
+    vertices: tuple
+    labels: tuple
+
+    def __post_init__(self):
+        vertices = tuple((float(x), float(y)) for x, y in self.vertices)
+        labels = tuple(str(label) for label in self.labels)
+        object.__setattr__(self, "vertices", vertices)
+        object.__setattr__(self, "labels", labels)
+        if len(vertices) < 3:
+            raise ValueError(f"a polygon needs at least 3 vertices, got {len(vertices)}")
+        if len(labels) != len(vertices):
+            raise ValueError(f"a polygon needs one label per side: {len(vertices)} sides, {len(labels)} labels")
+        if self.signed_area <= 0:
+            raise ValueError("polygon vertices must be counter-clockwise and enclose a positive area")
+
+    @classmethod
+    def rectangle(cls, x0, y0, x1, y1, bottom, right, top, left):
+        """The rectangle (x0, x1) x (y0, y1) with its four sides labelled."""
+        if not (x1 > x0 and y1 > y0):
+            raise ValueError(f"rectangle needs x0 < x1 and y0 < y1, got ({x0}, {y0}, {x1}, {y1})")
+        return cls(((x0, y0), (x1, y0), (x1, y1), (x0, y1)), (bottom, right, top, left))
+
+    @property
+    def signed_area(self):
+        v = self.vertices
+        return 0.5 * sum(v[i - 1][0] * v[i][1] - v[i][0] * v[i - 1][1] for i in range(len(v)))
+
+    @property
+    def is_rectangle(self):
+        """True for an axis-parallel rectangle given as by :meth:`rectangle`."""
+        if len(self.vertices) != 4:
+            return False
+        (a, b), (c, d), (e, f), (g, h) = self.vertices
+        return b == d and c == e and f == h and g == a and c > a and f > b
+
+    @property
+    def bounds(self):
+        """(x0, y0, x1, y1) of the bounding box."""
+        xs = [x for x, _ in self.vertices]
+        ys = [y for _, y in self.vertices]
+        return min(xs), min(ys), max(xs), max(ys)
+
+
+@dataclass(frozen=True)
+class ContactProblem:
+    """Data of problem (1.10) (reduced compliance law, Section 1).
+
+    Every datum may be a number or an NGSolve CoefficientFunction of ``x, y``;
+    ``f`` and ``g`` are pairs or 2-vector CoefficientFunctions.
+
+    E, nu:     Young's modulus and Poisson ratio (Lame parameters ``mu``, ``lam`` by Section 6).
+    f:         body force in Omega (1.5).
+    g:         traction on Gamma_F (1.7).
+    c_n, m_n:  normal compliance sigma_n = -c_n (u_n - g_a)_+^{m_n} on Gamma_C (1.8), m_n >= 1.
+    g_a:       initial gap on Gamma_C.
+    c_tau:     friction bound on Gamma_C (1.9) with m_t = 0.
+    geometry:  the polygon with its sides labelled by the boundary names below.
+    """
+
+    E: object
+    nu: float
+    f: object
+    g: object
+    c_n: object
+    m_n: float
+    g_a: object
+    c_tau: object
+    geometry: Polygon
+    dirichlet: str = "dirichlet"
+    traction: str = "traction"
+    contact: str = "contact"
+    name: str = field(default="contact problem", compare=False)
+
+    def __post_init__(self):
+        _check_scalar("E", self.E)
+        _check_number("E", self.E, low=0, low_open=True, high=None)
+        if not _is_number(self.nu):
+            raise ValueError(f"nu must be a number, got {self.nu!r}")
+        _check_number("nu", self.nu, low=-1, low_open=True, high=0.5, high_open=True)
+        _check_vector("f", self.f)
+        _check_vector("g", self.g)
+        _check_scalar("c_n", self.c_n)
+        _check_number("c_n", self.c_n, low=0, high=None)
+        if not _is_number(self.m_n):
+            raise ValueError(f"m_n must be a number, got {self.m_n!r}")
+        _check_number("m_n", self.m_n, low=1, high=None)
+        if self.m_n == float("inf"):
+            raise ValueError(f"m_n must be finite, got {self.m_n!r}")
+        _check_scalar("g_a", self.g_a)
+        _check_scalar("c_tau", self.c_tau)
+        _check_number("c_tau", self.c_tau, low=0, high=None)
+        if not isinstance(self.geometry, Polygon):
+            raise ValueError(f"geometry must be a Polygon, got {self.geometry!r}")
+        names = (self.dirichlet, self.traction, self.contact)
+        if len(set(names)) != 3:
+            raise ValueError(f"boundary names must be distinct, got {names}")
+        for label in self.geometry.labels:
+            if label not in names:
+                raise ValueError(f"geometry side label {label!r} is not one of the boundary names {names}")
+        for part, label in (("dirichlet", self.dirichlet), ("contact", self.contact)):
+            if label not in self.geometry.labels:
+                raise ValueError(f"geometry has no side labelled {label!r} ({part} boundary)")
+
+    @property
+    def mu(self):
+        """Lame parameter mu = E / (2 (1 + nu)) (Section 6)."""
+        return self.E / (2 * (1 + self.nu))
+
+    @property
+    def lam(self):
+        """Lame parameter lambda = E nu / ((1 + nu)(1 - 2 nu)) (Section 6)."""
+        return self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
+
+    def boundary_names(self):
+        """(dirichlet, traction, contact)."""
+        return self.dirichlet, self.traction, self.contact

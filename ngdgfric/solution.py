@@ -1,0 +1,67 @@
+"""The solve() entry point and the Solution record."""
+
+import time
+from dataclasses import dataclass, field
+
+from .discretization import Discretization
+from .uzawa import uzawa
+
+__all__ = ["Solution", "solve", "SOLVERS"]
+
+SOLVERS = ("uzawa",)
+
+
+@dataclass
+class Solution:
+    """A discrete solution u_h of (3.1) with its multiplier lam_tau = l t of Lemma 3.1.
+
+    ``u``: GridFunction on the DG space; ``lam_tau``: GridFunction of l on Gamma_C;
+    ``iterations``, ``history``: the nonlinear solver's iteration count and convergence history;
+    ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics.
+    """
+
+    problem: object
+    mesh: object
+    method: str
+    order: int
+    eta: object
+    solver: str
+    u: object
+    lam_tau: object
+    iterations: int
+    history: list
+    timings: dict
+    discretization: Discretization = field(repr=False)
+    info: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def ndof(self):
+        """Number of degrees of freedom of u_h."""
+        return self.u.space.ndof
+
+
+def solve(problem, mesh, method="sipg", order=1, eta=None, solver="uzawa", tol=1e-8, initial=None,
+          **options):
+    """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
+
+    problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
+    method: one of ``ngdgfric.forms.METHODS`` (Section 3); order: polynomial degree p >= 1.
+    eta: penalty parameter (default 30 mu, Section 6); solver: one of ``SOLVERS``.
+    tol: relative max-norm tolerance of the nonlinear solver (1e-8 as in Section 6).
+    initial: a Solution on the same mesh to start from.
+    options: passed to the solver (e.g. ``rho``, ``maxit``, ``progress`` for Uzawa).
+    """
+    if solver not in SOLVERS:
+        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
+    start = time.perf_counter()
+    disc = Discretization(problem, mesh, method, order, eta)
+    start_guess = None
+    if initial is not None:
+        start_guess = (initial.u, initial.lam_tau)
+    u, lam, info = uzawa(disc, tol=tol, initial=start_guess, **options)
+    timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
+                   solve=info["timings"]["total"], total=time.perf_counter() - start)
+    return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam,
+                    info["iterations"], info["history"], timings, disc, info)
+
+

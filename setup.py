@@ -1,0 +1,12 @@
+from setuptools import find_packages, setup
+
+setup(
+    name="ngdgfric",
+    version="0.1.0",
+    description="DG methods for 2D frictional contact with normal compliance on NGSolve (Porwal & Tanvi)",
+    packages=find_packages(include=["ngdgfric", "ngdgfric.*"]),
+    python_requires=">=3.10",
+    install_requires=["ngsolve", "numpy", "matplotlib"],
+    extras_require={"test": ["pytest", "ruff"]},
+    entry_points={"console_scripts": []},
+)

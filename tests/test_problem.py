@@ -1,0 +1,54 @@
+import dataclasses
+
+import ngsolve as ngs
+import pytest
+
+import ngdgfric as ndf
+
+
+def test_lame_parameters_follow_section_6():
+    p = ndf.example_6_1()
+    assert p.mu == pytest.approx(2000 / (2 * 1.4))
+    assert p.lam == pytest.approx(2000 * 0.4 / (1.4 * 0.2))
+
+
+def test_examples_carry_their_geometry():
+    p1, p2 = ndf.example_6_1(), ndf.example_6_2()
+    assert p1.geometry.bounds == (0.0, 0.05, 1.0, 1.05)
+    assert p1.geometry.labels == ("contact", "dirichlet", "traction", "traction")
+    assert p2.geometry.bounds == (0.0, 0.0, 1.0, 1.0)
+    assert p2.geometry.labels == ("contact", "traction", "dirichlet", "traction")
+
+
+def test_replace_gives_a_valid_problem_on_the_same_geometry():
+    p = dataclasses.replace(ndf.example_6_2(), E=1000.0, f=(1.0, ngs.x), g_a=0.01 * ngs.x)
+    assert p.geometry == ndf.example_6_2().geometry
+    mesh = ndf.uniform_mesh(p, 0.5)
+    assert mesh.ne == 8
+
+
+@pytest.mark.parametrize("field, value", [
+    ("E", 0.0), ("E", -1.0), ("nu", 0.5), ("nu", -1.0), ("nu", 0.7), ("m_n", 0.5),
+    ("c_n", -1.0), ("c_tau", -0.1), ("f", (1.0,)), ("g", "abc"), ("g_a", "x"),
+    ("m_n", float("inf")), ("nu", float("nan")),
+])
+def test_bad_values_raise_value_error_naming_the_field(field, value):
+    with pytest.raises(ValueError, match=field):
+        dataclasses.replace(ndf.example_6_1(), **{field: value})
+
+
+def test_bad_geometry_labels_raise():
+    with pytest.raises(ValueError, match="'floor'"):
+        dataclasses.replace(ndf.example_6_1(), geometry=ndf.Polygon.rectangle(
+            0, 0, 1, 1, bottom="floor", right="dirichlet", top="traction", left="traction"))
+    with pytest.raises(ValueError, match="contact"):
+        dataclasses.replace(ndf.example_6_1(), geometry=ndf.Polygon.rectangle(
+            0, 0, 1, 1, bottom="traction", right="dirichlet", top="traction", left="traction"))
+    with pytest.raises(ValueError, match="counter-clockwise"):
+        ndf.Polygon(((0, 0), (0, 1), (1, 1)), ("a", "b", "c"))
+
+
+def test_negative_spatially_varying_friction_bound_is_rejected_when_solving():
+    p = dataclasses.replace(ndf.example_6_1(), c_tau=450 * (ngs.x - 0.5))
+    with pytest.raises(ValueError, match="c_tau"):
+        ndf.solve(p, ndf.uniform_mesh(p, 0.5))
