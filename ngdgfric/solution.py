@@ -4,11 +4,13 @@ import time
 from dataclasses import dataclass, field
 
 from .discretization import Discretization
+from .newton import newton
+from .transfer import initial_guess
 from .uzawa import uzawa
 
 __all__ = ["Solution", "solve", "SOLVERS"]
 
-SOLVERS = ("uzawa",)
+SOLVERS = {"newton": newton, "uzawa": uzawa}
 
 
 @dataclass
@@ -40,25 +42,27 @@ class Solution:
         return self.u.space.ndof
 
 
-def solve(problem, mesh, method="sipg", order=1, eta=None, solver="uzawa", tol=1e-8, initial=None,
+def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=1e-8, initial=None,
           **options):
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
     problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
     method: one of ``ngdgfric.forms.METHODS`` (Section 3); order: polynomial degree p >= 1.
-    eta: penalty parameter (default 30 mu, Section 6); solver: one of ``SOLVERS``.
+    eta: penalty parameter (default 30 mu, Section 6).
+    solver: "newton" (default; semismooth Newton, :func:`ngdgfric.newton.newton`) or "uzawa"
+    (the paper's method, :func:`ngdgfric.uzawa.uzawa`); both solve the same discrete problem.
     tol: relative max-norm tolerance of the nonlinear solver (1e-8 as in Section 6).
-    initial: a Solution on the same mesh to start from.
-    options: passed to the solver (e.g. ``rho``, ``maxit``, ``progress`` for Uzawa).
+    initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
+    same domain: see :func:`ngdgfric.transfer.initial_guess`).
+    options: passed to the solver (``maxit``, ``progress``; ``rho`` for Uzawa; ``kappa``, ``c0``,
+    ``krylov_steps`` for Newton).
     """
     if solver not in SOLVERS:
-        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
+        raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
     start = time.perf_counter()
     disc = Discretization(problem, mesh, method, order, eta)
-    start_guess = None
-    if initial is not None:
-        start_guess = (initial.u, initial.lam_tau)
-    u, lam, info = uzawa(disc, tol=tol, initial=start_guess, **options)
+    start_guess = None if initial is None else initial_guess(initial, disc)
+    u, lam, info = SOLVERS[solver](disc, tol=tol, initial=start_guess, **options)
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
     return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam,

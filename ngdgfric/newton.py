@@ -1,0 +1,116 @@
+"""Semismooth Newton (primal-dual active set) for (3.3)-(3.4), with factorisation reuse.
+
+Lemma 3.1 with |l| <= 1 is the semismooth system
+
+    A u + j_n(u) + G l = F,        l = P_[-1,1](l + c u_tau)   at the contact Gauss points,
+
+for any c > 0.  One Newton step from (u_k, l_k) freezes the sets it implies,
+
+    stick  chi = 1 where |l_k + c u_tau(u_k)| < 1:   u_tau = 0, l free,
+    slip   chi = 0 elsewhere:                        l = s = sign(l_k + c u_tau(u_k)),
+
+linearises the compliance at u_k, and solves the resulting saddle-point problem for
+(u_{k+1}, l_{k+1}) exactly.  That linear problem is solved by the iterated penalty
+(augmented Lagrangian) method with the symmetric positive definite matrix
+A + K_n(u_k) + gamma c_tau chi (t.)(t.): solve for u with the friction density
+chi (l + gamma u_tau) + (1 - chi) s, update l <- chi (l + gamma u_tau) + (1 - chi) s, repeat
+until the stick constraint holds to round-off.  All these solves share one matrix, so one
+factorisation (Cholesky for the symmetric methods) serves a Newton step, and consecutive
+Newton steps with the same sets (and, for m_n = 1, the same penetrating points) share it too.
+
+gamma = kappa (2 mu + lam) / (c_ref h_e) makes the stick penalty kappa times stiffer than the
+elastic boundary stiffness E/h (c_ref: the largest friction bound), so each penalty sweep
+reduces the constraint violation by about 1/kappa.  The active-set parameter is c = c0 gamma/kappa.
+"""
+
+import time
+
+import ngsolve as ngs
+import numpy as np
+
+from .contact import normal_tangent
+from .errors import SolverError
+from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
+
+__all__ = ["newton", "augmentation"]
+
+
+def augmentation(disc, kappa):
+    """gamma = kappa (2 mu + lam) / (c_ref h_e) as a CoefficientFunction (see module docstring)."""
+    if not (np.isfinite(kappa) and kappa > 0):
+        raise ValueError(f"kappa must be a positive number, got {kappa!r}")
+    c_tau = np.asarray(disc.c_tau(disc.contact_points())).ravel()
+    c_ref = float(np.max(c_tau, initial=0.0)) or 1.0
+    return kappa * (2 * disc.problem.mu + disc.problem.lam) / (c_ref * disc.h_e)
+
+
+def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e6, c0=1.0, krylov_steps=0, progress=None,
+           max_sweeps=20):
+    """Semismooth Newton (module docstring); returns (u, lam, info).
+
+    tol: stop when the relative max-norm change of u is <= tol and the active sets (and the set
+    of penetrating points) are those of the previous iteration.
+    initial: optional (u, lam) GridFunctions on ``disc.V``, ``disc.Q`` to start from.
+    kappa, c0: penalty and active-set parameters (module docstring).
+    krylov_steps: GMRES steps tried with an old factorisation before refactorising.
+    progress: callable(iteration, change) called after each iteration, or None.
+    Raises :class:`SolverError` with the history of changes if it does not converge in maxit.
+    """
+    start = time.perf_counter()
+    u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
+    u_k, lam_k = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
+    if initial is not None:
+        u.vec.data, lam.vec.data = initial[0].vec, initial[1].vec
+    gamma = augmentation(disc, kappa)
+    _, t = normal_tangent()
+    z = lam_k + c0 * gamma / kappa * (u_k * t)
+    stick = ngs.IfPos(1 - z * z, 1, 0)
+    slip_sign = ngs.IfPos(z, 1, -1)
+    phi = lambda u_tau: stick * (lam + gamma * u_tau) + (1 - stick) * slip_sign  # noqa: E731
+    op = ContactOperator(disc, u, phi, switches=[1 - z * z])
+    linear_solver = ReusedFactorization(disc.symmetric, krylov_steps)
+    update = multiplier_update(disc, lam, phi(u * t))
+    du, lam_old = u.vec.CreateVector(), lam.vec.CreateVector()
+    history, sweeps = [], []
+    sets = None
+    for k in range(maxit + 1):
+        u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
+        sets, previous = op.sets(), sets
+        if history and history[-1] <= tol and np.array_equal(sets, previous):
+            info = dict(iterations=k, history=history, sweeps=sweeps, **linear_solver.counts,
+                        timings=dict(factor=linear_solver.factor_time, total=time.perf_counter() - start))
+            return u, lam, info
+        if k == maxit or (history and not np.isfinite(history[-1])):
+            break
+        sweeps.append(_solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps))
+        du.data = u.vec - u_k.vec
+        history.append(relative_change(du, u.vec))
+        if progress is not None:
+            progress(k + 1, history[-1])
+    raise SolverError(f"semismooth Newton did not reach tol = {tol:g} in {len(history)} iterations "
+                      f"(last change {history[-1]:.3e})", history=history, solver="newton")
+
+
+def _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, forcing=1e-3):
+    """One Newton step: the linear saddle-point problem of the frozen sets, by iterated penalty.
+
+    Each sweep is a Newton step for u with the current l (exact when the penetrating set does
+    not change, m_n = 1) followed by the multiplier update.  The sweeps stop when their changes
+    of u and l have dropped below ``forcing`` times the first sweep's (an inexact Newton step,
+    accurate to a fraction of its own size) or stop decreasing (round-off); returns the count.
+    """
+    first = previous = None
+    for sweep in range(1, max_sweeps + 1):
+        state, _ = newton_step(op, linear_solver, du)
+        op.u.vec.data -= du
+        lam_old.data = lam.vec
+        update()
+        lam_old.data -= lam.vec
+        changes = np.array([relative_change(du, op.u.vec), np.max(np.abs(lam_old.FV().NumPy()), initial=0.0)])
+        first = changes if first is None else first
+        settled = not op.linear_compliance or np.array_equal(op.state(), state)
+        stagnated = previous is not None and np.any(changes > 0.1 * previous)
+        if settled and (stagnated or np.all(changes <= np.maximum(forcing * first, [1e-13, 1e-10]))):
+            return sweep
+        previous = changes
+    return max_sweeps

@@ -1,0 +1,153 @@
+"""The contact operator shared by the Uzawa and Newton solvers, and factorisation reuse.
+
+Both solvers work with an operator of the form
+
+    F(u)(v) = B_h(u, v) + j_n(u, v) + int_{Gamma_C} c_tau phi(u_tau) v_tau ds - (f, v)
+
+(Gauss rule), where the friction force density phi is chosen by the solver: phi = l (Uzawa's
+inner problem for a given multiplier l), or phi = chi (l + gamma u_tau) + (1 - chi) s with
+frozen stick indicator chi and slip sign s (a semismooth Newton step).  The Jacobian of F is
+A + K(u), with K nonzero only in the blocks of the contact elements.
+"""
+
+import time
+
+import ngsolve as ngs
+import numpy as np
+
+from .contact import evaluate_on_contact, normal_tangent, penetration
+from .linalg import BlockSum, direct_inverse
+
+__all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newton_step", "relative_change"]
+
+
+class ContactOperator:
+    """F(u) and its Jacobian for the GridFunction ``u`` and a friction density ``phi(u_tau)``.
+
+    ``phi``: callable mapping the tangential displacement (a CoefficientFunction) to the friction
+    force density; ``switches``: CoefficientFunctions whose signs at the Gauss points, together
+    with the penetrating set, determine the Jacobian (used to detect an unchanged matrix).
+    """
+
+    def __init__(self, disc, u, phi, switches=()):
+        self.disc = disc
+        self.u = u
+        self.linear_compliance = disc.problem.m_n == 1
+        _, t = normal_tangent()
+        trial, test = disc.V.TnT()
+        self.form = ngs.BilinearForm(disc.V)
+        self.form += disc.compliance_form(trial, test)
+        self.form += disc.c_tau * phi(trial * t) * (test * t) * disc.dS
+        self.sum = BlockSum(disc.A, disc.contact_groups())
+        self.points = disc.contact_points()
+        self._gap = penetration(disc.problem, u)
+        self._switches = list(switches)
+        self._out = disc.F.CreateVector()
+
+    def residual(self, vec=None):
+        """F(u) as a vector (for the GridFunction ``u`` of the constructor, or ``vec``)."""
+        vec = self.u.vec if vec is None else vec
+        r = self._out
+        with ngs.TaskManager():
+            self.form.Apply(vec, r)
+            r.data += self.disc.A * vec - self.disc.F
+        return r
+
+    def sets(self):
+        """The penetrating Gauss points and the signs of the switches there (boolean array)."""
+        gap = evaluate_on_contact(self._gap, self.points)
+        return np.concatenate([gap > 0] + [evaluate_on_contact(cf, self.points) > 0 for cf in self._switches])
+
+    def state(self):
+        """What the Jacobian at u depends on: :meth:`sets`, and for m_n > 1 also the penetrations."""
+        if self.linear_compliance:
+            return self.sets()
+        gap = evaluate_on_contact(self._gap, self.points)
+        return np.concatenate([self.sets(), gap * (gap > 0)])
+
+    def jacobian(self):
+        """A + K(u) as a sparse matrix (updated in place; valid until the next call)."""
+        with ngs.TaskManager():
+            self.form.AssembleLinearization(self.u.vec)
+        return self.sum.update(self.form.mat)
+
+
+class ReusedFactorization:
+    """Solves J x = b for a sequence of Jacobians J that differ only in the contact blocks.
+
+    The factorisation of the last factorised J is kept.  If the new J has the same ``state``
+    (same active sets), it is the same matrix and one back-substitution solves.  Otherwise, with
+    ``krylov_steps`` > 0, GMRES preconditioned by the old factorisation is tried first: J - J_old
+    has rank at most the number of contact Gauss points whose state changed, so GMRES converges
+    in about as many steps; if it needs more than ``krylov_steps``, J is refactorised.
+    """
+
+    def __init__(self, symmetric, krylov_steps=0, krylov_tol=1e-8):
+        self.symmetric = symmetric
+        self.krylov_steps = krylov_steps
+        self.krylov_tol = krylov_tol
+        self._inverse = None
+        self._state = None
+        self.counts = dict(factorizations=0, solves=0, krylov=0)
+        self.factor_time = 0.0
+
+    def factorize(self, J, state):
+        start = time.perf_counter()
+        self._inverse = None  # free the old factor first: reusing its memory is much faster
+        with ngs.TaskManager():
+            self._inverse = direct_inverse(J, self.symmetric)
+        self.factor_time += time.perf_counter() - start
+        self._state = state
+        self.counts["factorizations"] += 1
+
+    def solve(self, jacobian, state, b, x):
+        """x = J^-1 b with J = ``jacobian()`` (called only if needed); ``state`` identifies J."""
+        same = self._inverse is not None and np.array_equal(state, self._state)
+        J = None if same else jacobian()
+        if not same and self._inverse is not None and self.krylov_steps > 0:
+            x[:] = 0.0
+            with ngs.TaskManager():
+                solver = ngs.krylovspace.GMResSolver(J, self._inverse, maxiter=self.krylov_steps,
+                                                     tol=self.krylov_tol, printrates=False)
+                solver.Solve(rhs=b, sol=x)
+            self.counts["krylov"] += solver.iterations
+            if solver.iterations < self.krylov_steps:
+                return
+        if not same:
+            self.factorize(J, state)
+        with ngs.TaskManager():
+            x.data = self._inverse * b
+        self.counts["solves"] += 1
+
+
+def multiplier_update(disc, lam, value):
+    """A callable performing lam <- ``value`` (a CoefficientFunction) at the Gauss points, in place.
+
+    The Gauss-rule L2 projection onto the degree-p multiplier space is interpolation at the
+    Gauss points, so the new lam equals ``value`` there exactly.
+    """
+    form = ngs.LinearForm(disc.Q)
+    form += value * disc.Q.TestFunction() * disc.dS
+
+    def update():
+        with ngs.TaskManager():
+            form.Assemble()
+        lam.vec.data = disc.M_inv * form.vec
+
+    return update
+
+
+def newton_step(op, linear_solver, du):
+    """du = J(u)^-1 F_l(u) for the operator's u; returns (state of J, ||F_l(u)||_2)."""
+    r = op.residual()
+    state = op.state()
+    norm = float(np.linalg.norm(r.FV().NumPy()))
+    linear_solver.solve(op.jacobian, state, r, du)
+    return state, norm
+
+
+def relative_change(du, u):
+    """||du||_inf / ||u||_inf of two coefficient vectors (||du||_inf if u = 0)."""
+    size = np.max(np.abs(du.FV().NumPy()), initial=0.0)
+    scale = np.max(np.abs(u.FV().NumPy()), initial=0.0)
+    return size / scale if scale > 0 else size
