@@ -4,8 +4,10 @@ Porwal & Tanvi, "Unified analysis of DG methods for frictional contact problem w
 compliance": model (1.1)-(1.10), DG forms of Section 3, Uzawa solver of Section 6.
 """
 
+from .adaptivity import adapt, dorfler_mark, minimum_angle, refine
 from .discretization import Discretization
 from .errors import SolverError
+from .estimator import Estimate, estimate
 from .examples import example_6_1, example_6_2
 from .forms import METHODS
 from .kkt import contact_state, kkt_residuals
@@ -16,4 +18,5 @@ from .solution import Solution, solve
 
 __all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_mesh", "netgen_mesh",
            "check_mesh", "Discretization", "solve", "Solution", "SolverError", "energy_norm", "METHODS",
-           "contact_state", "kkt_residuals"]
+           "contact_state", "kkt_residuals", "estimate", "Estimate", "dorfler_mark", "refine", "adapt",
+           "minimum_angle"]

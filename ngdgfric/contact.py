@@ -16,7 +16,8 @@ import ngsolve as ngs
 import numpy as np
 
 __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "compliance",
-           "project_unit", "multiplier_space", "contact_points", "evaluate_on_contact"]
+           "project_unit", "multiplier_space", "contact_points", "evaluate_on_contact", "ContactGauss",
+           "GaussValues"]
 
 
 def contact_rule(order):
@@ -72,3 +73,79 @@ def evaluate_on_contact(cf, points, volume=True):
     """Values of ``cf`` at contact Gauss points; ``volume`` for volume (element) functions."""
     values = (ngs.BoundaryFromVolumeCF(cf) if volume else cf)(points)
     return np.asarray(values).reshape(len(points), -1).squeeze(axis=1) if cf.dim == 1 else np.asarray(values)
+
+
+class ContactGauss:
+    """The Gauss points of Gamma_C edge by edge, and multiplier values <-> coefficients.
+
+    points: mapped points (for evaluation); xy: (edges, q, 2) coordinates; ends: (edges, 2, 2)
+    edge end points; dofs: (edges, q) multiplier dofs of each edge; q = p + 1.
+    """
+
+    def __init__(self, problem, mesh, order, Q):
+        self.points = contact_points(problem, mesh, order)
+        self.q = order + 1
+        self.xy = np.column_stack([np.asarray(ngs.x(self.points)).ravel(),
+                                   np.asarray(ngs.y(self.points)).ravel()]).reshape(-1, self.q, 2)
+        ends, dofs = [], []
+        for el in mesh.Elements(ngs.BND):
+            if el.mat == problem.contact:
+                ends.append([mesh[v].point for v in el.vertices])
+                dofs.append(list(Q.GetDofNrs(el)))
+        self.ends = np.asarray(ends, dtype=float).reshape(-1, 2, 2)
+        self.dofs = np.asarray(dofs, dtype=np.int64).reshape(-1, self.q)
+        self.Q = Q
+        # Vandermonde matrices: column k holds the values of every edge's k-th basis function
+        probe = ngs.GridFunction(Q)
+        self.vandermonde = np.empty((len(self.dofs), self.q, self.q))
+        for k in range(self.q):
+            probe.vec[:] = 0.0
+            probe.vec.FV().NumPy()[self.dofs[:, k]] = 1.0
+            self.vandermonde[:, :, k] = self.values(probe)
+
+    def values(self, lam):
+        """Values of a multiplier GridFunction at the Gauss points, shape (edges, q)."""
+        return np.asarray(lam(self.points)).reshape(-1, self.q)
+
+    def set_values(self, lam, values):
+        """Set the multiplier GridFunction to the degree-p polynomials with these Gauss values."""
+        coefficients = np.linalg.solve(self.vandermonde, np.asarray(values).reshape(-1, self.q, 1))[..., 0]
+        lam.vec.FV().NumPy()[self.dofs.ravel()] = coefficients.ravel()
+
+    def snapshot(self, lam):
+        """The multiplier's Gauss values with the edge geometry, independent of the mesh."""
+        return GaussValues(self.xy, self.ends, self.values(lam))
+
+
+class GaussValues:
+    """A piecewise degree-p function on Gamma_C given by its values at the Gauss points of each edge."""
+
+    def __init__(self, xy, ends, values):
+        self.xy, self.ends, self.values = np.asarray(xy), np.asarray(ends), np.asarray(values)
+        self.q = self.values.shape[1]
+
+    def edge_parameters(self, xy):
+        """For points xy (n, 2) on Gamma_C: the edge containing each and the parameter s in [0, 1]."""
+        a, b = self.ends[:, 0], self.ends[:, 1]
+        d = b - a
+        s = np.einsum("nek,ek->ne", xy[:, None, :] - a[None], d) / np.sum(d * d, axis=1)
+        foot = a[None] + s[..., None] * d[None]
+        distance = np.linalg.norm(xy[:, None, :] - foot, axis=2) + 1e-12 * (np.abs(s - 0.5) > 0.5 + 1e-9)
+        edge = np.argmin(distance, axis=1)
+        return edge, np.clip(s[np.arange(len(xy)), edge], 0.0, 1.0)
+
+    def __call__(self, xy):
+        """Values at points xy (n, 2) on Gamma_C (Lagrange interpolation through each edge's Gauss nodes)."""
+        xy = np.asarray(xy).reshape(-1, 2)
+        edge, s = self.edge_parameters(xy)
+        a = self.ends[edge, 0]
+        d = self.ends[edge, 1] - a
+        nodes = np.einsum("nqk,nk->nq", self.xy[edge] - a[:, None], d) / np.sum(d * d, axis=1)[:, None]
+        result = np.zeros(len(xy))
+        for j in range(self.q):
+            basis = np.ones(len(xy))
+            for m in range(self.q):
+                if m != j:
+                    basis *= (s - nodes[:, m]) / (nodes[:, j] - nodes[:, m])
+            result += basis * self.values[edge, j]
+        return result

@@ -6,7 +6,7 @@ from numbers import Integral, Real
 import ngsolve as ngs
 import numpy as np
 
-from .contact import compliance, contact_measure, contact_points, multiplier_space, normal_tangent
+from .contact import ContactGauss, compliance, contact_measure, contact_points, multiplier_space, normal_tangent
 from .forms import default_eta, dg_terms, edge_length, get_method, load_terms
 from .meshes import check_mesh
 
@@ -53,6 +53,7 @@ class Discretization:
         self.order = _check_order(order)
         self.eta = _check_eta(default_eta(problem, self.method) if eta is None else eta)
         self.timings = {}
+        self._gauss = None
         start = time.perf_counter()
         self.V = dg_space(mesh, self.order)
         self.Q = multiplier_space(problem, mesh, self.order)
@@ -108,6 +109,13 @@ class Discretization:
         self.compliance.Apply(u.vec, r)
         r.data += self.A * u.vec + self.G * lam.vec - self.F
         return r
+
+    @property
+    def gauss(self):
+        """The :class:`ngdgfric.contact.ContactGauss` of this mesh (built on first use)."""
+        if self._gauss is None:
+            self._gauss = ContactGauss(self.problem, self.mesh, self.order, self.Q)
+        return self._gauss
 
     def contact_points(self):
         """Mapped Gauss points on Gamma_C (see :func:`ngdgfric.contact.contact_points`)."""

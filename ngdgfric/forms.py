@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 
 __all__ = ["Method", "METHODS", "get_method", "default_eta", "strain", "stress", "edge_length",
-           "dg_terms", "load_terms", "jump_inner"]
+           "edge_penalty", "dg_terms", "load_terms", "jump_inner"]
 
 
 @dataclass(frozen=True)
@@ -89,6 +89,11 @@ def edge_length(mesh):
     return 2 * area / ngs.specialcf.mesh_size
 
 
+def edge_penalty(eta, order, h_e):
+    """The edge penalty weight eta p^2 / h_e (eta / h_e for p = 1, Section 3)."""
+    return eta * order**2 / h_e
+
+
 def _stress_normal(problem, w, n):
     return stress(problem, strain(w)) * n
 
@@ -118,7 +123,7 @@ def dg_terms(problem, mesh, u, v, method, eta, order, h_e=None):
     if method.penalty == "edge":
         if h_e is None:
             h_e = edge_length(mesh)
-        weight = eta * order**2 / h_e
+        weight = edge_penalty(eta, order, h_e)
         terms += [weight * jump_inner(ju, jv, n) * interior,
                   weight * jump_inner(u, v, n) * boundary]
     return terms

@@ -5,7 +5,7 @@ import ngsolve as ngs
 import numpy as np
 from netgen.geom2d import SplineGeometry
 
-__all__ = ["uniform_mesh", "netgen_mesh", "check_mesh", "facet_indicator"]
+__all__ = ["uniform_mesh", "netgen_mesh", "check_mesh", "facet_indicator", "element_diameters"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 
@@ -105,3 +105,12 @@ def facet_indicator(mesh, boundary):
     indicator = ngs.GridFunction(space)
     indicator.vec.FV().NumPy()[:] = list(space.GetDofs(mesh.Boundaries(boundary)))
     return indicator
+
+
+def element_diameters(mesh):
+    """h_T: the longest edge of every triangle (numpy array in element order)."""
+    points = np.asarray(mesh.ngmesh.Coordinates())
+    nodes = mesh.ngmesh.Elements2D().NumPy()["nodes"].astype(np.int64) - 1
+    corners = points[nodes]
+    lengths = np.linalg.norm(corners[:, [1, 2, 0]] - corners, axis=2)
+    return lengths.max(axis=1)

@@ -1,0 +1,144 @@
+"""SOLVE -> ESTIMATE -> MARK -> REFINE (Section 6): Doerfler marking and bisection refinement.
+
+Refinement uses Netgen's bisection (``mesh.Refine(onlyonce=True)``), which is newest vertex
+bisection: on the first refinement every triangle's refinement edge is its longest edge (edges
+are numbered by length, ties broken consistently), a bisected triangle's children get the edge
+opposite the new vertex as their refinement edge, and neighbours are bisected until the mesh is
+conforming again (netgen ``bisect.cpp``: ``BTSortEdges``, ``BTDefineMarkedTri``,
+``BTBisectTri``).  Each marked triangle is bisected once, plus the closure.
+"""
+
+import csv
+import math
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import ngsolve as ngs
+import numpy as np
+
+from .estimator import estimate
+from .meshes import element_diameters, netgen_mesh, uniform_mesh
+from .solution import solve
+from .transfer import multiplier_snapshot
+
+__all__ = ["dorfler_mark", "refine", "adapt", "minimum_angle"]
+
+
+def dorfler_mark(element_indicators, theta=0.3):
+    """The smallest set M with sum_M eta_T^2 >= theta sum_T eta_T^2 (boolean mask).
+
+    ``element_indicators``: the squared indicators eta_T^2.  Largest indicators are taken first;
+    ties at the threshold are broken by element number.
+    """
+    if not (isinstance(theta, (int, float)) and 0 < theta <= 1):
+        raise ValueError(f"theta must be in (0, 1], got {theta!r}")
+    values = np.asarray(element_indicators, dtype=float)
+    if values.ndim != 1 or np.any(values < 0) or not np.all(np.isfinite(values)):
+        raise ValueError("element indicators must be a 1-d array of finite nonnegative numbers")
+    marked = np.zeros(values.size, dtype=bool)
+    total = values.sum()
+    if total == 0:
+        return marked
+    order = np.argsort(-values, kind="stable")
+    cumulative = np.cumsum(values[order])
+    count = int(np.searchsorted(cumulative, theta * total * (1 - 1e-14))) + 1
+    marked[order[:min(count, values.size)]] = True
+    return marked
+
+
+def refine(mesh, marked):
+    """Bisect the marked elements of ``mesh`` in place (newest vertex bisection + closure)."""
+    marked = np.asarray(marked, dtype=bool)
+    if marked.size != mesh.ne:
+        raise ValueError(f"marked has {marked.size} entries, the mesh has {mesh.ne} elements")
+    mesh.SetRefinementFlags(list(marked))
+    mesh.Refine(onlyonce=True)
+
+
+def minimum_angle(mesh):
+    """The smallest interior angle of the mesh's triangles, in degrees."""
+    points = np.asarray(mesh.ngmesh.Coordinates())
+    corners = points[mesh.ngmesh.Elements2D().NumPy()["nodes"].astype(np.int64) - 1]
+    smallest = np.full(len(corners), np.inf)
+    for i in range(3):
+        a = corners[:, (i + 1) % 3] - corners[:, i]
+        b = corners[:, (i + 2) % 3] - corners[:, i]
+        cos = np.sum(a * b, axis=1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
+        smallest = np.minimum(smallest, np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return float(smallest.min())
+
+
+FIELDS = ["level", "ndof", "elements", "eta", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6",
+          "iterations", "solve_seconds", "estimate_seconds", "mark_refine_seconds", "h_min", "min_angle"]
+
+
+def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, max_ndof=10**5, tol=None,
+          solver="newton", eta=None, csv_path=None, progress=print, keep=None, **options):
+    """The adaptive loop of Section 6; returns the list of level records (dicts).
+
+    mesh: initial mesh (default: uniform h = 1/2 on a rectangle, Netgen maxh = 1/2 otherwise);
+    it is refined in place.  Stops after ``max_levels`` solves, before a solve that would exceed
+    ``max_ndof`` degrees of freedom, or as soon as eta_h <= ``tol``.  Every level after the first
+    starts from the previous solution transferred to the refined mesh.  ``progress``: callable
+    receiving one line per level (None for silence); ``csv_path``: each finished level is
+    appended to this CSV at once (the header is written first), so an interrupted run keeps every
+    finished level.  ``keep``: callable(level, solution, estimate) called at every level, e.g. to
+    save a picture.  Further options go to :func:`ngdgfric.solve`.
+    """
+    if mesh is None:
+        mesh = uniform_mesh(problem, 0.5) if problem.geometry.is_rectangle else netgen_mesh(problem, 0.5)
+    if tol is not None and not (tol > 0):
+        raise ValueError(f"tol must be positive, got {tol!r}")
+    if csv_path is not None:
+        csv_path = Path(csv_path)
+        csv_path.parent.mkdir(parents=True, exist_ok=True)
+        with open(csv_path, "w", newline="") as handle:
+            csv.DictWriter(handle, fieldnames=FIELDS).writeheader()
+    records, previous = [], None
+    for level in range(max_levels):
+        start = time.perf_counter()
+        sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, initial=previous, **options)
+        solved = time.perf_counter()
+        est = estimate(sol)
+        estimated = time.perf_counter()
+        record = dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta=est.total,
+                      **{k: math.sqrt(v) for k, v in est.parts.items()}, iterations=sol.iterations,
+                      solve_seconds=solved - start, estimate_seconds=estimated - solved,
+                      h_min=float(element_diameters(mesh).min()), min_angle=minimum_angle(mesh))
+        if keep is not None:
+            keep(level, sol, est)
+        done = (tol is not None and est.total <= tol) or level == max_levels - 1
+        if not done:
+            refine_start = time.perf_counter()
+            marked = dorfler_mark(est.element, theta)
+            previous = _carry(sol)
+            sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes
+            refine(mesh, marked)
+            record["mark_refine_seconds"] = time.perf_counter() - refine_start
+            done = mesh.ne * (order + 1) * (order + 2) > max_ndof  # dim V_h on the refined mesh
+        else:
+            record["mark_refine_seconds"] = 0.0
+        records.append(record)
+        _report(record, csv_path, progress, solver)
+        if done:
+            break
+    return records
+
+
+def _carry(sol):
+    """What survives in-place refinement: u (prolongated by NGSolve) and the multiplier's Gauss values."""
+    space = ngs.L2(sol.mesh, order=sol.order, autoupdate=True) ** 2
+    u = ngs.GridFunction(space, autoupdate=True)
+    u.vec.data = sol.u.vec
+    return SimpleNamespace(u=u, mesh=sol.mesh, multiplier=multiplier_snapshot(sol))
+
+
+def _report(record, csv_path, progress, solver):
+    if csv_path is not None:
+        with open(csv_path, "a", newline="") as handle:
+            csv.DictWriter(handle, fieldnames=FIELDS).writerow(record)
+    if progress is not None:
+        progress(f"level {record['level']:3d}: {record['ndof']:7d} dofs, eta_h = {record['eta']:.4e}, "
+                 f"{solver} {record['iterations']} iterations, {record['solve_seconds']:.2f} s solve, "
+                 f"{record['estimate_seconds'] + record['mark_refine_seconds']:.2f} s estimate+refine")

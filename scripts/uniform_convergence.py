@@ -1,0 +1,117 @@
+"""Reproduce Tables 6.1 and 6.2: errors and orders of convergence on uniform meshes.
+
+Porwal & Tanvi, Section 6: uniform meshes h = 2^-1 ... 2^-5, P1, penalty eta = 30 mu, the error
+of row h is |||u_h - u_{h/2}|||_h (difference of consecutive solutions, on the finer mesh), so
+the meshes run to h = 2^-6.  Writes results/table_6_1.md (or table_6_2.md) and a CSV with our
+numbers, the paper's, and the ratio ours/paper for every entry.
+
+    python scripts/uniform_convergence.py --example 6.1 --method sipg nipg [--uzawa] [--quick]
+"""
+
+import argparse
+from pathlib import Path
+
+from common import EXAMPLES, RESULTS, command_line, fmt, markdown_table, say, write_csv
+
+from ngdgfric.forms import METHODS
+from ngdgfric.paper import TABLES
+from ngdgfric.studies import uniform_study
+
+
+def parse(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--example", choices=sorted(EXAMPLES), default="6.1")
+    parser.add_argument("--method", nargs="+", choices=sorted(METHODS), default=["sipg", "nipg"])
+    parser.add_argument("--order", type=int, default=1)
+    parser.add_argument("--solver", choices=["newton", "uzawa"], default="newton",
+                        help="solver for the table's solutions (default: newton)")
+    parser.add_argument("--uzawa", action="store_true",
+                        help="also solve every level with the paper's Uzawa method and report its "
+                             "iterations, seconds and difference to the table's solutions")
+    parser.add_argument("--quick", action="store_true", help="levels 2^-1 ... 2^-3 only (smoke test)")
+    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default: results/)")
+    return parser.parse_args(argv)
+
+
+def compare_uzawa(problem, method, order, solutions, rows):
+    """Add Uzawa's iterations, seconds and max relative difference to the rows."""
+    import time
+
+    import numpy as np
+
+    import ngdgfric as ndf
+    for row, sol in zip(rows, solutions, strict=False):
+        start = time.perf_counter()
+        uz = ndf.solve(problem, sol.mesh, method=method, order=order, solver="uzawa")
+        row["uzawa_iterations"] = uz.iterations
+        row["uzawa_seconds"] = time.perf_counter() - start
+        a, b = uz.u.vec.FV().NumPy(), sol.u.vec.FV().NumPy()
+        row["uzawa_difference"] = float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+        say(f"  uzawa h = 2^-{row['k']}: {uz.iterations} iterations, {row['uzawa_seconds']:.1f} s, "
+            f"max rel. difference {row['uzawa_difference']:.1e}")
+
+
+def main(argv=None):
+    args = parse(argv)
+    problem = EXAMPLES[args.example]()
+    levels = (1, 2, 3) if args.quick else (1, 2, 3, 4, 5, 6)
+    tag = args.example.replace(".", "_")
+    args.out.mkdir(parents=True, exist_ok=True)
+    results, csv_rows = {}, []
+    for method in args.method:
+        say(f"Example {args.example}, {method.upper()}, P{args.order}, solver {args.solver}")
+        rows, solutions = uniform_study(problem, method, args.order, levels, solver=args.solver, progress=say)
+        if args.uzawa:
+            compare_uzawa(problem, method, args.order, solutions, rows)
+        paper = TABLES[args.example].get(method) if args.order == 1 else None
+        for i, row in enumerate(rows):
+            row["method"] = method
+            row["paper_error"] = paper["error"][i] if paper and i < len(paper["error"]) else None
+            row["paper_rate"] = paper["rate"][i] if paper and i < len(paper["rate"]) else None
+            row["ratio"] = row["energy"] / row["paper_error"] if row["paper_error"] else None
+            say(f"  h = 2^-{row['k']}: error {row['energy']:.4e}  rate {fmt(row['rate'], '.4f')}"
+                + (f"  paper {row['paper_error']:.4e} (ours/paper {row['ratio']:.2f})" if row["ratio"] else ""))
+        results[method] = rows
+        csv_rows += rows
+    write_csv(args.out / f"table_{tag}.csv", csv_rows)
+    (args.out / f"table_{tag}.md").write_text(report(args, results))
+    say(f"wrote {args.out / f'table_{tag}.md'}")
+    return results
+
+
+def report(args, results):
+    methods = list(results)
+    first = results[methods[0]]
+    lines = [f"# Table {args.example}: uniform meshes, P{args.order}, eta = 30 mu (edge-penalty methods)", "",
+             "Error of row h: |||u_h - u_{h/2}|||_h, the energy norm of Section 3 on the finer mesh "
+             "(the paper's measure, Section 6).", "",
+             f"Regenerate: `{command_line()}`", "", "## Methods side by side", ""]
+    header = ["h", "DOFs"] + [f"{m} {c}" for m in methods for c in ("error", "rate")]
+    rows = [[f"2^-{r['k']}", r["ndof"]] + [x for m in methods for x in
+                                            (fmt(results[m][i]["energy"]), fmt(results[m][i]["rate"], ".3f"))]
+            for i, r in enumerate(first)]
+    lines += [markdown_table(header, rows), ""]
+    for m in methods:
+        rows = results[m]
+        lines += [f"## {m.upper()}: ours against the paper", ""]
+        header = ["h", "DOFs", "error", "paper", "ours/paper", "rate", "paper rate", "rate diff",
+                  f"{args.solver} its", "s"]
+        if args.uzawa:
+            header += ["Uzawa its", "Uzawa s", "max rel. diff"]
+        table = []
+        for r in rows:
+            rate_diff = (r["rate"] - r["paper_rate"]) if (r["rate"] is not None and r["paper_rate"]) else None
+            line = [f"2^-{r['k']}", r["ndof"], fmt(r["energy"]), fmt(r["paper_error"]), fmt(r["ratio"], ".2f"),
+                    fmt(r["rate"], ".3f"), fmt(r["paper_rate"], ".3f"), fmt(rate_diff, "+.3f"),
+                    r["iterations"], f"{r['seconds']:.2f}"]
+            if args.uzawa:
+                line += [r["uzawa_iterations"], f"{r['uzawa_seconds']:.1f}", fmt(r["uzawa_difference"], ".1e")]
+            table.append(line)
+        lines += [markdown_table(header, table), ""]
+    lines += ["Other norms of the same differences are in the CSV (columns h1, l2, relative); "
+              "results/table_investigation.md discusses the comparison with the paper.", ""]
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    main()
