@@ -20,10 +20,11 @@ Newton steps with the same sets (and, for m_n = 1, the same penetrating points) 
 
 gamma = kappa (2 mu + lam) / (c_ref h_e) makes the stick penalty kappa times stiffer than the
 elastic boundary stiffness E/h (c_ref: the largest friction bound), so each penalty sweep
-reduces the constraint violation by about 1/kappa.  The active-set parameter is c = c0 gamma/kappa;
-primal-dual active set methods can cycle for large c (seen with NIPG on coarse meshes), so when
-the sets return to a pattern already visited, c is divided by 10 (a damping rule that keeps
-every fixed point and breaks the cycle).
+reduces the constraint violation by about 1/kappa.  The active-set parameter is
+c = c0 (2 mu + lam) / (c_ref h_e); a large c lets wrongly slipping points return quickly, but
+primal-dual active set methods can then cycle, a few points flipping between stick and slip.
+Damping rule: at a Gauss point whose state has flipped three times, c is divided by 10 (every
+fixed point is kept; the oscillation stops).
 """
 
 import time
@@ -47,7 +48,7 @@ def augmentation(disc, kappa):
     return kappa * (2 * disc.problem.mu + disc.problem.lam) / (c_ref * disc.h_e)
 
 
-def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=0.1, krylov_steps=0, progress=None,
+def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_steps=0, progress=None,
            max_sweeps=20):
     """Semismooth Newton (module docstring); returns (u, lam, info).
 
@@ -68,8 +69,11 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=0.1, krylov_ste
         u.vec.data, lam.vec.data = initial[0].vec, initial[1].vec
     gamma = augmentation(disc, kappa)
     _, t = normal_tangent()
-    c_scale = ngs.Parameter(c0)
-    z = lam_k + c_scale * gamma / kappa * (u_k * t)
+    c_point = ngs.GridFunction(disc.Q)  # per-point damping of c, 1 until a point oscillates
+    gauss = disc.gauss
+    damping = np.ones((len(gauss.dofs), gauss.q))
+    gauss.set_values(c_point, damping)
+    z = lam_k + c0 * c_point * gamma / kappa * (u_k * t)
     stick = ngs.IfPos(1 - z * z, 1, 0)
     slip_sign = ngs.IfPos(z, 1, -1)
     phi = lambda u_tau: stick * (lam + gamma * u_tau) + (1 - stick) * slip_sign  # noqa: E731
@@ -78,7 +82,7 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=0.1, krylov_ste
     update = multiplier_update(disc, lam, phi(u * t))
     du, lam_old = u.vec.CreateVector(), lam.vec.CreateVector()
     history, sweeps = [], []
-    sets, visited = None, set()
+    sets, flips = None, np.zeros_like(damping)
     for k in range(maxit + 1):
         u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
         sets, previous = op.sets(), sets
@@ -87,17 +91,20 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=0.1, krylov_ste
             sweeps[-1] += _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, forcing=0.0)
             du.data = u.vec - u_k.vec
             if relative_change(du, u.vec) <= tol:
-                info = dict(iterations=k, history=history, sweeps=sweeps, c0=c_scale.Get(), **linear_solver.counts,
+                info = dict(iterations=k, history=history, sweeps=sweeps, min_damping=float(damping.min()), **linear_solver.counts,
                             timings=dict(factor=linear_solver.factor_time, total=time.perf_counter() - start))
                 return u, lam, info
             u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
             sets = op.sets()
         if k == maxit or (history and not np.isfinite(history[-1])):
             break
-        key = sets.tobytes()
-        if key in visited and not np.array_equal(sets, previous):
-            c_scale.Set(c_scale.Get() / 10)  # the active sets cycle: damp the set prediction
-        visited.add(key)
+        if previous is not None:  # damp c at points whose stick/slip state keeps flipping
+            flips += (sets != previous)[-damping.size:].reshape(damping.shape)
+            if np.any(flips >= 3):
+                damping[flips >= 3] /= 10
+                flips[flips >= 3] = 0
+                gauss.set_values(c_point, damping)
+                sets = op.sets()
         sweeps.append(_solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps))
         du.data = u.vec - u_k.vec
         history.append(relative_change(du, u.vec))

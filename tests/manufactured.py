@@ -1,0 +1,103 @@
+"""Manufactured solutions with known exact u for the contact problem (1.5)-(1.9), m_t = 0.
+
+Contact problem on Omega = (0,1)^2: Gamma_C = bottom (n = (0,-1), t = (1,0)), Gamma_D = top,
+Gamma_F = left and right.  With s = x - 1/2, a = 1/4 and
+
+    psi(x) = s_+^3,   chi(x) = K (a - x)_+^3,   phi(x) = (lam psi'' ... ) see below,
+    u(x, y) = (1 - y) (psi(x), phi(x)),     phi = (lam psi' + chi) / (2 mu + lam),
+
+u vanishes on Gamma_D (y = 1).  At y = 0:
+
+    u_tau = u . t = psi,                     u_n = u . n = -phi,
+    sigma_n = sigma_22 = -(2mu+lam) phi + lam psi' = -chi,
+    sigma_tau = sigma n . t = -sigma_12 = -mu (phi' - psi).
+
+* Compliance (1.8): sigma_n = -c_n (u_n - g_a)_+ with c_n constant and
+  g_a = u_n - chi / c_n + (x - a)_+^3: penetration chi / c_n > 0 for x < a (contact),
+  gap (x - a)_+^3 > 0 for x > a (no contact).
+* Friction (1.9), m_t = 0: for x < 1/2, u_tau = 0 (stick) and we need |sigma_tau| <= c_tau;
+  for x > 1/2, u_tau = s^3 > 0 (slip) and we need sigma_tau = -c_tau, i.e.
+  c_tau = mu (phi' - psi) >= 0, true since phi' = 6 lam s / (2mu+lam) > s^3 for s <= 1/2 when
+  6 lam / (2mu+lam) > 1/4.  So c_tau = mu (phi' - psi) for x > 1/2 and
+  c_tau = mu (|phi'| + 1/2 - x) for x < 1/2 (continuous, strictly above |sigma_tau| in the
+  stick zone but at x = 1/2, where both vanish).  The multiplier is lam_tau = t for x > 1/2 and
+  -sigma_tau / c_tau inside the stick zone.
+* f = -div sigma(u) in Omega, g = sigma(u) n on Gamma_F.
+
+The solution has contact and no-contact zones and stick and slip zones on Gamma_C.
+"""
+
+import dataclasses
+
+import ngsolve as ngs
+
+import ngdgfric as ndf
+from ngdgfric.forms import stress
+
+
+def _grad(u):
+    x, y = ngs.x, ngs.y
+    return ngs.CF((u[0].Diff(x), u[0].Diff(y), u[1].Diff(x), u[1].Diff(y)), dims=(2, 2))
+
+
+def strain_of(u):
+    """eps(u) of a CoefficientFunction of x, y."""
+    g = _grad(u)
+    return 0.5 * (g + g.trans)
+
+
+def body_force_and_traction(problem, u):
+    """f = -div sigma(u) and g = sigma(u) n for a smooth CoefficientFunction u."""
+    x, y = ngs.x, ngs.y
+    sigma = stress(problem, strain_of(u))
+    f = -ngs.CF((sigma[0, 0].Diff(x) + sigma[0, 1].Diff(y), sigma[1, 0].Diff(x) + sigma[1, 1].Diff(y)))
+    return f, sigma * ngs.specialcf.normal(2)
+
+
+def positive_part(z):
+    return ngs.IfPos(z, z, 0)
+
+
+def elasticity_manufactured(E=1000.0, nu=0.3):
+    """Smooth u with u = 0 on Gamma_D = {x = 1} and sigma(u) n = 0 on Gamma_C = {y = 0}.
+
+    u = y^2 (1 - x) (sin(x + y), cos(2x - y)): every strain component carries y, so sigma = 0
+    on y = 0; with c_tau = 0 and a gap g_a = 1 larger than |u_n| the contact terms vanish and
+    u solves (1.5)-(1.9) (linear elasticity) with f = -div sigma(u) and g = sigma(u) n on Gamma_F.
+    """
+    x, y = ngs.x, ngs.y
+    u = ngs.CF((y**2 * (1 - x) * ngs.sin(x + y), y**2 * (1 - x) * ngs.cos(2 * x - y)))
+    geometry = ndf.Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="dirichlet", top="traction",
+                                     left="traction")
+    base = ndf.ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=1.0, m_n=1, g_a=1.0, c_tau=0.0,
+                              geometry=geometry)
+    f, g = body_force_and_traction(base, u)
+    return dataclasses.replace(base, f=f, g=g), u
+
+
+def contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=50.0):
+    """(problem, u_exact) of the module docstring."""
+    x = ngs.x
+    geometry = ndf.Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="traction", top="dirichlet",
+                                     left="traction")
+    base = ndf.ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=0.0, c_tau=0.0,
+                              geometry=geometry)
+    mu, lam = base.mu, base.lam
+    s = x - 0.5
+    s_plus = positive_part(s)
+    psi = s_plus * s_plus * s_plus
+    dpsi = 3 * s_plus * s_plus
+    d2psi = 6 * s_plus
+    r = positive_part(0.25 - x)
+    chi = K * r * r * r
+    dchi = -3 * K * r * r
+    phi = (lam * dpsi + chi) / (2 * mu + lam)
+    dphi = (lam * d2psi + dchi) / (2 * mu + lam)
+    u = (1 - ngs.y) * ngs.CF((psi, phi))
+    u_n = -phi
+    q = positive_part(x - 0.25)
+    g_a = u_n - chi / c_n + q * q * q
+    c_tau = ngs.IfPos(s, mu * (dphi - psi), mu * (ngs.IfPos(dphi, dphi, -dphi) - s))
+    problem = dataclasses.replace(base, g_a=g_a, c_tau=c_tau)
+    f, g = body_force_and_traction(problem, u)
+    return dataclasses.replace(problem, f=f, g=g), u
