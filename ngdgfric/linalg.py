@@ -9,7 +9,7 @@ pattern of J once and refreshes its values with two numpy scatters.
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["BlockSum", "csr_keys", "direct_inverse"]
+__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal"]
 
 
 def csr_keys(mat, ncols=None):
@@ -82,3 +82,14 @@ class BlockSum:
 def direct_inverse(mat, symmetric):
     """Sparse direct inverse: Cholesky for symmetric positive definite matrices, else UMFPACK."""
     return mat.Inverse(inverse="sparsecholesky" if symmetric else "umfpack")
+
+
+def diagonal(mat):
+    """The diagonal of an NGSolve sparse matrix as a numpy array."""
+    values, cols, rowptr = mat.CSR()
+    rowptr = np.asarray(rowptr, dtype=np.int64)
+    rows = np.repeat(np.arange(len(rowptr) - 1, dtype=np.int64), np.diff(rowptr))
+    on_diagonal = rows == np.asarray(cols, dtype=np.int64)
+    out = np.zeros(mat.height)
+    out[rows[on_diagonal]] = np.asarray(values)[on_diagonal]
+    return out

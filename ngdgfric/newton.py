@@ -32,20 +32,26 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import normal_tangent
+from .contact import contact_rule, evaluate_on_contact, normal_tangent
 from .errors import SolverError
+from .linalg import diagonal
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
 
-__all__ = ["newton", "augmentation"]
+__all__ = ["newton", "augmentation", "stiffness_ratio", "Merit"]
+
+
+def stiffness_ratio(disc):
+    """(2 mu + lam) / c_ref, c_ref the largest friction bound at the contact points (1 if 0)."""
+    c_tau = np.asarray(disc.c_tau(disc.contact_points())).ravel()
+    c_ref = float(np.max(c_tau, initial=0.0)) or 1.0
+    return (2 * disc.problem.mu + disc.problem.lam) / c_ref
 
 
 def augmentation(disc, kappa):
     """gamma = kappa (2 mu + lam) / (c_ref h_e) as a CoefficientFunction (see module docstring)."""
     if not (np.isfinite(kappa) and kappa > 0):
         raise ValueError(f"kappa must be a positive number, got {kappa!r}")
-    c_tau = np.asarray(disc.c_tau(disc.contact_points())).ravel()
-    c_ref = float(np.max(c_tau, initial=0.0)) or 1.0
-    return kappa * (2 * disc.problem.mu + disc.problem.lam) / (c_ref * disc.h_e)
+    return kappa * stiffness_ratio(disc) / disc.h_e
 
 
 def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_steps=0, progress=None,
@@ -69,20 +75,17 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
         u.vec.data, lam.vec.data = initial[0].vec, initial[1].vec
     gamma = augmentation(disc, kappa)
     _, t = normal_tangent()
-    c_point = ngs.GridFunction(disc.Q)  # per-point damping of c, 1 until a point oscillates
-    gauss = disc.gauss
-    damping = np.ones((len(gauss.dofs), gauss.q))
-    gauss.set_values(c_point, damping)
-    z = lam_k + c0 * c_point * gamma / kappa * (u_k * t)
+    z = lam_k + c0 * gamma / kappa * (u_k * t)
     stick = ngs.IfPos(1 - z * z, 1, 0)
     slip_sign = ngs.IfPos(z, 1, -1)
     phi = lambda u_tau: stick * (lam + gamma * u_tau) + (1 - stick) * slip_sign  # noqa: E731
     op = ContactOperator(disc, u, phi, switches=[1 - z * z])
     linear_solver = ReusedFactorization(disc.symmetric, krylov_steps)
     update = multiplier_update(disc, lam, phi(u * t))
+    merit = Merit(disc, u, lam, c0 * stiffness_ratio(disc))
     du, lam_old = u.vec.CreateVector(), lam.vec.CreateVector()
-    history, sweeps = [], []
-    sets, flips = None, np.zeros_like(damping)
+    history, sweeps, steps = [], [], []
+    sets, value, values = None, merit(), []
     for k in range(maxit + 1):
         u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
         sets, previous = op.sets(), sets
@@ -91,27 +94,74 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
             sweeps[-1] += _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, forcing=0.0)
             du.data = u.vec - u_k.vec
             if relative_change(du, u.vec) <= tol:
-                info = dict(iterations=k, history=history, sweeps=sweeps, min_damping=float(damping.min()), **linear_solver.counts,
+                info = dict(iterations=k, history=history, sweeps=sweeps, step_sizes=steps, **linear_solver.counts,
                             timings=dict(factor=linear_solver.factor_time, total=time.perf_counter() - start))
                 return u, lam, info
             u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
-            sets = op.sets()
+            sets, value = op.sets(), merit()
         if k == maxit or (history and not np.isfinite(history[-1])):
             break
-        if previous is not None:  # damp c at points whose stick/slip state keeps flipping
-            flips += (sets != previous)[-damping.size:].reshape(damping.shape)
-            if np.any(flips >= 3):
-                damping[flips >= 3] /= 10
-                flips[flips >= 3] = 0
-                gauss.set_values(c_point, damping)
-                sets = op.sets()
         sweeps.append(_solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps))
+        values = (values + [value])[-4:]
+        value, step = merit.line_search(u_k, lam_k, max(values))
+        steps.append(step)
         du.data = u.vec - u_k.vec
         history.append(relative_change(du, u.vec))
         if progress is not None:
             progress(k + 1, history[-1])
     raise SolverError(f"semismooth Newton did not reach tol = {tol:g} in {len(history)} iterations "
-                      f"(last change {history[-1]:.3e})", history=history, solver="newton")
+                      f"(last change {history[-1]:.3e}, last step sizes {steps[-3:]})",
+                      history=history, solver="newton")
+
+
+class Merit:
+    """Merit function of the semismooth system for the line search, in energy units.
+
+    Phi(u, l) = sum_i R_i^2 / A_ii + sum_q w_q c_tau / c (l - P(l + c u_tau))^2 over the Gauss
+    points, with R = A u + j_n(u) + G l - F the residual of (3.3); both terms vanish exactly at
+    the solution.
+    """
+
+    def __init__(self, disc, u, lam, c_times_h):
+        self.disc, self.u, self.lam = disc, u, lam
+        d = diagonal(disc.A)
+        self.inverse_diagonal = 1 / np.where(d > 0, d, 1.0)
+        gauss = disc.gauss
+        _, t = normal_tangent()
+        self.u_tau = u * t
+        lengths = np.linalg.norm(gauss.ends[:, 1] - gauss.ends[:, 0], axis=1)
+        weights = np.asarray(contact_rule(disc.order)[ngs.SEGM].weights)
+        scale = c_times_h if isinstance(c_times_h, ngs.CoefficientFunction) else ngs.CF(c_times_h)
+        self.c = np.asarray(scale(gauss.points)).reshape(-1, gauss.q) / lengths[:, None]  # c = c0 ratio / h_e
+        c_tau = np.asarray(disc.c_tau(gauss.points)).ravel() * np.ones(len(gauss.points))
+        self.weights = (lengths[:, None] * weights[None, :]).ravel() * c_tau / self.c.ravel()
+        self._r = disc.F.CreateVector()
+        self._u_start, self._lam_start = u.vec.CreateVector(), lam.vec.CreateVector()
+
+    def __call__(self):
+        r = self.disc.residual(self.u, self.lam, out=self._r).FV().NumPy()
+        gauss = self.disc.gauss
+        lam = gauss.values(self.lam).ravel()
+        u_tau = evaluate_on_contact(self.u_tau, gauss.points)
+        r2 = lam - np.clip(lam + self.c.ravel() * u_tau, -1, 1)
+        return float(np.sum(r * r * self.inverse_diagonal) + np.sum(self.weights * r2 * r2))
+
+    def line_search(self, u_start, lam_start, value_start, halvings=6):
+        """Backtrack from the full step (the current u, l) towards (u_start, lam_start) until Phi
+        is below (1 - 1e-4 t) ``value_start``; returns (Phi, step size t).  With ``value_start``
+        the largest of the last few merit values this is a non-monotone line search (Grippo,
+        Lampariello, Lucidi 1986): full steps may increase Phi for a while, cycles cannot repeat."""
+        self._u_start.data = self.u.vec - u_start.vec  # the step
+        self._lam_start.data = self.lam.vec - lam_start.vec
+        step = 1.0
+        for _ in range(halvings):
+            value = self()
+            if value <= (1 - 1e-4 * step) * value_start or value_start == 0:
+                return value, step
+            step /= 2
+            self.u.vec.data = u_start.vec + step * self._u_start
+            self.lam.vec.data = lam_start.vec + step * self._lam_start
+        return self(), step
 
 
 def _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, forcing=1e-3):

@@ -1,0 +1,69 @@
+import csv
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+
+import ngdgfric as ndf
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def test_refinement_keeps_labels_and_shape_regularity():
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 2)
+    angle = ndf.minimum_angle(mesh)
+    for _ in range(15):  # refine towards the corner (0, 0.05), where Gamma_C meets Gamma_F
+        centers = [np.mean([mesh[v].point for v in el.vertices], axis=0) for el in mesh.Elements()]
+        marked = np.array([np.hypot(c[0], c[1] - 0.05) < 0.4 for c in centers])
+        ndf.refine(mesh, marked)
+    assert set(mesh.GetBoundaries()) == {"contact", "dirichlet", "traction"}
+    assert abs(ngs.Integrate(ngs.CF(1), mesh, definedon=mesh.Boundaries("contact")) - 1) < 1e-12
+    assert ndf.minimum_angle(mesh) >= angle - 1e-9  # newest vertex bisection: no new angles
+    assert mesh.ne > 100
+
+
+def test_adapt_reduces_eta_and_stops_at_tol(tmp_path):
+    p = ndf.example_6_2()
+    records = ndf.adapt(p, max_levels=6, csv_path=tmp_path / "levels.csv", progress=None)
+    assert len(records) == 6
+    etas = [r["eta"] for r in records]
+    assert etas[-1] < etas[0]
+    assert all(b["ndof"] > a["ndof"] for a, b in zip(records, records[1:], strict=False))
+    rows = list(csv.DictReader(open(tmp_path / "levels.csv")))
+    assert [int(r["level"]) for r in rows] == list(range(6))
+    tol = 0.999 * min(etas[:3])
+    first = next(i for i, e in enumerate(etas) if e <= tol)  # the runs are deterministic
+    stopped = ndf.adapt(p, max_levels=20, tol=tol, progress=None)
+    assert stopped[-1]["eta"] <= tol and len(stopped) == first + 1
+
+
+def test_adapt_stops_before_exceeding_max_ndof():
+    records = ndf.adapt(ndf.example_6_1(), max_levels=50, max_ndof=2000, progress=None)
+    assert records[-1]["ndof"] <= 2000
+    assert len(records) < 50
+
+
+def test_interrupted_run_keeps_finished_levels(tmp_path):
+    path = tmp_path / "levels.csv"
+    code = ("import ngdgfric as ndf; "
+            f"ndf.adapt(ndf.example_6_1(), max_levels=200, max_ndof=10**8, csv_path=r'{path}')")
+    proc = subprocess.Popen([sys.executable, "-c", code], cwd=ROOT, stdout=subprocess.DEVNULL)
+    try:
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            if path.exists() and len(path.read_text().strip().splitlines()) >= 3:  # header + 2 levels
+                break
+            time.sleep(0.05)
+        proc.kill()
+        proc.wait()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    rows = list(csv.DictReader(open(path)))
+    assert len(rows) >= 2
+    assert [int(r["level"]) for r in rows[:2]] == [0, 1]
+    assert float(rows[1]["eta"]) > 0

@@ -1,0 +1,76 @@
+import dataclasses
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+from ngdgfric.norms import energy_norm_squared_parts
+
+
+@pytest.fixture(scope="module")
+def solution():
+    p = ndf.example_6_1()
+    return ndf.solve(p, ndf.uniform_mesh(p, 1 / 8))
+
+
+def test_element_indicators_sum_to_eta_squared(solution):
+    est = ndf.estimate(solution)
+    assert est.element.shape == (solution.mesh.ne,)
+    assert est.element.sum() == pytest.approx(est.total**2, rel=1e-12)
+    assert sum(est.parts.values()) == pytest.approx(est.total**2, rel=1e-12)
+    assert set(est.parts) == {f"eta{i}" for i in range(1, 7)}
+
+
+def test_eta3_equals_penalty_times_the_jump_part_of_the_energy_norm(solution):
+    # eta_3^2 = eta / h_e ||[u]||^2 over E_h^o (p = 1): computed independently by norms.py
+    _, jumps = energy_norm_squared_parts(solution.problem, solution.mesh, solution.u)
+    assert ndf.estimate(solution).parts["eta3"] == pytest.approx(solution.eta * jumps, rel=1e-10)
+
+
+def test_eta1_vanishes_without_body_force(solution):
+    assert ndf.estimate(solution).parts["eta1"] == 0.0
+    p = dataclasses.replace(ndf.example_6_1(), f=(1.0, 2.0))
+    est = ndf.estimate(ndf.solve(p, ndf.uniform_mesh(p, 1 / 4)))
+    # eta_1^2 = sum_T h_T^2 |f|^2 |T| = (sqrt(2)/4)^2 * 5 * 1 for h = 1/4 on the unit-area domain
+    assert est.parts["eta1"] == pytest.approx(2 / 16 * 5, rel=1e-12)
+
+
+def test_eta3_vanishes_for_a_continuous_function_zero_on_gamma_d():
+    p = ndf.example_6_1()
+    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), order=2)
+    sol.u.Set(ngs.CF(((1 - ngs.x) * ngs.x, (1 - ngs.x) * ngs.y)))  # quadratic: exact in P2, 0 on x = 1
+    est = ndf.estimate(sol)
+    assert est.parts["eta3"] < 1e-20
+    assert est.parts["eta2"] > 0
+
+
+def test_effectivity_index_is_stable_on_a_manufactured_contact_solution(contact_problem):
+    problem, u_exact = contact_problem
+    for order, levels in ((1, range(1, 7)), (2, range(0, 6))):
+        ratios = []
+        for k in levels:
+            sol = ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k), order=order)
+            ratios.append(ndf.estimate(sol).total / ndf.energy_norm(sol, u_exact))
+        assert max(ratios) / min(ratios) <= 5, (order, ratios)
+
+
+@pytest.mark.parametrize("theta", [0.0, -0.1, 1.5, float("nan")])
+def test_dorfler_rejects_bad_theta(theta):
+    with pytest.raises(ValueError, match="theta"):
+        ndf.dorfler_mark(np.ones(4), theta)
+
+
+def test_dorfler_marks_the_minimal_set():
+    values = np.array([1.0, 5.0, 2.0, 2.0, 0.0])
+    np.testing.assert_array_equal(ndf.dorfler_mark(values, 0.5), [False, True, False, False, False])
+    np.testing.assert_array_equal(ndf.dorfler_mark(values, 0.51), [False, True, True, False, False])
+    assert ndf.dorfler_mark(values, 1.0).sum() == 4  # the zero indicator is never needed
+    assert not ndf.dorfler_mark(np.zeros(3), 0.3).any()
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        v = rng.random(50) ** 3
+        marked = ndf.dorfler_mark(v, 0.3)
+        assert v[marked].sum() >= 0.3 * v.sum()
+        # minimal: dropping the smallest marked indicator breaks the bulk criterion
+        assert v[marked].sum() - v[marked].min() < 0.3 * v.sum()
