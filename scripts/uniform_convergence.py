@@ -74,7 +74,9 @@ def main(argv=None):
         results[method] = rows
         csv_rows += rows
     write_csv(args.out / f"table_{tag}.csv", csv_rows)
-    (args.out / f"table_{tag}.md").write_text(report(args, results))
+    text = report(args, results)
+    (args.out / f"table_{tag}.md").write_text(text)
+    say("\n" + text)
     say(f"wrote {args.out / f'table_{tag}.md'}")
     return results
 
