@@ -96,6 +96,9 @@ def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, 
         with open(csv_path, "w", newline="") as handle:
             csv.DictWriter(handle, fieldnames=FIELDS).writeheader()
     records, previous = [], None
+    # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
+    # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
+    carrier = ngs.GridFunction(ngs.L2(mesh, order=order, autoupdate=True) ** 2, autoupdate=True)
     for level in range(max_levels):
         start = time.perf_counter()
         sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, initial=previous, **options)
@@ -112,7 +115,8 @@ def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, 
         if not done:
             refine_start = time.perf_counter()
             marked = dorfler_mark(est.element, theta)
-            previous = _carry(sol)
+            carrier.vec.data = sol.u.vec
+            previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
             sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes
             refine(mesh, marked)
             record["mark_refine_seconds"] = time.perf_counter() - refine_start
@@ -124,14 +128,6 @@ def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, 
         if done:
             break
     return records
-
-
-def _carry(sol):
-    """What survives in-place refinement: u (prolongated by NGSolve) and the multiplier's Gauss values."""
-    space = ngs.L2(sol.mesh, order=sol.order, autoupdate=True) ** 2
-    u = ngs.GridFunction(space, autoupdate=True)
-    u.vec.data = sol.u.vec
-    return SimpleNamespace(u=u, mesh=sol.mesh, multiplier=multiplier_snapshot(sol))
 
 
 def _report(record, csv_path, progress, solver):
