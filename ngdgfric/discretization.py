@@ -7,7 +7,9 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import ContactGauss, compliance, contact_measure, contact_points, multiplier_space, normal_tangent
-from .forms import default_eta, dg_terms, edge_length, get_method, load_terms
+from .forms import check_penalty, default_eta, dg_terms, edge_length, get_method, load_terms
+from .liftings import lifting_stiffness
+from .linalg import sparse_sum
 from .meshes import check_mesh
 
 __all__ = ["Discretization", "dg_space"]
@@ -46,12 +48,13 @@ class Discretization:
     of Q), ``h_e``, ``timings``.
     """
 
-    def __init__(self, problem, mesh, method="sipg", order=1, eta=None):
+    def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn"):
         check_mesh(problem, mesh)
         self.problem, self.mesh = problem, mesh
         self.method = get_method(method)
         self.order = _check_order(order)
         self.eta = _check_eta(default_eta(problem, self.method) if eta is None else eta)
+        check_penalty(problem, self.method, self.eta, self.order, penalty_check)
         self.timings = {}
         self._gauss = None
         start = time.perf_counter()
@@ -65,7 +68,8 @@ class Discretization:
             for term in dg_terms(problem, mesh, u, v, self.method, self.eta, self.order, self.h_e):
                 a += term
             a.Assemble()
-            self.A = a.mat
+            lifts = lifting_stiffness(problem, mesh, self.V, self.order, self.method, self.eta)
+            self.A = a.mat if lifts is None else sparse_sum([(1.0, a.mat), (1.0, lifts)])
             f = ngs.LinearForm(self.V)
             for term in load_terms(problem, mesh, v):
                 f += term

@@ -10,7 +10,7 @@
 For p = 1 these are exactly the terms of Section 4 (div sigma_h(u_h) = 0 for piecewise linear
 u_h, so eta_1 involves f only); for p > 1 they carry the usual hp weights h/p and the element
 residual f + div sigma_h(u_h).  eta_3 uses the method's edge penalty eta p^2/h_e (for the lifting
-methods, the same weight with their eta).  Edge terms of interior edges are shared
+methods 2 mu eta p^2/h_e, see :func:`ngdgfric.forms.jump_penalty`).  Edge terms of interior edges are shared
 half-half by the two neighbours; boundary edges go to their element.  Everything is computed
 with ``Integrate(..., element_wise=True)``.
 """
@@ -21,7 +21,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, normal_tangent
-from .forms import edge_penalty, jump_inner, strain, stress
+from .forms import jump_inner, jump_penalty, strain, stress
 from .meshes import element_diameters, facet_indicator
 
 __all__ = ["Estimate", "estimate", "div_stress"]
@@ -60,7 +60,7 @@ def estimate(sol):
     h_T.vec.FV().NumPy()[:] = element_diameters(mesh)
     sigma_n = stress(problem, strain(u)) * n
     jump_u = u - u.Other()
-    penalty = edge_penalty(disc.eta, p, h_e)
+    penalty = jump_penalty(problem, disc.method, disc.eta, p, h_e)
     boundary = ngs.dx(element_boundary=True)
     on = {name: facet_indicator(mesh, name) for name in problem.boundary_names()}
 

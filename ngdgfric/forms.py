@@ -21,12 +21,14 @@ order of the two neighbours), which keeps the coercivity threshold of eta indepe
 up to a constant.
 """
 
+import warnings
 from dataclasses import dataclass
 
 import ngsolve as ngs
 
 __all__ = ["Method", "METHODS", "get_method", "default_eta", "strain", "stress", "edge_length",
-           "edge_penalty", "dg_terms", "load_terms", "jump_inner"]
+           "edge_penalty", "jump_penalty", "dg_terms", "load_terms", "jump_inner", "PenaltyWarning",
+           "coercivity_threshold", "check_penalty"]
 
 
 @dataclass(frozen=True)
@@ -43,6 +45,9 @@ class Method:
 METHODS = {
     "sipg": Method("sipg", +1, "edge", False, "B_h^(1), SIPG"),
     "nipg": Method("nipg", -1, "edge", False, "B_h^(2), NIPG"),
+    "bassi": Method("bassi", +1, "lift", False, "B_h^(3), Bassi et al."),
+    "brezzi": Method("brezzi", +1, "lift", True, "B_h^(4), Brezzi et al."),
+    "ldg": Method("ldg", +1, "edge", True, "B_h^(5), LDG"),
 }
 
 
@@ -55,8 +60,54 @@ def get_method(name):
 
 
 def default_eta(problem, method):
-    """Default penalty: eta = 30 mu for the edge-penalty methods (Section 6)."""
+    """Default penalty: eta = 30 mu for the edge-penalty methods (Section 6).
+
+    For the lifting penalties eta is dimensionless (it multiplies (C r_e, r_e)): 6 for Bassi et
+    al. (twice the coercivity threshold 3, the number of edges of a triangle), 1 for Brezzi et al.
+    (any eta > 0 is stable, the global lifting term adds stability).
+    """
+    if method.penalty == "lift":
+        return 6.0 if not method.global_lift else 1.0
     return 30 * problem.mu
+
+
+def jump_penalty(problem, method, eta, order, h_e):
+    """The weight of ||[u]||_e^2 in the estimator term eta_3 and in coercivity checks.
+
+    Edge-penalty methods: their eta p^2 / h_e.  Lifting methods: (C r_e, r_e) ~ 2 mu / h_e ||[u]||^2,
+    so eta multiplies 2 mu p^2 / h_e.
+    """
+    if method.penalty == "lift":
+        return edge_penalty(2 * problem.mu * eta, order, h_e)
+    return edge_penalty(eta, order, h_e)
+
+
+class PenaltyWarning(UserWarning):
+    """The penalty parameter is at or below the method's coercivity threshold."""
+
+
+def coercivity_threshold(problem, method, order):
+    """The smallest stable eta of ``method`` (None: any eta > 0 is stable).
+
+    Bassi et al.: eta > 3, the number of edges of a triangle (Arnold, Brezzi, Cockburn, Marini
+    2002, for liftings into a space containing eps_h(V_h)).
+    """
+    return 3.0 if method.name == "bassi" else None
+
+
+def check_penalty(problem, method, eta, order, action="warn"):
+    """Warn (``action="warn"``), raise ValueError (``"raise"``) or do nothing (``"ignore"``) when
+    eta is at or below :func:`coercivity_threshold`."""
+    if action not in ("warn", "raise", "ignore"):
+        raise ValueError(f"penalty_check must be 'warn', 'raise' or 'ignore', got {action!r}")
+    threshold = coercivity_threshold(problem, method, order)
+    if action == "ignore" or threshold is None or not isinstance(eta, (int, float)) or eta > threshold:
+        return
+    message = (f"eta = {eta:g} is at or below the coercivity threshold {threshold:g} of {method.name} "
+               f"for order {order}: B_h may not be coercive and the solution may be meaningless")
+    if action == "raise":
+        raise ValueError(message)
+    warnings.warn(message, PenaltyWarning, stacklevel=3)
 
 
 def strain(w):

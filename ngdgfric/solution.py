@@ -43,7 +43,7 @@ class Solution:
 
 
 def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=1e-8, initial=None,
-          **options):
+          penalty_check="warn", **options):
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
     problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
@@ -52,6 +52,8 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     solver: "newton" (default; semismooth Newton, :func:`ngdgfric.newton.newton`) or "uzawa"
     (the paper's method, :func:`ngdgfric.uzawa.uzawa`); both solve the same discrete problem.
     tol: relative max-norm tolerance of the nonlinear solver (1e-8 as in Section 6).
+    penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
+    threshold (:func:`ngdgfric.forms.check_penalty`).
     initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
     same domain: see :func:`ngdgfric.transfer.initial_guess`).
     options: passed to the solver (``maxit``, ``progress``; ``rho`` for Uzawa; ``kappa``, ``c0``,
@@ -60,7 +62,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
     start = time.perf_counter()
-    disc = Discretization(problem, mesh, method, order, eta)
+    disc = Discretization(problem, mesh, method, order, eta, penalty_check)
     start_guess = None if initial is None else initial_guess(initial, disc)
     u, lam, info = SOLVERS[solver](disc, tol=tol, initial=start_guess, **options)
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],

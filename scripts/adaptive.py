@@ -45,7 +45,7 @@ def slope(records, last=10):
 
 
 def mesh_arrays(mesh):
-    points = np.asarray(mesh.ngmesh.Coordinates())
+    points = np.array(mesh.ngmesh.Coordinates(), copy=True)  # netgen's arrays change on refinement
     triangles = mesh.ngmesh.Elements2D().NumPy()["nodes"].astype(np.int64) - 1
     return points, triangles
 

@@ -1,0 +1,95 @@
+import warnings
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+from ngdgfric.forms import PenaltyWarning, get_method
+from ngdgfric.liftings import edge_colours, lifting_matrices, lifting_space
+from ngdgfric.meshes import facet_indicator
+
+
+@pytest.fixture(scope="module")
+def small():
+    p = ndf.example_6_1()
+    mesh = ndf.netgen_mesh(p, 0.35)  # unstructured: more colours than a structured mesh
+    return p, mesh, ndf.Discretization(p, mesh, order=2)
+
+
+def test_colours_separate_the_edges_of_every_triangle(small):
+    p, mesh, _ = small
+    colours = edge_colours(p, mesh)
+    assert 3 <= len(colours) <= 5
+    total = sum(c.vec.FV().NumPy() for c in colours)
+    interior_or_dirichlet = ngs.Integrate(sum(colours) * ngs.dx(element_boundary=True), mesh, element_wise=True)
+    assert np.max(total) == 1  # each edge has at most one colour
+    assert np.max(interior_or_dirichlet.NumPy()) > 0
+    for c in colours:  # no triangle has two edges of one colour
+        per_element = ngs.Integrate(c * ngs.dx(element_boundary=True), mesh, element_wise=True).NumPy()
+        lengths = ngs.Integrate(ngs.CF(1) * ngs.dx(element_boundary=True), mesh, element_wise=True).NumPy()
+        # one edge is shorter than half the perimeter, two edges are longer (triangle inequality)
+        assert np.all(per_element < lengths / 2)
+
+
+def test_lifting_identity_and_global_lifting(small):
+    p, mesh, disc = small
+    R, _ = lifting_matrices(p, mesh, disc.V, 2, local=True, total=True)
+    S = lifting_space(mesh, 2)
+    rng = np.random.default_rng(7)
+    u = ngs.GridFunction(disc.V)
+    u.vec.FV().NumPy()[:] = rng.standard_normal(disc.V.ndof)
+    tau = ngs.GridFunction(S)
+    tau.vec.FV().NumPy()[:] = rng.standard_normal(S.ndof)
+    n = ngs.specialcf.normal(2)
+    tmp = tau.vec.CreateVector()
+
+    def paired(mat):  # tau^T R u = int r(u) : tau (R = M r)
+        tmp.data = mat * u.vec
+        return float(np.dot(tau.vec.FV().NumPy(), tmp.FV().NumPy()))
+
+    # - int_{E_h^o} [u] : {tau} ds, computed independently from element-boundary integrals
+    jump = u - u.Other()
+    interior = ngs.Integrate(-0.5 * jump * (0.5 * (tau + tau.Other()) * n) * ngs.dx(element_boundary=True), mesh)
+    dirichlet = ngs.Integrate(-facet_indicator(mesh, p.dirichlet) * u * (tau * n) * ngs.dx(element_boundary=True),
+                              mesh)
+    local = sum(paired(R_c) for R_c in R[:-1])
+    assert local == pytest.approx(interior + dirichlet, rel=1e-10)
+    assert paired(R[-1]) == pytest.approx(local, rel=1e-10)  # r_0 = sum_e r_e
+
+
+@pytest.mark.parametrize("method", ["sipg", "bassi", "brezzi", "ldg"])
+def test_symmetric_methods_give_symmetric_matrices(small, method):
+    p, mesh, _ = small
+    A = ndf.Discretization(p, mesh, method=method).A.ToDense().NumPy()
+    assert np.abs(A - A.T).max() <= 1e-12 * np.abs(A).max()
+
+
+def test_bassi_is_coercive_above_3_and_warns_at_or_below():
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 4)
+    A = ndf.Discretization(p, mesh, method="bassi", eta=3.5).A.ToDense().NumPy()
+    assert np.linalg.eigvalsh(0.5 * (A + A.T)).min() > 0
+    with pytest.warns(PenaltyWarning, match="threshold 3"):
+        ndf.Discretization(p, mesh, method="bassi", eta=3.0)
+    with pytest.raises(ValueError, match="threshold"):
+        ndf.Discretization(p, mesh, method="bassi", eta=2.0, penalty_check="raise")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ndf.Discretization(p, mesh, method="bassi")  # the default eta is fine
+
+
+@pytest.mark.parametrize("method", ["bassi", "brezzi", "ldg"])
+@pytest.mark.parametrize("order, levels", [(1, (2, 3, 4)), (2, (1, 2, 3))])
+def test_lifting_methods_converge_at_the_optimal_rate(elasticity, method, order, levels):
+    problem, u_exact = elasticity
+    errors = [ndf.energy_norm(ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k), method=method, order=order),
+                              u_exact) for k in levels]
+    assert np.log2(errors[-2] / errors[-1]) == pytest.approx(order, abs=0.15)
+
+
+def test_method_table_shows_one_construction():
+    rows = {name: (m.symmetry, m.penalty, m.global_lift) for name, m in ndf.METHODS.items()}
+    assert rows == {"sipg": (1, "edge", False), "nipg": (-1, "edge", False), "bassi": (1, "lift", False),
+                    "brezzi": (1, "lift", True), "ldg": (1, "edge", True)}
+    assert get_method("LDG").name == "ldg"
