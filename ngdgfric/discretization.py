@@ -9,7 +9,7 @@ import numpy as np
 from .contact import ContactGauss, compliance, contact_measure, contact_points, multiplier_space, normal_tangent
 from .forms import check_penalty, default_eta, dg_terms, edge_length, get_method, load_terms
 from .liftings import lifting_stiffness
-from .linalg import sparse_sum
+from .linalg import sparse_sum, threads
 from .meshes import check_mesh
 
 __all__ = ["Discretization", "dg_space"]
@@ -63,7 +63,7 @@ class Discretization:
         self.h_e = edge_length(mesh)
         self.dS = contact_measure(problem, mesh, self.order)
         u, v = self.V.TnT()
-        with ngs.TaskManager():
+        with threads(self.V.ndof):
             a = ngs.BilinearForm(self.V)
             for term in dg_terms(problem, mesh, u, v, self.method, self.eta, self.order, self.h_e):
                 a += term

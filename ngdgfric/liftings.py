@@ -27,7 +27,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .forms import stress
-from .linalg import diagonal, sparse_sum
+from .linalg import diagonal, sparse_sum, threads
 
 __all__ = ["lifting_space", "edge_colours", "lifting_matrices", "lifting_stiffness"]
 
@@ -109,7 +109,7 @@ def lifting_matrices(problem, mesh, V, order, local=True, total=False):
     n = ngs.specialcf.normal(2)
     dirichlet = mesh.Boundaries(problem.dirichlet)
     jump = u - u.Other()
-    with ngs.TaskManager():
+    with threads(V.ndof):
         mass = ngs.BilinearForm(S)
         mass += ngs.InnerProduct(sigma, tau) * ngs.dx
         mass.Assemble()
@@ -144,7 +144,7 @@ def lifting_stiffness(problem, mesh, V, order, method, eta):
     local = method.penalty == "lift"
     R, P = lifting_matrices(problem, mesh, V, order, local=local, total=method.global_lift)
     terms = []
-    with ngs.TaskManager():
+    with threads(V.ndof):
         if local:
             terms += [(eta, R_c.CreateTranspose() @ P @ R_c) for R_c in (R[:-1] if method.global_lift else R)]
         if method.global_lift:

@@ -6,10 +6,12 @@ the elements on Gamma_C (and the multiplier on the same edge).  :class:`BlockSum
 pattern of J once and refreshes its values with two numpy scatters.
 """
 
+import contextlib
+
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal", "sparse_sum"]
+__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal", "sparse_sum", "threads"]
 
 
 def csr_keys(mat, ncols=None):
@@ -130,3 +132,16 @@ def _coo_sum(terms):
     height, width = terms[0][1].height, terms[0][1].width
     return ngs.la.SparseMatrixd.CreateFromCOO(np.concatenate(rows), np.concatenate(cols),
                                               np.concatenate(values), height, width)
+
+
+PARALLEL_FROM = 20000
+
+
+def threads(size):
+    """NGSolve's TaskManager for work on ``size`` >= 20000 unknowns, else nothing.
+
+    Small operations gain nothing from threads, and on a machine whose other cores are busy a
+    parallel region can wait milliseconds for a descheduled worker (seen: 10x slower Newton
+    steps at 200 DOFs while another process ran).
+    """
+    return ngs.TaskManager() if size >= PARALLEL_FROM else contextlib.nullcontext()

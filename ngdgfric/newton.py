@@ -54,8 +54,8 @@ def augmentation(disc, kappa):
     return kappa * stiffness_ratio(disc) / disc.h_e
 
 
-def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_steps=0, progress=None,
-           max_sweeps=20):
+def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_steps=0, reuse=True,
+           progress=None, max_sweeps=20):
     """Semismooth Newton (module docstring); returns (u, lam, info).
 
     tol: stop when the active sets (and the penetrating points) are those of the previous step
@@ -65,6 +65,7 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
     initial: optional (u, lam) GridFunctions on ``disc.V``, ``disc.Q`` to start from.
     kappa, c0: penalty and active-set parameters (module docstring).
     krylov_steps: GMRES steps tried with an old factorisation before refactorising.
+    reuse: keep the factorisation while the active sets stay (False: factorise every Newton step).
     progress: callable(iteration, change) called after each iteration, or None.
     Raises :class:`SolverError` with the history of changes if it does not converge in maxit.
     """

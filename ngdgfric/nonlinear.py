@@ -16,7 +16,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import evaluate_on_contact, normal_tangent, penetration
-from .linalg import BlockSum, direct_inverse
+from .linalg import BlockSum, direct_inverse, threads
 
 __all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newton_step", "relative_change"]
 
@@ -48,7 +48,7 @@ class ContactOperator:
         """F(u) as a vector (for the GridFunction ``u`` of the constructor, or ``vec``)."""
         vec = self.u.vec if vec is None else vec
         r = self._out
-        with ngs.TaskManager():
+        with threads(len(vec)):
             self.form.Apply(vec, r)
             r.data += self.disc.A * vec - self.disc.F
         return r
@@ -67,7 +67,7 @@ class ContactOperator:
 
     def jacobian(self):
         """A + K(u) as a sparse matrix (updated in place; valid until the next call)."""
-        with ngs.TaskManager():
+        with threads(self.disc.V.ndof):
             self.form.AssembleLinearization(self.u.vec)
         return self.sum.update(self.form.mat)
 
@@ -91,10 +91,14 @@ class ReusedFactorization:
         self.counts = dict(factorizations=0, solves=0, krylov=0)
         self.factor_time = 0.0
 
+    def forget(self):
+        """Factorise at the next solve even if the state is unchanged."""
+        self._state = None
+
     def factorize(self, J, state):
         start = time.perf_counter()
         self._inverse = None  # free the old factor first: reusing its memory is much faster
-        with ngs.TaskManager():
+        with threads(J.height):
             self._inverse = direct_inverse(J, self.symmetric)
         self.factor_time += time.perf_counter() - start
         self._state = state
@@ -102,11 +106,11 @@ class ReusedFactorization:
 
     def solve(self, jacobian, state, b, x):
         """x = J^-1 b with J = ``jacobian()`` (called only if needed); ``state`` identifies J."""
-        same = self._inverse is not None and np.array_equal(state, self._state)
+        same = self._inverse is not None and self._state is not None and np.array_equal(state, self._state)
         J = None if same else jacobian()
-        if not same and self._inverse is not None and self.krylov_steps > 0:
+        if not same and self._state is not None and self.krylov_steps > 0:
             x[:] = 0.0
-            with ngs.TaskManager():
+            with threads(J.height):
                 solver = ngs.krylovspace.GMResSolver(J, self._inverse, maxiter=self.krylov_steps,
                                                      tol=self.krylov_tol, printrates=False)
                 solver.Solve(rhs=b, sol=x)
@@ -115,7 +119,7 @@ class ReusedFactorization:
                 return
         if not same:
             self.factorize(J, state)
-        with ngs.TaskManager():
+        with threads(len(b)):
             x.data = self._inverse * b
         self.counts["solves"] += 1
 
@@ -130,7 +134,7 @@ def multiplier_update(disc, lam, value):
     form += value * disc.Q.TestFunction() * disc.dS
 
     def update():
-        with ngs.TaskManager():
+        with threads(disc.V.ndof):
             form.Assemble()
         lam.vec.data = disc.M_inv * form.vec
 

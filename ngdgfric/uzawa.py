@@ -14,7 +14,7 @@ import numpy as np
 
 from .contact import normal_tangent, project_unit
 from .errors import SolverError
-from .linalg import direct_inverse
+from .linalg import direct_inverse, threads
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
 
 __all__ = ["uzawa", "default_rho"]
@@ -30,7 +30,7 @@ def default_rho(disc, iterations=30, safety=1.5):
     """
     if disc.Q.ndof == 0:
         return 1.0
-    with ngs.TaskManager():
+    with threads(disc.V.ndof):
         inverse = direct_inverse(disc.A, disc.symmetric)
     x = ngs.GridFunction(disc.Q).vec
     rng = np.random.default_rng(0)

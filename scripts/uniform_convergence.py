@@ -5,7 +5,8 @@ of row h is |||u_h - u_{h/2}|||_h (difference of consecutive solutions, on the f
 the meshes run to h = 2^-6.  Writes results/table_6_1.md (or table_6_2.md) and a CSV with our
 numbers, the paper's, and the ratio ours/paper for every entry.
 
-    python scripts/uniform_convergence.py --example 6.1 [--method sipg nipg bassi brezzi ldg] [--uzawa sipg nipg] [--quick]
+    python scripts/uniform_convergence.py --example 6.1 [--method sipg nipg bassi brezzi ldg]
+        [--uzawa sipg nipg] [--quick]
 """
 
 import argparse
