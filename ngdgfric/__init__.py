@@ -10,13 +10,16 @@ from .errors import SolverError
 from .estimator import Estimate, estimate
 from .examples import example_6_1, example_6_2
 from .forms import METHODS
+from .hp import HPState, hp_refine
 from .kkt import contact_state, kkt_residuals
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
 from .norms import energy_norm
 from .problem import ContactProblem, Polygon
+from .reference import Reference, energy_error, load_reference, save_reference
 from .solution import Solution, solve
 
 __all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_mesh", "netgen_mesh",
            "check_mesh", "Discretization", "solve", "Solution", "SolverError", "energy_norm", "METHODS",
            "contact_state", "kkt_residuals", "estimate", "Estimate", "dorfler_mark", "refine", "adapt",
-           "minimum_angle"]
+           "minimum_angle", "HPState", "hp_refine", "Reference", "energy_error", "load_reference",
+           "save_reference"]

@@ -18,6 +18,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .estimator import estimate
+from .hp import HPState, hp_refine
 from .meshes import element_diameters, netgen_mesh, uniform_mesh
 from .solution import solve
 from .transfer import multiplier_snapshot
@@ -70,11 +71,13 @@ def minimum_angle(mesh):
 
 
 FIELDS = ["level", "ndof", "elements", "eta", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6",
-          "iterations", "solve_seconds", "estimate_seconds", "mark_refine_seconds", "h_min", "min_angle"]
+          "iterations", "solve_seconds", "estimate_seconds", "mark_refine_seconds", "h_min", "min_angle",
+          "p_min", "p_max"]
 
 
 def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, max_ndof=10**5, tol=None,
-          solver="newton", eta=None, csv_path=None, progress=print, keep=None, **options):
+          solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=False, max_order=6,
+          **options):
     """The adaptive loop of Section 6; returns the list of level records (dicts).
 
     mesh: initial mesh (default: uniform h = 1/2 on a rectangle, Netgen maxh = 1/2 otherwise);
@@ -84,8 +87,12 @@ def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, 
     receiving one line per level (None for silence); ``csv_path``: each finished level is
     appended to this CSV at once (the header is written first), so an interrupted run keeps every
     finished level.  ``keep``: callable(level, solution, estimate) called at every level, e.g. to
-    save a picture.  Further options go to :func:`ngdgfric.solve`.
+    save a picture.  ``hp``: refine marked elements in h or p by :func:`ngdgfric.hp.hp_refine`
+    (starting from ``order`` everywhere, up to ``max_order``).  Further options go to
+    :func:`ngdgfric.solve`.
     """
+    if hp and not (isinstance(max_order, int) and max_order >= order):
+        raise ValueError(f"max_order must be an integer >= order = {order}, got {max_order!r}")
     if mesh is None:
         mesh = uniform_mesh(problem, 0.5) if problem.geometry.is_rectangle else netgen_mesh(problem, 0.5)
     if tol is not None and not (tol > 0):
@@ -98,29 +105,38 @@ def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, 
     records, previous = [], None
     # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
     # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
-    carrier = ngs.GridFunction(ngs.L2(mesh, order=order, autoupdate=True) ** 2, autoupdate=True)
+    carrier = ngs.GridFunction(ngs.L2(mesh, order=max_order if hp else order, autoupdate=True) ** 2,
+                               autoupdate=True)
+    state = HPState.uniform(mesh, order)
     for level in range(max_levels):
         start = time.perf_counter()
-        sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, initial=previous, **options)
+        sol = solve(problem, mesh, method=method, order=state.orders if hp else order, eta=eta, solver=solver,
+                    initial=previous, **options)
         solved = time.perf_counter()
         est = estimate(sol)
         estimated = time.perf_counter()
         record = dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta=est.total,
                       **{k: math.sqrt(v) for k, v in est.parts.items()}, iterations=sol.iterations,
                       solve_seconds=solved - start, estimate_seconds=estimated - solved,
-                      h_min=float(element_diameters(mesh).min()), min_angle=minimum_angle(mesh))
+                      h_min=float(element_diameters(mesh).min()), min_angle=minimum_angle(mesh),
+                      p_min=int(state.orders.min()), p_max=int(state.orders.max()))
         if keep is not None:
             keep(level, sol, est)
         done = (tol is not None and est.total <= tol) or level == max_levels - 1
         if not done:
             refine_start = time.perf_counter()
             marked = dorfler_mark(est.element, theta)
-            carrier.vec.data = sol.u.vec
+            carrier.Set(sol.u)  # exact: element-wise L2 projection into a superspace
             previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
+            indicators = est.element
             sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes
-            refine(mesh, marked)
+            if hp:
+                state = hp_refine(mesh, state, indicators, marked, max_order)
+            else:
+                refine(mesh, marked)
+                state = HPState.uniform(mesh, order)
             record["mark_refine_seconds"] = time.perf_counter() - refine_start
-            done = mesh.ne * (order + 1) * (order + 2) > max_ndof  # dim V_h on the refined mesh
+            done = state.ndof > max_ndof  # dim V_h on the refined mesh
         else:
             record["mark_refine_seconds"] = 0.0
         records.append(record)
@@ -135,6 +151,7 @@ def _report(record, csv_path, progress, solver):
         with open(csv_path, "a", newline="") as handle:
             csv.DictWriter(handle, fieldnames=FIELDS).writerow(record)
     if progress is not None:
-        progress(f"level {record['level']:3d}: {record['ndof']:7d} dofs, eta_h = {record['eta']:.4e}, "
+        orders = f"p {record['p_min']}..{record['p_max']}, " if record["p_max"] > record["p_min"] else ""
+        progress(f"level {record['level']:3d}: {record['ndof']:7d} dofs, {orders}eta_h = {record['eta']:.4e}, "
                  f"{solver} {record['iterations']} iterations, {record['solve_seconds']:.2f} s solve, "
                  f"{record['estimate_seconds'] + record['mark_refine_seconds']:.2f} s estimate+refine")

@@ -12,23 +12,46 @@ from .liftings import lifting_stiffness
 from .linalg import sparse_sum, threads
 from .meshes import check_mesh
 
-__all__ = ["Discretization", "dg_space"]
+__all__ = ["Discretization", "dg_space", "check_order", "order_function"]
 
 
 def dg_space(mesh, order, dgjumps=True):
     """V_h: discontinuous vector polynomials of degree ``order`` (Section 2.1).
 
+    ``order``: p, or an integer array with the degree p_T of every element (hp).
     ``dgjumps=False`` gives the same space and numbering without the facet couplings in the
     matrix pattern; mixed forms with the multiplier space need it (NGSolve 6.2.2608 crashes
     assembling a mixed skeleton form whose test space has ``dgjumps=True``).
     """
-    return ngs.L2(mesh, order=order, dgjumps=dgjumps) ** 2
+    if np.ndim(order) == 0:
+        return ngs.L2(mesh, order=int(order), dgjumps=dgjumps) ** 2
+    scalar = ngs.L2(mesh, order=int(np.max(order)), dgjumps=dgjumps)
+    for nr, p in enumerate(order):  # only scalar L2 has SetOrder: build Q**2 from it
+        scalar.SetOrder(ngs.NodeId(ngs.ELEMENT, nr), int(p))
+    scalar.Update()
+    return scalar**2
 
 
-def _check_order(order):
-    if not isinstance(order, Integral) or isinstance(order, bool) or order < 1:
-        raise ValueError(f"order must be an integer >= 1, got {order!r}")
-    return int(order)
+def check_order(order, mesh):
+    """``order`` validated: an int p >= 1, or an integer array of p_T >= 1, one per element."""
+    if np.ndim(order) == 0:
+        if not isinstance(order, Integral) or isinstance(order, bool) or order < 1:
+            raise ValueError(f"order must be an integer >= 1, got {order!r}")
+        return int(order)
+    orders = np.asarray(order)
+    if orders.shape != (mesh.ne,) or not np.issubdtype(orders.dtype, np.integer) or orders.min() < 1:
+        raise ValueError(f"order must be an integer >= 1 or an integer array of {mesh.ne} orders >= 1 "
+                         f"(one per element), got shape {orders.shape}, dtype {orders.dtype}")
+    return orders.astype(np.int64)
+
+
+def order_function(mesh, order):
+    """p_T as a piecewise constant GridFunction (``order`` itself if it is a number)."""
+    if np.ndim(order) == 0:
+        return order
+    p = ngs.GridFunction(ngs.L2(mesh, order=0))
+    p.vec.FV().NumPy()[:] = order
+    return p
 
 
 def _check_eta(eta):
@@ -45,27 +68,32 @@ class Discretization:
     Attributes: ``V`` (DG space), ``Q`` (multiplier space on Gamma_C), ``A`` (matrix of B_h),
     ``F`` (load vector of (f, v)), ``compliance`` (nonlinear form of j_n on V), ``G`` (matrix of
     g(lam, v) = int c_tau l v.t ds, trial Q, test V), ``M_inv`` (inverse Gauss-rule mass matrix
-    of Q), ``h_e``, ``timings``.
+    of Q), ``h_e``, ``timings``; ``orders`` (p_T per element), ``order`` (the largest, which sets
+    the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as a number
+    or GridFunction, for the penalty and the estimator weights).
     """
 
     def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn"):
         check_mesh(problem, mesh)
         self.problem, self.mesh = problem, mesh
         self.method = get_method(method)
-        self.order = _check_order(order)
+        order = check_order(order, mesh)
+        self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
+        self.order = int(self.orders.max())
+        self.p = self.order if np.ndim(order) == 0 or np.all(order == self.order) else order_function(mesh, order)
         self.eta = _check_eta(default_eta(problem, self.method) if eta is None else eta)
         check_penalty(problem, self.method, self.eta, self.order, penalty_check)
         self.timings = {}
         self._gauss = None
         start = time.perf_counter()
-        self.V = dg_space(mesh, self.order)
+        self.V = dg_space(mesh, order)
         self.Q = multiplier_space(problem, mesh, self.order)
         self.h_e = edge_length(mesh)
         self.dS = contact_measure(problem, mesh, self.order)
         u, v = self.V.TnT()
         with threads(self.V.ndof):
             a = ngs.BilinearForm(self.V)
-            for term in dg_terms(problem, mesh, u, v, self.method, self.eta, self.order, self.h_e):
+            for term in dg_terms(problem, mesh, u, v, self.method, self.eta, self.p, self.h_e):
                 a += term
             a.Assemble()
             lifts = lifting_stiffness(problem, mesh, self.V, self.order, self.method, self.eta)
@@ -78,7 +106,7 @@ class Discretization:
             self.timings["assemble"] = time.perf_counter() - start
             lam, q = self.Q.TnT()
             _, t = normal_tangent()
-            v0 = dg_space(mesh, self.order, dgjumps=False).TestFunction()
+            v0 = dg_space(mesh, order, dgjumps=False).TestFunction()
             g = ngs.BilinearForm(trialspace=self.Q, testspace=v0.space)
             g += self.c_tau * lam * (v0 * t) * self.dS
             g.Assemble()

@@ -9,7 +9,9 @@
 
 For p = 1 these are exactly the terms of Section 4 (div sigma_h(u_h) = 0 for piecewise linear
 u_h, so eta_1 involves f only); for p > 1 they carry the usual hp weights h/p and the element
-residual f + div sigma_h(u_h).  eta_3 uses the method's edge penalty eta p^2/h_e (for the lifting
+residual f + div sigma_h(u_h).  With a variable order (hp), p is p_T of the element integrated
+over (volume terms and the element's share of edge terms) and eta_3 uses the penalty of the
+forms, with p_e = max(p_T+, p_T-).  eta_3 uses the method's edge penalty eta p^2/h_e (for the lifting
 methods 2 mu eta p^2/h_e, see :func:`ngdgfric.forms.jump_penalty`).  Edge terms of interior edges are shared
 half-half by the two neighbours; boundary edges go to their element.  Everything is computed
 with ``Integrate(..., element_wise=True)``.
@@ -21,7 +23,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, normal_tangent
-from .forms import jump_inner, jump_penalty, strain, stress
+from .forms import edge_order, jump_inner, jump_penalty, strain, stress
 from .meshes import element_diameters, facet_indicator
 
 __all__ = ["Estimate", "estimate", "div_stress"]
@@ -53,21 +55,22 @@ def _vector(value):
 def estimate(sol):
     """Element indicators and the six terms of eta_h for a Solution (see module docstring)."""
     disc = sol.discretization
-    problem, mesh, u, p = sol.problem, sol.mesh, sol.u, disc.order
+    problem, mesh, u, p = sol.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
     h_e = disc.h_e
     h_T = ngs.GridFunction(ngs.L2(mesh, order=0))
     h_T.vec.FV().NumPy()[:] = element_diameters(mesh)
     sigma_n = stress(problem, strain(u)) * n
     jump_u = u - u.Other()
-    penalty = jump_penalty(problem, disc.method, disc.eta, p, h_e)
+    penalty = jump_penalty(problem, disc.method, disc.eta, edge_order(p), h_e)
+    boundary_penalty = jump_penalty(problem, disc.method, disc.eta, p, h_e)
     boundary = ngs.dx(element_boundary=True)
     on = {name: facet_indicator(mesh, name) for name in problem.boundary_names()}
 
     def element_wise(cf, measure=boundary):
         return ngs.Integrate(cf * measure, mesh, element_wise=True).NumPy().copy()
 
-    residual = _vector(problem.f) + (div_stress(problem, u) if p > 1 else ngs.CF((0, 0)))
+    residual = _vector(problem.f) + (div_stress(problem, u) if disc.order > 1 else ngs.CF((0, 0)))
     jump_sigma = sigma_n - stress(problem, strain(u)).Other() * n
     contact = on[problem.contact]
     traction_residual = sigma_n - _vector(problem.g)
@@ -75,7 +78,7 @@ def estimate(sol):
         "eta1": element_wise((h_T / p) ** 2 * residual * residual, ngs.dx),
         "eta2": element_wise(0.5 * h_e / p * jump_sigma * jump_sigma),
         "eta3": element_wise(0.5 * penalty * jump_inner(jump_u, jump_u, n))
-        + element_wise(on[problem.dirichlet] * penalty * jump_inner(u, u, n)),
+        + element_wise(on[problem.dirichlet] * boundary_penalty * jump_inner(u, u, n)),
         "eta4": element_wise(contact * h_e / p * (sigma_n * t + disc.c_tau * sol.lam_tau) ** 2),
         "eta5": element_wise(on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual)),
         "eta6": element_wise(contact * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2),

@@ -16,9 +16,10 @@ with s = +1 except NIPG (s = -1), and differ only in the stabilisation:
 Jumps are the symmetric tensor jumps of Section 2.1, [v] = sym(v+ (x) n+ + v- (x) n-), on
 interior edges and [v] = sym(v (x) n) on Dirichlet edges (E_h^o = E_h^i u E_h^D); the
 averages are {sigma} = (sigma+ + sigma-)/2 and {sigma} = sigma on the boundary.  For p = 1 the
-edge penalty is the paper's eta h_e^-1; for p > 1 it carries the usual factor p^2 (p the larger
-order of the two neighbours), which keeps the coercivity threshold of eta independent of h and p
-up to a constant.
+edge penalty is the paper's eta h_e^-1; for p > 1 it carries the usual factor p_e^2, which keeps
+the coercivity threshold of eta independent of h and p up to a constant.  With a variable order
+per element (hp), p_e = max(p_T+, p_T-) on interior edges (the inverse trace inequality of the
+higher-order neighbour decides coercivity) and p_e = p_T on boundary edges.
 """
 
 import warnings
@@ -27,7 +28,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 
 __all__ = ["Method", "METHODS", "get_method", "default_eta", "strain", "stress", "edge_length",
-           "edge_penalty", "jump_penalty", "dg_terms", "load_terms", "jump_inner", "PenaltyWarning",
+           "edge_penalty", "edge_order", "jump_penalty", "dg_terms", "load_terms", "jump_inner", "PenaltyWarning",
            "coercivity_threshold", "check_penalty"]
 
 
@@ -75,7 +76,7 @@ def jump_penalty(problem, method, eta, order, h_e):
     """The weight of ||[u]||_e^2 in the estimator term eta_3 and in coercivity checks.
 
     Edge-penalty methods: their eta p^2 / h_e.  Lifting methods: (C r_e, r_e) ~ 2 mu / h_e ||[u]||^2,
-    so eta multiplies 2 mu p^2 / h_e.
+    so eta multiplies 2 mu p^2 / h_e.  ``order`` as in :func:`edge_penalty`.
     """
     if method.penalty == "lift":
         return edge_penalty(2 * problem.mu * eta, order, h_e)
@@ -141,8 +142,19 @@ def edge_length(mesh):
 
 
 def edge_penalty(eta, order, h_e):
-    """The edge penalty weight eta p^2 / h_e (eta / h_e for p = 1, Section 3)."""
-    return eta * order**2 / h_e
+    """The edge penalty weight eta p^2 / h_e (eta / h_e for p = 1, Section 3).
+
+    ``order``: p (a number) or a CoefficientFunction p_e (see :func:`edge_order`).
+    """
+    return eta * order * order / h_e
+
+
+def edge_order(order):
+    """p_e on interior edges: ``order`` itself if it is a number, max(p_T+, p_T-) for an element
+    order CoefficientFunction (a piecewise constant GridFunction)."""
+    if not isinstance(order, ngs.CoefficientFunction):
+        return order
+    return ngs.IfPos(order - order.Other(), order, order.Other())
 
 
 def _stress_normal(problem, w, n):
@@ -155,7 +167,8 @@ def dg_terms(problem, mesh, u, v, method, eta, order, h_e=None):
     Returns a list of symbolic integrals (one integrator each: NGSolve assembles separate
     skeleton integrators several times faster than their sum).  Lifting terms are added by the
     caller from :mod:`ngdgfric.liftings`.  ``u``, ``v`` are trial and test functions (or any
-    vector proxies) of a DG space with ``dgjumps=True``.
+    vector proxies) of a DG space with ``dgjumps=True``; ``order``: p, or the element order
+    GridFunction of a variable-order space.
     """
     s = method.symmetry
     n = ngs.specialcf.normal(2)
@@ -174,9 +187,8 @@ def dg_terms(problem, mesh, u, v, method, eta, order, h_e=None):
     if method.penalty == "edge":
         if h_e is None:
             h_e = edge_length(mesh)
-        weight = edge_penalty(eta, order, h_e)
-        terms += [weight * jump_inner(ju, jv, n) * interior,
-                  weight * jump_inner(u, v, n) * boundary]
+        terms += [edge_penalty(eta, edge_order(order), h_e) * jump_inner(ju, jv, n) * interior,
+                  edge_penalty(eta, order, h_e) * jump_inner(u, v, n) * boundary]
     return terms
 
 

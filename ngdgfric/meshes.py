@@ -5,7 +5,8 @@ import ngsolve as ngs
 import numpy as np
 from netgen.geom2d import SplineGeometry
 
-__all__ = ["uniform_mesh", "netgen_mesh", "check_mesh", "facet_indicator", "element_diameters"]
+__all__ = ["uniform_mesh", "netgen_mesh", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
+           "element_diameters"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 
@@ -34,10 +35,6 @@ def uniform_mesh(problem, h, diagonal="sw-ne"):
     nx, ny = counts
 
     xs, ys = np.meshgrid(np.linspace(x0, x1, nx + 1), np.linspace(y0, y1, ny + 1))
-    points = np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)])
-    ngmesh = nm.Mesh(dim=2)
-    ngmesh.AddPoints(points)
-
     j, i = np.meshgrid(np.arange(nx), np.arange(ny))
     sw = (i * (nx + 1) + j).ravel()
     se, nw = sw + 1, sw + nx + 1
@@ -46,8 +43,6 @@ def uniform_mesh(problem, h, diagonal="sw-ne"):
         triangles = np.concatenate([np.column_stack([sw, se, ne]), np.column_stack([sw, ne, nw])])
     else:
         triangles = np.concatenate([np.column_stack([sw, se, nw]), np.column_stack([se, ne, nw])])
-    domain = ngmesh.AddRegion("omega", dim=2)
-    ngmesh.AddElements(dim=2, index=domain, data=triangles.astype(np.int32), base=0)
 
     bottom = np.arange(nx)
     right = np.arange(ny) * (nx + 1) + nx
@@ -59,14 +54,41 @@ def uniform_mesh(problem, h, diagonal="sw-ne"):
         np.column_stack([top, top - 1]),
         np.column_stack([left, left - (nx + 1)]),
     ]
-    regions = {}
-    for label, segments in zip(geometry.labels, sides, strict=True):
-        if label not in regions:
-            regions[label] = ngmesh.AddRegion(label, dim=1)
-        ngmesh.AddElements(dim=1, index=regions[label], data=segments.astype(np.int32), base=0)
+    labels = np.concatenate([np.full(len(side), k) for k, side in enumerate(sides)])
+    return mesh_from_arrays(problem, np.column_stack([xs.ravel(), ys.ravel()]), triangles, np.concatenate(sides),
+                            np.asarray(geometry.labels)[labels])
+
+
+def mesh_from_arrays(problem, points, triangles, segments, labels):
+    """Mesh from vertex coordinates (n, 2), triangles (m, 3) and boundary segments (k, 2) (0-based
+    vertex numbers, segments with Omega on their left) with one boundary name per segment.
+
+    Elements are numbered in the order given, so DG coefficient vectors saved with
+    :func:`mesh_arrays` fit the rebuilt mesh.
+    """
+    ngmesh = nm.Mesh(dim=2)
+    ngmesh.AddPoints(np.column_stack([np.asarray(points, dtype=float), np.zeros(len(points))]))
+    domain = ngmesh.AddRegion("omega", dim=2)
+    ngmesh.AddElements(dim=2, index=domain, data=np.asarray(triangles, dtype=np.int32), base=0)
+    labels = np.asarray(labels)
+    for label in dict.fromkeys(labels.tolist()):
+        region = ngmesh.AddRegion(label, dim=1)
+        ngmesh.AddElements(dim=1, index=region, data=np.asarray(segments, dtype=np.int32)[labels == label], base=0)
     mesh = ngs.Mesh(ngmesh)
     check_mesh(problem, mesh)
     return mesh
+
+
+def mesh_arrays(mesh):
+    """(points, triangles, segments, labels) of a 2D mesh, for :func:`mesh_from_arrays`."""
+    ngmesh = mesh.ngmesh
+    points = np.asarray(ngmesh.Coordinates())[:, :2].copy()
+    triangles = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
+    edges = ngmesh.Elements1D().NumPy()
+    segments = edges["nodes"][:, :2].astype(np.int64) - 1
+    names = mesh.GetBoundaries()
+    labels = np.array([names[i - 1] for i in edges["index"]])
+    return points, triangles, segments, labels
 
 
 def netgen_mesh(problem, maxh):
