@@ -61,9 +61,10 @@ def load_reference(path, problem):
 
 
 def energy_error(sol, reference):
-    """|||u_ref - u_h|||_h of a Solution against a :class:`Reference` (module docstring)."""
+    """|||u_ref - u_h|||_h of a Solution (or a :class:`Reference`: anything with ``problem``,
+    ``mesh`` and ``u``) against a :class:`Reference` (module docstring)."""
     mesh, problem = sol.mesh, sol.problem
-    rule = ngs.IntegrationRule(ngs.TRIG, 2 * sol.discretization.order + 4)
+    rule = ngs.IntegrationRule(ngs.TRIG, 2 * sol.u.space.globalorder + 4)
     points = mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL)
     xy = np.asarray(ngs.CF((ngs.x, ngs.y))(points)).reshape(-1, 2)
     foreign = reference.mesh(xy[:, 0], xy[:, 1])

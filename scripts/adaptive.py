@@ -20,6 +20,7 @@ from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_c
 
 import ngdgfric as ndf
 from ngdgfric.forms import METHODS
+from ngdgfric.meshes import mesh_arrays
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -42,12 +43,6 @@ def slope(records, last=10):
     n = np.log([r["ndof"] for r in records[-last:]])
     e = np.log([r["eta"] for r in records[-last:]])
     return float(np.polyfit(n, e, 1)[0]) if len(n) > 1 else math.nan
-
-
-def mesh_arrays(mesh):
-    points = np.array(mesh.ngmesh.Coordinates(), copy=True)  # netgen's arrays change on refinement
-    triangles = mesh.ngmesh.Elements2D().NumPy()["nodes"].astype(np.int64) - 1
-    return points, triangles
 
 
 def where_refined(problem, points, triangles, fraction=0.1):
@@ -95,7 +90,7 @@ def main(argv=None):
 
         def keep(level, sol, est, method=method):
             if level == mesh_level:
-                meshes[method] = mesh_arrays(sol.mesh)
+                meshes[method] = mesh_arrays(sol.mesh)[:2]
 
         adaptive[method] = ndf.adapt(problem, method=method, theta=0.3, max_levels=levels, max_ndof=10**6,
                                      csv_path=args.out / f"adaptive_{tag}_{method}.csv", progress=say, keep=keep)

@@ -32,3 +32,25 @@ def test_table_variants(tmp_path):
     rows = run("table_variants", tmp_path)
     assert {r["example"] for r in rows} == {"6.1", "6.2"}
     assert "Findings" in (tmp_path / "table_investigation.md").read_text()
+
+
+def test_bench_solvers(tmp_path):
+    rows, policies = run("bench_solvers", tmp_path)
+    assert {r["example"] for r in rows} == {"6.1", "6.2"}
+    assert all(r["newton_its"] <= 10 for r in rows) and all(r.get("warm_its", 0) <= 3 for r in rows)
+    assert (tmp_path / "solver_benchmark.md").stat().st_size > 0 and (tmp_path / "solver_benchmark.png").exists()
+
+
+def test_bench_assembly(tmp_path):
+    run("bench_assembly", tmp_path)
+    text = (tmp_path / "assembly_benchmark.md").read_text()
+    assert all(method in text for method in ("sipg", "nipg", "bassi", "brezzi", "ldg"))
+
+
+def test_reference_and_hp(tmp_path):
+    run("reference", tmp_path, "--example", "6.2")
+    assert (tmp_path / "reference_6_2.npz").exists() and "estimated error" in (tmp_path / "reference.md").read_text()
+    run("hp", tmp_path, "--example", "6.2", "--reference", str(tmp_path))
+    for name in ("hp_6_2.csv", "hp_6_2.png", "hp_exponential_6_2.png", "hp_mesh_6_2.png", "hp.md"):
+        assert (tmp_path / name).stat().st_size > 0
+    assert "times fewer" in (tmp_path / "hp.md").read_text()

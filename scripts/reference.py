@@ -1,0 +1,85 @@
+"""Reference solutions of Examples 6.1 and 6.2 for true errors (hp-adaptive SIPG).
+
+Runs the hp-adaptive loop (SIPG, p from 2 up to ``--max-order``, Doerfler theta = 0.3) until
+eta_h <= ``--tol`` or ``--max-ndof``, and stores the last solution in results/reference_<example>.npz
+(:mod:`ngdgfric.reference`) with its eta_h.  results/reference.md reports the distance of the
+last levels to it: they fall geometrically, and the reference's own error is estimated as the
+last of them times their last ratio.
+
+    python scripts/reference.py [--example 6.1 6.2] [--quick]
+"""
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+from common import EXAMPLES, RESULTS, command_line, markdown_table, say
+
+import ngdgfric as ndf
+
+
+def parse(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--example", nargs="+", choices=sorted(EXAMPLES), default=sorted(EXAMPLES))
+    parser.add_argument("--tol", type=float, default=0.02, help="stop at eta_h <= tol (default 0.02)")
+    parser.add_argument("--max-ndof", type=int, default=150_000)
+    parser.add_argument("--max-order", type=int, default=8)
+    parser.add_argument("--quick", action="store_true", help="a coarse reference (smoke test)")
+    parser.add_argument("--out", type=Path, default=RESULTS)
+    return parser.parse_args(argv)
+
+
+def make_reference(problem, path, tol, max_ndof, max_order, max_levels=80):
+    """hp-adapt, keeping every level's solution; save the last to ``path``.  Returns the level
+    records, each with ``distance`` = |||u_ref - u_level|||."""
+    with tempfile.TemporaryDirectory() as folder:
+        files = []
+
+        def keep(level, sol, est):
+            files.append(Path(folder) / f"level_{level}.npz")
+            ndf.save_reference(sol, files[-1], eta=est.total,
+                               description=f"hp-adaptive SIPG, level {level}, {sol.ndof} dofs, eta_h = {est.total:.4e}")
+
+        start = time.perf_counter()
+        records = ndf.adapt(problem, method="sipg", order=2, hp=True, max_order=max_order, tol=tol,
+                            max_ndof=max_ndof, max_levels=max_levels, keep=keep, progress=say)
+        seconds = time.perf_counter() - start
+        path.write_bytes(files[-1].read_bytes())
+        reference = ndf.load_reference(path, problem)
+        for record, file in zip(records[:-1], files[:-1], strict=True):
+            if record["ndof"] >= records[-1]["ndof"] / 8:
+                record["distance"] = ndf.energy_error(ndf.load_reference(file, problem), reference)
+    return records, seconds
+
+
+def main(argv=None):
+    args = parse(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    tol, max_ndof = (2.0, 5000) if args.quick else (args.tol, args.max_ndof)
+    lines = ["# Reference solutions", "",
+             "hp-adaptive SIPG (eta = 30 mu, p from 2 up to the maximum, theta = 0.3, Melenk-Wohlmuth hp decision),",
+             "stored as `reference_<example>.npz` and loaded by `ngdgfric.load_reference`.  True errors elsewhere in",
+             "`results/` are |||u_ref - u_h|||_h by `ngdgfric.energy_error`.  Below: the distance of the last levels",
+             "to the reference; the reference's own error is estimated as the last distance times the last ratio",
+             "of consecutive distances (geometric decay).", ""]
+    for example in args.example:
+        say(f"Example {example}: hp reference")
+        path = args.out / f"reference_{example.replace('.', '_')}.npz"
+        records, seconds = make_reference(EXAMPLES[example](), path, tol, max_ndof, args.max_order)
+        last = records[-1]
+        distances = [r["distance"] for r in records if "distance" in r]
+        own = distances[-1] ** 2 / distances[-2] if len(distances) > 1 else float("nan")
+        lines += [f"## Example {example}", "",
+                  f"`{path.name}`: {last['ndof']} dofs, p = {last['p_min']}..{last['p_max']}, {len(records)} levels, "
+                  f"eta_h = {last['eta']:.3e}, {seconds:.0f} s; estimated error {own:.1e}.", "",
+                  markdown_table(["level", "ndof", "eta_h", "|||u_ref - u_level|||"],
+                                 [[r["level"], r["ndof"], f"{r['eta']:.3e}", f"{r['distance']:.3e}"]
+                                  for r in records if "distance" in r]), ""]
+    lines += [f"Regenerate: `{command_line()}`", ""]
+    (args.out / "reference.md").write_text("\n".join(lines))
+    say("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
