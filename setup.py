@@ -7,6 +7,7 @@ setup(
     packages=find_packages(include=["ngdgfric", "ngdgfric.*"]),
     python_requires=">=3.10",
     install_requires=["ngsolve", "numpy", "matplotlib"],
-    extras_require={"test": ["pytest", "ruff"]},
+    extras_require={"test": ["pytest", "ruff", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
+                             "webgui_jupyter_widgets"]},
     entry_points={"console_scripts": []},
 )
