@@ -1,0 +1,355 @@
+"""Command line: ``ngdgfric solve|uniform|adaptive PROBLEM [options]`` (also ``python -m ngdgfric``).
+
+PROBLEM is ``6.1`` or ``6.2`` (the examples of Section 6) or a TOML problem file
+(:mod:`ngdgfric.problem_file`).  ``solve`` solves (3.1) once and writes a CSV summary, a VTK file
+(displacement, von Mises stress) and a PNG of the deformed mesh; ``uniform`` runs the study of
+Tables 6.1/6.2 (|||u_h - u_{h/2}|||_h on h = 2^-1, 2^-2, ...) and writes CSV and Markdown;
+``adaptive`` runs the SOLVE-ESTIMATE-MARK-REFINE loop of Section 6 and writes CSV and a PNG of
+eta_h against the number of DOFs.  Bad input ends with one line ``ngdgfric: error: ...`` on
+stderr and exit code 2; a solver failure with exit code 1.
+"""
+
+import argparse
+import csv
+import math
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+
+from .adaptivity import adapt
+from .errors import SolverError
+from .estimator import estimate
+from .examples import example_6_1, example_6_2
+from .forms import METHODS, strain, stress
+from .meshes import mesh_arrays, netgen_mesh, uniform_mesh
+from .norms import energy_norm
+from .problem_file import load_problem
+from .solution import SOLVERS, solve
+from .studies import uniform_study
+
+__all__ = ["main", "run", "build_parser", "load", "von_mises"]
+
+EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
+DEFAULT_H = 0.125
+
+
+class UsageError(Exception):
+    """Bad command-line arguments (reported in one line instead of argparse's usage + message)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise UsageError(message)
+
+
+def _number(kind, low=0.0, high=None, what="positive"):
+    """argparse type: a finite ``kind`` number x with low < x (<= high)."""
+    def convert(text):
+        try:
+            value = float(text) if kind is float else _integer(text)
+        except (ValueError, OverflowError):
+            raise argparse.ArgumentTypeError(f"not {'a number' if kind is float else 'an integer'}: {text!r}") from None
+        if not (value > low and (high is None or value <= high) and math.isfinite(value)):
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text}")
+        return value
+    return convert
+
+
+def _integer(text):
+    value = float(text)  # accepts 1e5
+    if value != int(value):
+        raise ValueError(text)
+    return int(value)
+
+
+def build_parser():
+    """The argparse parser of the three subcommands."""
+    parser = _Parser(prog="ngdgfric", description="DG methods for 2D frictional contact with normal compliance "
+                                                  "(Porwal & Tanvi): solve, uniform and adaptive studies.",
+                     epilog="Run 'ngdgfric COMMAND --help' for the options of a command.")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    def common(sub, several_methods=False, solver_tol=True):
+        sub.add_argument("problem", metavar="PROBLEM", help="6.1, 6.2 (Section 6) or a TOML problem file")
+        if several_methods:
+            sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=["sipg"],
+                             help="DG methods of Section 3 (default: sipg)")
+        else:
+            sub.add_argument("--method", choices=sorted(METHODS), default="sipg",
+                             help="DG method of Section 3 (default: sipg)")
+        sub.add_argument("--order", type=_number(int), default=1, help="polynomial degree p >= 1 (default: 1)")
+        sub.add_argument("--solver", choices=sorted(SOLVERS), default="newton",
+                         help="nonlinear solver (default: newton, semismooth Newton; uzawa: the paper's method)")
+        sub.add_argument("--eta", type=_number(float), default=None,
+                         help="penalty parameter (default: 30 mu for the edge penalties, Section 6)")
+        if solver_tol:
+            sub.add_argument("--solver-tol", type=_number(float), default=1e-8,
+                             help="relative tolerance of the nonlinear solver (default: 1e-8, Section 6)")
+        sub.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out/)")
+
+    def meshes(sub, default):
+        group = sub.add_mutually_exclusive_group()
+        group.add_argument("--h", type=_number(float), default=None,
+                           help=f"uniform mesh of squares of side h cut in two (rectangles only; default: {default})")
+        group.add_argument("--maxh", type=_number(float), default=None, help="Netgen mesh with mesh size maxh")
+
+    sub = commands.add_parser("solve", help="solve once; write CSV, VTK and a PNG of the deformed mesh",
+                              description="Solve (3.1) once; print DOFs, iterations, |||u_h|||_h, eta_h and time; "
+                                          "write a CSV summary, a VTK file (displacement, von Mises stress) "
+                                          "and a PNG of the deformed mesh.")
+    common(sub)
+    meshes(sub, f"h = {DEFAULT_H}, or Netgen maxh = {DEFAULT_H} for other polygons")
+    sub.add_argument("--scale", type=_number(float), default=None,
+                     help="displacement magnification in the PNG (default: largest displacement = 10%% of the "
+                          "domain size)")
+
+    sub = commands.add_parser("uniform", help="uniform refinement study (Tables 6.1, 6.2); write CSV and Markdown",
+                              description="Solve on uniform meshes h = 2^-1 ... 2^-LEVELS (rectangles only) and "
+                                          "report |||u_h - u_{h/2}|||_h, its observed rate and eta_h (Section 6).")
+    common(sub, several_methods=True)
+    sub.add_argument("--levels", type=_number(int, low=1, what="at least 2"), default=5,
+                     help="number of meshes, h = 2^-1 ... 2^-LEVELS (default: 5)")
+
+    sub = commands.add_parser("adaptive", help="adaptive loop of Section 6; write CSV and a PNG of eta_h vs DOFs",
+                              description="SOLVE -> ESTIMATE -> MARK (Doerfler) -> REFINE (newest vertex "
+                                          "bisection, or h/p with --hp), one progress line per level.")
+    common(sub, solver_tol=False)  # adapt() keeps the solver tolerance of Section 6
+    meshes(sub, "h = 1/2, or Netgen maxh = 1/2 for other polygons")
+    sub.add_argument("--theta", type=_number(float, high=1.0, what="in (0, 1]"), default=0.3,
+                     help="Doerfler parameter (default: 0.3)")
+    sub.add_argument("--levels", type=_number(int), default=10, help="maximal number of solves (default: 10)")
+    sub.add_argument("--max-ndof", type=_number(int), default=10**5,
+                     help="stop before a solve with more DOFs (default: 1e5)")
+    sub.add_argument("--tol", type=_number(float), default=None, help="stop when eta_h <= TOL")
+    sub.add_argument("--hp", action="store_true", help="hp refinement (ngdgfric.hp.hp_refine)")
+    sub.add_argument("--max-order", type=_number(int), default=6, help="largest degree with --hp (default: 6)")
+    return parser
+
+
+def load(spec):
+    """(problem, tag) for PROBLEM: an example name or the path of a TOML problem file."""
+    if spec in EXAMPLES:
+        return EXAMPLES[spec](), spec.replace(".", "_")
+    path = Path(spec)
+    if not path.is_file():
+        raise FileNotFoundError(f"no problem file {spec!r} (PROBLEM is 6.1, 6.2 or a TOML file)")
+    return load_problem(path), path.stem
+
+
+def _mesh(problem, h, maxh, default):
+    """(mesh, description) from --h / --maxh."""
+    rectangle = problem.geometry.is_rectangle
+    if h is not None and not rectangle:
+        raise ValueError("--h needs a rectangle geometry; use --maxh for a general polygon")
+    if maxh is None and h is None:
+        if default is None:
+            return None, "h = 1/2" if rectangle else "Netgen maxh = 1/2"
+        h, maxh = (default, None) if rectangle else (None, default)
+    if maxh is not None:
+        return netgen_mesh(problem, maxh), f"Netgen maxh = {maxh:g}"
+    return uniform_mesh(problem, h), f"uniform h = {h:g}"
+
+
+def von_mises(problem, u):
+    """Von Mises stress of sigma(u) (1.3) in plane strain, sigma_zz = lam tr eps(u)."""
+    e = strain(u)
+    s = stress(problem, e)
+    sxx, syy, sxy, szz = s[0, 0], s[1, 1], s[0, 1], problem.lam * ngs.Trace(e)
+    return ngs.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)
+
+
+def say(message):
+    print(message, flush=True)
+
+
+def _write_csv(path, rows):
+    fields = list(dict.fromkeys(k for row in rows for k in row))
+    with open(path, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _figure(*size):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _uzawa_progress(k, change):
+    if k % 1000 == 0:
+        say(f"  uzawa iteration {k}: change {change:.2e}")
+
+
+def cmd_solve(args, problem, tag):
+    mesh, described = _mesh(problem, args.h, args.maxh, DEFAULT_H)
+    say(f"{problem.name}: {described}, {mesh.ne} elements; {args.method} P{args.order}, {args.solver}")
+    start = time.perf_counter()
+    sol = solve(problem, mesh, method=args.method, order=args.order, eta=args.eta, solver=args.solver,
+                tol=args.solver_tol, progress=_uzawa_progress if args.solver == "uzawa" else None)
+    solved = time.perf_counter()
+    est = estimate(sol)
+    estimated = time.perf_counter()
+    record = dict(problem=problem.name, mesh=described, elements=mesh.ne, method=sol.method, order=sol.order,
+                  penalty=sol.eta, solver=sol.solver, ndof=sol.ndof, iterations=sol.iterations,
+                  energy_norm=energy_norm(sol), eta_h=est.total, **{k: math.sqrt(v) for k, v in est.parts.items()},
+                  solve_seconds=solved - start, estimate_seconds=estimated - solved)
+    say(f"  DOFs             {record['ndof']}")
+    say(f"  iterations       {record['iterations']}")
+    say(f"  |||u_h|||_h      {record['energy_norm']:.10e}")
+    say(f"  eta_h            {record['eta_h']:.10e}")
+    say(f"  time             {record['solve_seconds']:.2f} s solve, {record['estimate_seconds']:.2f} s estimate")
+    stem = args.out / f"{tag}_{sol.method}_p{sol.order}"
+    _write_csv(Path(f"{stem}.csv"), [record])
+    stress_cf = von_mises(problem, sol.u)
+    ngs.VTKOutput(mesh, coefs=[sol.u, stress_cf], names=["displacement", "von_mises"], filename=str(stem),
+                  subdivision=max(sol.order - 1, 0)).Do()
+    _plot_deformed(problem, sol, stress_cf, args.scale, Path(f"{stem}.png"))
+    say(f"wrote {stem}.csv, {stem}.vtu, {stem}.png")
+    return [record]
+
+
+def _plot_deformed(problem, sol, stress_cf, scale, path):
+    """Deformed triangles (each element's own vertex values of the DG u_h), coloured by von Mises stress."""
+    from matplotlib.collections import PolyCollection
+
+    mesh = sol.mesh
+    points = mesh.MapToAllElements(ngs.IntegrationRule([(1, 0), (0, 1), (0, 0)], [0, 0, 0]), ngs.VOL)
+    xy = np.column_stack([ngs.x(points).ravel(), ngs.y(points).ravel()]).reshape(mesh.ne, 3, 2)
+    u = np.asarray(sol.u(points)).reshape(mesh.ne, 3, 2)
+    colour = np.asarray(stress_cf(points)).reshape(mesh.ne, 3).mean(axis=1)
+    x0, y0, x1, y1 = problem.geometry.bounds
+    size = max(x1 - x0, y1 - y0)
+    largest = float(np.max(np.linalg.norm(u, axis=2)))
+    if scale is None:
+        scale = 0.1 * size / largest if largest > 0 else 1.0
+    fig = _figure(6, 5)
+    ax = fig.add_subplot()
+    outline = np.array(problem.geometry.vertices + problem.geometry.vertices[:1])
+    ax.plot(outline[:, 0], outline[:, 1], "k--", lw=0.8, label="undeformed")
+    cells = PolyCollection(xy + scale * u, array=colour, cmap="viridis", edgecolors="k",
+                           linewidths=0.2 if mesh.ne <= 5000 else 0)
+    ax.add_collection(cells)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    fig.colorbar(cells, ax=ax, label="von Mises stress")
+    ax.set_title(f"{problem.name}: {sol.method} P{sol.order}, {sol.ndof} DOFs, displacement x {scale:.3g}",
+                 fontsize=9)
+    ax.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+
+
+def cmd_uniform(args, problem, tag):
+    levels = tuple(range(1, args.levels + 1))
+    rows = []
+    for method in args.method:
+        say(f"{problem.name}: {method} P{args.order}, {args.solver}, uniform h = 2^-1 ... 2^-{levels[-1]}")
+        study, solutions = uniform_study(problem, method, args.order, levels, solver=args.solver, eta=args.eta,
+                                         progress=say, tol=args.solver_tol)
+        for row, sol in zip(study, solutions, strict=False):
+            row = dict(method=method, order=args.order, **row, eta_h=estimate(sol).total)
+            rate = "-" if row["rate"] is None else f"{row['rate']:.3f}"
+            say(f"  h = 2^-{row['k']}: |||u_h - u_h/2|||_h = {row['energy']:.4e}, rate {rate}, "
+                f"eta_h = {row['eta_h']:.4e}")
+            rows.append(row)
+    csv_path, md_path = args.out / f"{tag}_uniform.csv", args.out / f"{tag}_uniform.md"
+    _write_csv(csv_path, rows)
+    header = ["method", "h", "DOFs", "|||u_h - u_{h/2}|||_h", "rate", "eta_h", "iterations", "seconds"]
+    lines = [f"# {problem.name}: uniform meshes, P{args.order}, {args.solver}", "",
+             "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in rows:
+        rate = "-" if r["rate"] is None else f"{r['rate']:.3f}"
+        lines.append(f"| {r['method']} | 2^-{r['k']} | {r['ndof']} | {r['energy']:.4e} | {rate} | {r['eta_h']:.4e} "
+                     f"| {r['iterations']} | {r['seconds']:.2f} |")
+    md_path.write_text("\n".join(lines) + "\n")
+    say(f"wrote {csv_path}, {md_path}")
+    return rows
+
+
+def cmd_adaptive(args, problem, tag):
+    mesh, described = _mesh(problem, args.h, args.maxh, None)
+    kind = "hp" if args.hp else "h"
+    say(f"{problem.name}: {args.method} P{args.order}, {kind}-adaptive from {described}, theta = {args.theta:g}")
+    stem = args.out / f"{tag}_adaptive_{args.method}_p{args.order}{'_hp' if args.hp else ''}"
+    final = {}
+
+    def keep(level, sol, est):
+        final["mesh"] = mesh_arrays(sol.mesh)[:2]
+
+    records = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta, max_levels=args.levels,
+                    max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
+                    csv_path=Path(f"{stem}.csv"), progress=say, keep=keep, hp=args.hp, max_order=args.max_order)
+    _plot_adaptive(problem, args, records, final["mesh"], Path(f"{stem}.png"))
+    say(f"wrote {stem}.csv, {stem}.png")
+    return records
+
+
+def _plot_adaptive(problem, args, records, final_mesh, path):
+    fig = _figure(10, 4.5)
+    ax, mesh_ax = fig.subplots(1, 2)
+    ndof = np.array([r["ndof"] for r in records], dtype=float)
+    eta = np.array([r["eta"] for r in records])
+    ax.loglog(ndof, eta, "o-", ms=3, label=f"{args.method} {'hp' if args.hp else 'h'}-adaptive")
+    if not args.hp and len(records) > 1:
+        ends = ndof[[0, -1]]
+        ax.loglog(ends, eta[0] * (ends / ends[0]) ** (-args.order / 2), "k:", label=f"slope -{args.order}/2")
+    ax.set_xlabel("degrees of freedom")
+    ax.set_ylabel(r"estimator $\eta_h$")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    points, triangles = final_mesh
+    mesh_ax.triplot(points[:, 0], points[:, 1], triangles, lw=0.3, color="k")
+    mesh_ax.set_aspect("equal")
+    mesh_ax.set_title(f"level {records[-1]['level']}: {len(triangles)} elements", fontsize=9)
+    fig.suptitle(f"{problem.name}: theta = {args.theta:g}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+COMMANDS = {"solve": cmd_solve, "uniform": cmd_uniform, "adaptive": cmd_adaptive}
+
+
+def run(argv=None):
+    """Run a command; returns its records (raises on bad input, see :func:`main`)."""
+    args = build_parser().parse_args(argv)
+    problem, tag = load(args.problem)
+    try:
+        args.out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OSError(f"cannot create the output folder {str(args.out)!r}: {exc.strerror}") from exc
+    with warnings.catch_warnings():
+        warnings.showwarning = lambda message, *_, **__: print(f"ngdgfric: warning: {message}", file=sys.stderr)
+        return COMMANDS[args.command](args, problem, tag)
+
+
+def main(argv=None):
+    """Entry point of ``ngdgfric`` and ``python -m ngdgfric``; returns the exit code.
+
+    0: success; 2: bad input (arguments, problem file, problem data), reported in one line
+    ``ngdgfric: error: ...`` on stderr; 1: the nonlinear solver failed; 130: interrupted.
+    """
+    try:
+        run(argv)
+    except SystemExit as exc:  # --help
+        return exc.code if isinstance(exc.code, int) else 0
+    except (UsageError, ValueError, OSError) as exc:  # tomllib.TOMLDecodeError is a ValueError
+        return _fail(exc, 2)
+    except SolverError as exc:
+        return _fail(exc, 1)
+    except KeyboardInterrupt:
+        return _fail("interrupted", 130)
+    return 0
+
+
+def _fail(message, code):
+    text = " ".join(str(message).split())
+    print(f"ngdgfric: error: {text}", file=sys.stderr)
+    return code

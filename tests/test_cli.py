@@ -1,0 +1,210 @@
+"""TOML problem files (ngdgfric.problem_file) and the command line (ngdgfric.cli)."""
+
+import csv
+import dataclasses
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+from ngdgfric.cli import main
+from ngdgfric.problem_file import example_file, load_problem, parse_expression
+
+H = 0.25
+
+
+def solve(problem):
+    return ndf.solve(problem, ndf.uniform_mesh(problem, H))
+
+
+def coefficients(problem):
+    return solve(problem).u.vec.FV().NumPy().copy()
+
+
+def variant(tmp_path, old, new, name="variant.toml"):
+    """The shipped Example 6.1 file with one piece of text replaced."""
+    text = example_file("6.1").read_text()
+    assert old in text
+    path = tmp_path / name
+    path.write_text(text.replace(old, new))
+    return path
+
+
+@pytest.mark.parametrize("name, factory", [("6.1", ndf.example_6_1), ("6.2", ndf.example_6_2)])
+def test_shipped_files_equal_the_factories(name, factory):
+    from_file, from_code = load_problem(example_file(name)), factory()
+    assert from_file.name == from_code.name
+    assert from_file.geometry == from_code.geometry
+    assert np.max(np.abs(coefficients(from_file) - coefficients(from_code))) < 1e-12
+
+
+def test_spatially_varying_gap(tmp_path):
+    problem = load_problem(variant(tmp_path, "g_a = 0.05 ", 'g_a = "0.05 - 0.01*x"'))
+    assert isinstance(problem.g_a, ngs.CoefficientFunction)
+    expected = dataclasses.replace(ndf.example_6_1(), g_a=0.05 - 0.01 * ngs.x)
+    u = coefficients(problem)
+    assert np.max(np.abs(u - coefficients(expected))) < 1e-12
+    # the gap is seen (c_n = 1 is a soft foundation, so only slightly, but far above round-off)
+    assert np.max(np.abs(u - coefficients(ndf.example_6_1()))) > 1e-7
+
+
+@pytest.mark.parametrize("text, x, y, value", [
+    ("0.05 - 0.01*x", 0.3, 0.7, 0.05 - 0.003),
+    ("sin(pi*x) * exp(-y**2)", 0.3, 0.7, math.sin(math.pi * 0.3) * math.exp(-0.49)),
+    ("sqrt(x) + log(1 + y) - atan(x/y) + abs(x - y) + cos(y) + tan(x)", 0.3, 0.7,
+     math.sqrt(0.3) + math.log(1.7) - math.atan(0.3 / 0.7) + 0.4 + math.cos(0.7) + math.tan(0.3)),
+    ("-2**x", 0.5, 0.5, -math.sqrt(2)),
+])
+def test_expressions(text, x, y, value):
+    mesh = ngs.Mesh(ngs.unit_square.GenerateMesh(maxh=0.5))
+    assert parse_expression(text)(mesh(x, y)) == pytest.approx(value, rel=1e-12)
+
+
+@pytest.mark.parametrize("text", ["__import__('os')", "x.__class__", "open('f')", "lambda: 1", "x if y else 1",
+                                  "z + 1", "'a'", "[x]", "1/0", "10**10**10", "(-8)**(1/3)", "log(-1)", "sin(x, y)",
+                                  "x +", "True", "1e400"])
+def test_bad_expressions(text):
+    with pytest.raises(ValueError):
+        parse_expression(text)
+
+
+def test_constant_expressions_stay_numbers():
+    assert parse_expression("2*pi/4") == pytest.approx(math.pi / 2)
+    assert isinstance(parse_expression("sqrt(2)"), float)
+
+
+def printed_numbers(output):
+    """{label: value} of the indented result lines of `ngdgfric solve` (without the timing)."""
+    pairs = [line.split(maxsplit=1) for line in output.splitlines() if line.startswith("  ")]
+    return {label: value for label, value in pairs if label != "time"}
+
+
+def test_solve_command_matches_the_api(tmp_path, capsys):
+    sol = solve(ndf.example_6_1())
+    expected = dict(ndof=sol.ndof, iterations=sol.iterations, energy_norm=ndf.energy_norm(sol),
+                    eta_h=ndf.estimate(sol).total)
+    printed = []
+    for problem, tag in (("6.1", "6_1"), (str(example_file("6.1")), "example_6_1")):
+        assert main(["solve", problem, "--h", str(H), "--out", str(tmp_path)]) == 0
+        printed.append(printed_numbers(capsys.readouterr().out))
+        with open(tmp_path / f"{tag}_sipg_p1.csv") as handle:
+            (row,) = csv.DictReader(handle)
+        assert int(row["ndof"]) == expected["ndof"]
+        assert int(row["iterations"]) == expected["iterations"]
+        assert float(row["energy_norm"]) == pytest.approx(expected["energy_norm"], rel=1e-10)
+        assert float(row["eta_h"]) == pytest.approx(expected["eta_h"], rel=1e-10)
+        vtu = (tmp_path / f"{tag}_sipg_p1.vtu").read_text(errors="replace")
+        assert "displacement" in vtu and "von_mises" in vtu
+        assert (tmp_path / f"{tag}_sipg_p1.png").stat().st_size > 0
+    assert printed[0] == printed[1]
+    assert int(printed[0]["DOFs"]) == expected["ndof"]
+    assert float(printed[0]["|||u_h|||_h"]) == pytest.approx(expected["energy_norm"], rel=1e-9)
+    assert float(printed[0]["eta_h"]) == pytest.approx(expected["eta_h"], rel=1e-9)
+
+
+def test_uniform_and_adaptive_commands(tmp_path, capsys):
+    assert main(["uniform", "6.2", "--levels", "2", "--method", "sipg", "nipg", "--out", str(tmp_path)]) == 0
+    with open(tmp_path / "6_2_uniform.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [r["method"] for r in rows] == ["sipg", "nipg"]
+    assert "| sipg | 2^-1 |" in (tmp_path / "6_2_uniform.md").read_text()
+    assert main(["adaptive", "6.1", "--levels", "3", "--out", str(tmp_path)]) == 0
+    assert capsys.readouterr().out.count("level ") == 3
+    with open(tmp_path / "6_1_adaptive_sipg_p1.csv") as handle:
+        levels = list(csv.DictReader(handle))
+    assert [int(r["level"]) for r in levels] == [0, 1, 2]
+    assert (tmp_path / "6_1_adaptive_sipg_p1.png").stat().st_size > 0
+
+
+L_SHAPE = """
+name = "L-shaped block"
+[material]
+E = 1000
+nu = 0.3
+[geometry]
+vertices = [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]
+labels = ["floor", "free", "free", "free", "wall", "free"]
+[boundaries]
+dirichlet = "wall"
+traction = "free"
+contact = "floor"
+[loads]
+f = [0, "-10*sin(pi*x/2)"]
+[contact]
+c_n = 1e4
+m_n = 1.5
+g_a = "0.001*(x - 1)**2"
+c_tau = 20
+"""
+
+
+def test_general_polygon(tmp_path, capsys):
+    path = tmp_path / "lshape.toml"
+    path.write_text(L_SHAPE)
+    problem = load_problem(path)
+    assert problem.boundary_names() == ("wall", "free", "floor") and problem.g == (0.0, 0.0)
+    assert main(["solve", str(path), "--maxh", "0.5", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "lshape_sipg_p1.png").stat().st_size > 0
+    capsys.readouterr()
+    check_one_line_error(main(["solve", str(path), "--h", "0.5", "--out", str(tmp_path)]), capsys, "--maxh")
+
+
+def test_module_help():
+    root = Path(__file__).resolve().parent.parent
+    done = subprocess.run([sys.executable, "-m", "ngdgfric", "--help"], capture_output=True, text=True, cwd=root,
+                          timeout=120)
+    assert done.returncode == 0
+    assert "solve" in done.stdout and "adaptive" in done.stdout
+
+
+BAD_ARGUMENTS = {
+    "unknown method": (["solve", "6.1", "--method", "dg"], "--method"),
+    "negative h": (["solve", "6.1", "--h", "-0.25"], "--h"),
+    "h not dividing the sides": (["solve", "6.1", "--h", "0.3"], "does not divide"),
+    "bad order": (["solve", "6.1", "--order", "0"], "--order"),
+    "non-integer order": (["solve", "6.1", "--order", "1.5"], "--order"),
+    "infinite order": (["solve", "6.1", "--order", "inf"], "--order"),
+    "unknown command": (["bogus", "6.1"], "bogus"),
+    "missing file": (["solve", "missing.toml"], "missing.toml"),
+    "bad theta": (["adaptive", "6.1", "--theta", "1.5"], "--theta"),
+}
+
+BAD_FILES = {  # (old text, new text, expected in the message)
+    "malformed TOML": ("[material]", "[material", "invalid TOML"),
+    "bad expression": ("g_a = 0.05 ", "g_a = \"__import__('os')\"", "contact.g_a"),
+    "nu = 0.7": ("nu = 0.4", "nu = 0.7", "material.nu"),
+    "unknown key": ("c_n = 1.0", "c_m = 1.0", "contact.c_m"),
+    "missing key": ("nu = 0.4", "", "material.nu: missing"),
+    "wrong type": ("E = 2000.0", "E = true", "material.E"),
+    "vector of wrong length": ("f = [0.0, 0.0]", "f = [0.0]", "loads.f"),
+}
+
+
+def check_one_line_error(code, capsys, expected):
+    err = capsys.readouterr().err
+    assert code == 2
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("ngdgfric: error: ")
+    assert expected in lines[0]
+
+
+@pytest.mark.parametrize("case", sorted(BAD_ARGUMENTS))
+def test_bad_arguments(case, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    argv, expected = BAD_ARGUMENTS[case]
+    check_one_line_error(main([*argv, "--out", str(tmp_path)]), capsys, expected)
+
+
+@pytest.mark.parametrize("case", sorted(BAD_FILES))
+def test_bad_problem_files(case, tmp_path, capsys):
+    old, new, expected = BAD_FILES[case]
+    path = variant(tmp_path, old, new, name="bad.toml")
+    check_one_line_error(main(["solve", str(path), "--out", str(tmp_path)]), capsys, expected)
+    with pytest.raises(ValueError, match="bad.toml"):
+        load_problem(path)
