@@ -5,6 +5,10 @@ Lemma 3.1 is lam_tau = l t with a scalar l, |lam_tau| = |l|, and
 
     g(lam_tau, v) = int_{Gamma_C} c_tau l (v . t) ds,     (3.4):  l (u . t) = |u . t|.
 
+For m_t > 0 the friction bound c_tau is replaced by c_tau (u_n - g_a)_+^{m_t} (1.9), so g depends
+on u too; where that bound vanishes (no contact) u_tau is free and l = sign(u_tau) is one valid
+multiplier.
+
 All contact integrals use the same (p+1)-point Gauss rule per edge: the discrete problem (3.1)
 is the one with j_tau and j_n evaluated by this rule.  The multiplier l lives in a facet space
 of degree p on Gamma_C; a degree-p polynomial is determined by its p+1 Gauss values, and the
@@ -15,9 +19,9 @@ Gauss-rule L2 projection onto it is interpolation at those points, so every poin
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "compliance",
-           "project_unit", "multiplier_space", "contact_points", "evaluate_on_contact", "ContactGauss",
-           "GaussValues"]
+__all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "positive_power", "compliance",
+           "friction_bound", "friction_bound_slope", "project_unit", "multiplier_space", "contact_points",
+           "evaluate_on_contact", "ContactGauss", "GaussValues"]
 
 
 def contact_rule(order):
@@ -46,11 +50,28 @@ def penetration(problem, u):
     return u * n - _cf(problem.g_a)
 
 
+def positive_power(d, m):
+    """(d)_+^m (m != 0), written IfPos(d, d^m, 0) (IfPos(d, d, 0)^m gave NaN Jacobians)."""
+    return ngs.IfPos(d, d if m == 1 else d**m, 0)
+
+
 def compliance(problem, u):
     """Contact pressure c_n (u_n - g_a)_+^{m_n}, so that sigma_n(u) = -compliance (1.8)."""
+    return _cf(problem.c_n) * positive_power(penetration(problem, u), problem.m_n)
+
+
+def friction_bound(problem, u):
+    """The friction bound c_tau (u_n - g_a)_+^{m_t} of (1.9) at u; c_tau itself for the reduced law m_t = 0."""
+    if problem.m_t == 0:
+        return _cf(problem.c_tau)
+    return _cf(problem.c_tau) * positive_power(penetration(problem, u), problem.m_t)
+
+
+def friction_bound_slope(problem, u):
+    """The derivative of the friction bound with respect to u_n: c_tau m_t (u_n - g_a)_+^{m_t - 1} (m_t > 0)."""
     d = penetration(problem, u)
-    power = d if problem.m_n == 1 else d ** problem.m_n
-    return _cf(problem.c_n) * ngs.IfPos(d, power, 0)
+    power = ngs.IfPos(d, 1, 0) if problem.m_t == 1 else problem.m_t * positive_power(d, problem.m_t - 1)
+    return _cf(problem.c_tau) * power
 
 
 def project_unit(z):

@@ -1,12 +1,22 @@
 """The discrete problem (3.1)/(3.3) on one mesh: spaces, the assembled linear DG part, contact forms."""
 
+import copy
+import dataclasses
 import time
 from numbers import Integral, Real
 
 import ngsolve as ngs
 import numpy as np
 
-from .contact import ContactGauss, compliance, contact_measure, contact_points, multiplier_space, normal_tangent
+from .contact import (
+    ContactGauss,
+    compliance,
+    contact_measure,
+    contact_points,
+    friction_bound,
+    multiplier_space,
+    normal_tangent,
+)
 from .forms import check_penalty, default_eta, dg_terms, edge_length, get_method, load_terms
 from .liftings import lifting_stiffness
 from .linalg import sparse_sum, threads
@@ -67,7 +77,8 @@ class Discretization:
 
     Attributes: ``V`` (DG space), ``Q`` (multiplier space on Gamma_C), ``A`` (matrix of B_h),
     ``F`` (load vector of (f, v)), ``compliance`` (nonlinear form of j_n on V), ``G`` (matrix of
-    g(lam, v) = int c_tau l v.t ds, trial Q, test V), ``M_inv`` (inverse Gauss-rule mass matrix
+    g(lam, v) = int c_tau l v.t ds, trial Q, test V; None for m_t > 0, where the friction bound
+    depends on u: see :meth:`bound`, :meth:`frozen_bound`), ``M_inv`` (inverse Gauss-rule mass matrix
     of Q), ``h_e``, ``timings``; ``orders`` (p_T per element), ``order`` (the largest, which sets
     the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as a number
     or GridFunction, for the penalty and the estimator weights).
@@ -104,19 +115,16 @@ class Discretization:
             f.Assemble()
             self.F = f.vec
             self.timings["assemble"] = time.perf_counter() - start
+            self._V_plain = dg_space(mesh, order, dgjumps=False)
+            self.G = self._friction_matrix() if problem.m_t == 0 else None
             lam, q = self.Q.TnT()
-            _, t = normal_tangent()
-            v0 = dg_space(mesh, order, dgjumps=False).TestFunction()
-            g = ngs.BilinearForm(trialspace=self.Q, testspace=v0.space)
-            g += self.c_tau * lam * (v0 * t) * self.dS
-            g.Assemble()
-            self.G = g.mat
             m = ngs.BilinearForm(self.Q)
             m += lam * q * self.dS
             m.Assemble()
             self.M_inv = m.mat.Inverse(inverse="sparsecholesky")
         self.compliance = ngs.BilinearForm(self.V)
         self.compliance += self.compliance_form(u, v)
+        self._contact_forms = {}
         self._check_contact_data()
         self.timings["setup"] = time.perf_counter() - start
 
@@ -135,12 +143,58 @@ class Discretization:
         n, _ = normal_tangent()
         return compliance(self.problem, u) * (v * n) * self.dS
 
+    def bound(self, u):
+        """The friction bound c_tau (u_n - g_a)_+^{m_t} of (1.9) at u (a CoefficientFunction of u)."""
+        return friction_bound(self.problem, u)
+
+    def frozen_bound(self, u):
+        """This discretisation for the reduced law (m_t = 0) with the bound frozen at (a copy of) ``u``.
+
+        c_tau becomes the CoefficientFunction c_tau (u_n - g_a)_+^{m_t} of the fixed u; spaces and
+        matrices are shared, only ``G`` is assembled anew.
+        """
+        frozen = copy.copy(self)
+        u_frozen = ngs.GridFunction(self.V)
+        u_frozen.vec.data = u.vec
+        frozen.problem = dataclasses.replace(self.problem, c_tau=self.bound(u_frozen), m_t=0.0)
+        frozen._contact_forms, frozen._gauss = {}, self.gauss
+        with threads(self.V.ndof):
+            frozen.G = frozen._friction_matrix()
+        return frozen
+
+    def _friction_matrix(self):
+        """The matrix of g(lam, v) = int c_tau l v.t ds (m_t = 0)."""
+        _, t = normal_tangent()
+        lam, v = self.Q.TrialFunction(), self._V_plain.TestFunction()
+        g = ngs.BilinearForm(trialspace=self.Q, testspace=self._V_plain)
+        g += self.c_tau * lam * (v * t) * self.dS
+        g.Assemble()
+        return g.mat
+
     def residual(self, u, lam, out=None):
-        """Residual of (3.3): A u + j_n(u, .) + G l - F, as a vector on V."""
+        """Residual of (3.3): A u + j_n(u, .) + g(l, .) - F, as a vector on V.
+
+        For m_t > 0, g carries the bound at u: int c_tau (u_n - g_a)_+^{m_t} l v.t ds.
+        """
         r = out if out is not None else self.F.CreateVector()
-        self.compliance.Apply(u.vec, r)
-        r.data += self.A * u.vec + self.G * lam.vec - self.F
+        if self.G is None:
+            self._contact_form(lam).Apply(u.vec, r)
+            r.data += self.A * u.vec - self.F
+        else:
+            self.compliance.Apply(u.vec, r)
+            r.data += self.A * u.vec + self.G * lam.vec - self.F
         return r
+
+    def _contact_form(self, lam):
+        """j_n(u, v) + g(u; l, v) as a nonlinear form in u for the multiplier GridFunction ``lam`` (cached)."""
+        if id(lam) not in self._contact_forms:
+            _, t = normal_tangent()
+            u, v = self.V.TnT()
+            form = ngs.BilinearForm(self.V)
+            form += self.compliance_form(u, v)
+            form += self.bound(u) * lam * (v * t) * self.dS
+            self._contact_forms[id(lam)] = (lam, form)
+        return self._contact_forms[id(lam)][1]
 
     @property
     def gauss(self):

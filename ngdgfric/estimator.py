@@ -3,12 +3,13 @@
     eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma_h(u_h)||_T^2
     eta_2^2 = sum_{e in E_h^i} (h_e/p) ||[sigma_h(u_h)]||_e^2
     eta_3^2 = sum_{e in E_h^o} eta p^2/h_e ||[u_h]||_e^2
-    eta_4^2 = sum_{e in E_h^C} (h_e/p) ||sigma_h,tau(u_h) + c_tau lam_tau||_e^2
+    eta_4^2 = sum_{e in E_h^C} (h_e/p) ||sigma_h,tau(u_h) + c_tau (u_hn - g_a)_+^{m_t} lam_tau||_e^2
     eta_5^2 = sum_{e in E_h^F} (h_e/p) ||sigma_h(u_h) n - g||_e^2
     eta_6^2 = sum_{e in E_h^C} (h_e/p) ||sigma_h,n(u_h) + c_n (u_hn - g_a)_+^{m_n}||_e^2
 
-For p = 1 these are exactly the terms of Section 4 (div sigma_h(u_h) = 0 for piecewise linear
-u_h, so eta_1 involves f only); for p > 1 they carry the usual hp weights h/p and the element
+For p = 1 and m_t = 0 these are exactly the terms of Section 4 (div sigma_h(u_h) = 0 for piecewise
+linear u_h, so eta_1 involves f only); for m_t > 0, eta_4 carries the friction bound at u_h, as
+the friction force of (1.9) does; for p > 1 they carry the usual hp weights h/p and the element
 residual f + div sigma_h(u_h).  With a variable order (hp), p is p_T of the element integrated
 over (volume terms and the element's share of edge terms) and eta_3 uses the penalty of the
 forms, with p_e = max(p_T+, p_T-).  eta_3 uses the method's edge penalty eta p^2/h_e (for the lifting
@@ -79,7 +80,7 @@ def estimate(sol):
         "eta2": element_wise(0.5 * h_e / p * jump_sigma * jump_sigma),
         "eta3": element_wise(0.5 * penalty * jump_inner(jump_u, jump_u, n))
         + element_wise(on[problem.dirichlet] * boundary_penalty * jump_inner(u, u, n)),
-        "eta4": element_wise(contact * h_e / p * (sigma_n * t + disc.c_tau * sol.lam_tau) ** 2),
+        "eta4": element_wise(contact * h_e / p * (sigma_n * t + disc.bound(u) * sol.lam_tau) ** 2),
         "eta5": element_wise(on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual)),
         "eta6": element_wise(contact * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2),
     }

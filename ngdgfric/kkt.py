@@ -15,7 +15,7 @@ def contact_state(sol):
     x, y: coordinates; u_n, u_tau: normal and tangential displacement (u_tau = u . t);
     gap: u_n - g_a; pressure: c_n (u_n - g_a)_+^{m_n}; l: multiplier (lam_tau = l t);
     sigma_n, sigma_tau: normal and tangential stress of u_h (sigma_tau = sigma_h(u) n . t);
-    c_tau: friction bound.
+    c_tau: friction coefficient; bound: friction bound c_tau (u_n - g_a)_+^{m_t} (1.9) (c_tau for m_t = 0).
     """
     disc = sol.discretization
     points = disc.contact_points()
@@ -33,6 +33,7 @@ def contact_state(sol):
         "sigma_tau": evaluate_on_contact(sigma_n_vec * t, points),
         "l": np.asarray(sol.lam_tau(points)).ravel(),
         "c_tau": np.asarray(disc.c_tau(points)).ravel() * np.ones(len(points)),
+        "bound": evaluate_on_contact(disc.bound(u), points) * np.ones(len(points)),
     }
     return values
 
@@ -41,7 +42,8 @@ def kkt_residuals(sol):
     """Violations of the discrete KKT system (3.3)-(3.4) at the Gauss points of Gamma_C.
 
     lam_excess: max(|l| - 1, 0);  complementarity: max |l u_tau - |u_tau|| / max(|u|);
-    equilibrium: ||A u + j_n(u) + G l - F||_2 / ||F||_2 (round-off level at a solution).
+    equilibrium: ||A u + j_n(u) + g(l) - F||_2 / ||F||_2 (round-off level at a solution), where
+    g(l, v) = int c_tau (u_n - g_a)_+^{m_t} l v.t ds carries the friction bound at u_h.
     """
     state = contact_state(sol)
     disc = sol.discretization

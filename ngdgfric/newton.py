@@ -1,30 +1,34 @@
 """Semismooth Newton (primal-dual active set) for (3.3)-(3.4), with factorisation reuse.
 
-Lemma 3.1 with |l| <= 1 is the semismooth system
+With the friction bound b(u) = c_tau (u_n - g_a)_+^{m_t} of (1.9) (b = c_tau for the reduced
+law m_t = 0) and the friction force psi = b l, Lemma 3.1 with |l| <= 1 is the semismooth system
 
-    A u + j_n(u) + G l = F,        l = P_[-1,1](l + c u_tau)   at the contact Gauss points,
+    A u + j_n(u) + int psi v_tau ds = F,     psi = P_[-b(u), b(u)](psi + c u_tau)   at the contact Gauss points,
 
-for any c > 0.  One Newton step from (u_k, l_k) freezes the sets it implies,
+for any c > 0; for m_t > 0 it is the quasi-variational inequality (1.4).  One Newton step from
+(u_k, l_k) freezes the sets it implies, with b_k = b(u_k) and z = b_k l_k + c u_tau(u_k),
 
-    stick  chi = 1 where |l_k + c u_tau(u_k)| < 1:   u_tau = 0, l free,
-    slip   chi = 0 elsewhere:                        l = s = sign(l_k + c u_tau(u_k)),
+    stick  chi = 1 where |z| < b_k:   u_tau = 0, psi free,
+    slip   chi = 0 elsewhere:         psi = b(u) s,  s = sign(z),
 
-linearises the compliance at u_k, and solves the resulting saddle-point problem for
-(u_{k+1}, l_{k+1}) exactly.  That linear problem is solved by the iterated penalty
-(augmented Lagrangian) method with the symmetric positive definite matrix
-A + K_n(u_k) + gamma c_tau chi (t.)(t.): solve for u with the friction density
-chi (l + gamma u_tau) + (1 - chi) s, update l <- chi (l + gamma u_tau) + (1 - chi) s, repeat
-until the stick constraint holds to round-off.  All these solves share one matrix, so one
-factorisation (Cholesky for the symmetric methods) serves a Newton step, and consecutive
-Newton steps with the same sets (and, for m_n = 1, the same penetrating points) share it too.
+linearises the compliance and the slip force b(u) s at u_k, and solves the resulting
+saddle-point problem for (u_{k+1}, l_{k+1}) exactly.  For m_t > 0 the slip force couples the
+bound to u_n: b(u) s ~ (b_k + b'_k (u - u_k) . n) s adds the nonsymmetric term
+b'_k s (du . n)(v . t) to the Jacobian, the fully coupled Newton step.  Where b_k = 0 (no
+contact) a point is never stick: it carries no force, and l = s = sign(u_tau).  The linear
+problem is solved by the iterated penalty (augmented Lagrangian) method with the matrix
+A + K_n(u_k) + gamma chi (t.)(t.) + (1 - chi) b'_k s (n.)(t.): solve for u with the friction force
+chi (b_k l + gamma u_tau) + (1 - chi) (b_k + b'_k (u - u_k) . n) s, update
+l <- chi (l + gamma u_tau / b_k) + (1 - chi) s, repeat until the stick constraint holds to
+round-off.  All these solves share one matrix, so one factorisation (Cholesky for the symmetric
+methods with m_t = 0) serves a Newton step, and consecutive Newton steps with the same sets (and,
+for m_n > 1 or m_t not in {0, 1}, the same penetrations) share it too.
 
-gamma = kappa (2 mu + lam) / (c_ref h_e) makes the stick penalty kappa times stiffer than the
-elastic boundary stiffness E/h (c_ref: the largest friction bound), so each penalty sweep
-reduces the constraint violation by about 1/kappa.  The active-set parameter is
-c = c0 (2 mu + lam) / (c_ref h_e); a large c lets wrongly slipping points return quickly, but
-primal-dual active set methods can then cycle, a few points flipping between stick and slip.
-Damping rule: at a Gauss point whose state has flipped three times, c is divided by 10 (every
-fixed point is kept; the oscillation stops).
+gamma = kappa (2 mu + lam) / h_e makes the stick penalty kappa times stiffer than the elastic
+boundary stiffness E/h, so each penalty sweep reduces the constraint violation by about 1/kappa.
+The active-set parameter is c = c0 (2 mu + lam) / h_e; a large c lets wrongly slipping points
+return quickly, but primal-dual active set methods can then cycle, a few points flipping between
+stick and slip: a non-monotone line search on the merit function :class:`Merit` stops that.
 """
 
 import time
@@ -32,26 +36,12 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import contact_rule, evaluate_on_contact, normal_tangent
+from .contact import contact_rule, evaluate_on_contact, friction_bound_slope, normal_tangent
 from .errors import SolverError
 from .linalg import diagonal
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
 
-__all__ = ["newton", "augmentation", "stiffness_ratio", "Merit"]
-
-
-def stiffness_ratio(disc):
-    """(2 mu + lam) / c_ref, c_ref the largest friction bound at the contact points (1 if 0)."""
-    c_tau = np.asarray(disc.c_tau(disc.contact_points())).ravel()
-    c_ref = float(np.max(c_tau, initial=0.0)) or 1.0
-    return (2 * disc.problem.mu + disc.problem.lam) / c_ref
-
-
-def augmentation(disc, kappa):
-    """gamma = kappa (2 mu + lam) / (c_ref h_e) as a CoefficientFunction (see module docstring)."""
-    if not (np.isfinite(kappa) and kappa > 0):
-        raise ValueError(f"kappa must be a positive number, got {kappa!r}")
-    return kappa * stiffness_ratio(disc) / disc.h_e
+__all__ = ["newton", "Merit"]
 
 
 def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_steps=0, reuse=True,
@@ -69,21 +59,30 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
     progress: callable(iteration, change) called after each iteration, or None.
     Raises :class:`SolverError` with the history of changes if it does not converge in maxit.
     """
+    if not (np.isfinite(kappa) and kappa > 0):
+        raise ValueError(f"kappa must be a positive number, got {kappa!r}")
     start = time.perf_counter()
     u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
     u_k, lam_k = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
     if initial is not None:
         u.vec.data, lam.vec.data = initial[0].vec, initial[1].vec
-    gamma = augmentation(disc, kappa)
-    _, t = normal_tangent()
-    z = lam_k + c0 * gamma / kappa * (u_k * t)
-    stick = ngs.IfPos(1 - z * z, 1, 0)
+    stiffness = (2 * disc.problem.mu + disc.problem.lam) / disc.h_e
+    gamma = kappa * stiffness
+    n, t = normal_tangent()
+    b_k = disc.bound(u_k)
+    z = b_k * lam_k + c0 * stiffness * (u_k * t)
+    stick = ngs.IfPos(b_k * b_k - z * z, 1, 0)
     slip_sign = ngs.IfPos(z, 1, -1)
-    phi = lambda u_tau: stick * (lam + gamma * u_tau) + (1 - stick) * slip_sign  # noqa: E731
-    op = ContactOperator(disc, u, phi, switches=[1 - z * z])
-    linear_solver = ReusedFactorization(disc.symmetric, krylov_steps)
-    update = multiplier_update(disc, lam, phi(u * t))
-    merit = Merit(disc, u, lam, c0 * stiffness_ratio(disc))
+    coupled = disc.problem.m_t > 0  # the slip force depends on u_n: nonsymmetric Jacobian, s and b'_k enter it
+    slope_k = friction_bound_slope(disc.problem, u_k) if coupled else None
+    slip = (lambda trial: b_k + slope_k * ((trial - u_k) * n)) if coupled else (lambda trial: b_k)
+    psi = lambda trial: stick * (b_k * lam + gamma * (trial * t)) + (1 - stick) * slip(trial) * slip_sign
+    op = ContactOperator(disc, u, psi, switches=[b_k * b_k - z * z] + ([z] if coupled else []),
+                         coefficients=[slope_k] if coupled else [])
+    linear_solver = ReusedFactorization(disc.symmetric and not coupled, krylov_steps)
+    update = multiplier_update(disc, lam, stick * (lam + gamma / ngs.IfPos(b_k, b_k, 1) * (u * t))
+                               + (1 - stick) * slip_sign)
+    merit = Merit(disc, u, lam, c0 * (2 * disc.problem.mu + disc.problem.lam))
     du, lam_old = u.vec.CreateVector(), lam.vec.CreateVector()
     history, sweeps, steps = [], [], []
     sets, value, values = None, merit(), []
@@ -91,10 +90,12 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
         u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
         sets, previous = op.sets(), sets
         if history and np.array_equal(sets, previous):
-            # the last step used the right sets: finish its linear solve with the same matrix
-            sweeps[-1] += _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, forcing=0.0)
+            # the last step used the right sets: finish its linear solve (for m_t > 0: one more
+            # Newton step with these sets)
+            count, solved = _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, forcing=0.0)
+            sweeps[-1] += count
             du.data = u.vec - u_k.vec
-            if relative_change(du, u.vec) <= tol:
+            if solved and relative_change(du, u.vec) <= tol:
                 info = dict(iterations=k, history=history, sweeps=sweeps, step_sizes=steps, **linear_solver.counts,
                             timings=dict(factor=linear_solver.factor_time, total=time.perf_counter() - start))
                 return u, lam, info
@@ -102,7 +103,9 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
             sets, value = op.sets(), merit()
         if k == maxit or (history and not np.isfinite(history[-1])):
             break
-        sweeps.append(_solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps))
+        if not reuse:
+            linear_solver.forget()
+        sweeps.append(_solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps)[0])
         values = (values + [value])[-4:]
         value, step = merit.line_search(u_k, lam_k, max(values))
         steps.append(step)
@@ -118,9 +121,9 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
 class Merit:
     """Merit function of the semismooth system for the line search, in energy units.
 
-    Phi(u, l) = sum_i R_i^2 / A_ii + sum_q w_q c_tau / c (l - P(l + c u_tau))^2 over the Gauss
-    points, with R = A u + j_n(u) + G l - F the residual of (3.3); both terms vanish exactly at
-    the solution.
+    Phi(u, l) = sum_i R_i^2 / A_ii + sum_q w_q / c (psi - P_[-b, b](psi + c u_tau))^2 over the Gauss
+    points, with R = A u + j_n(u) + g(l) - F the residual of (3.3), b the friction bound at u and
+    psi = b l; both terms vanish exactly at the solution.  ``c_times_h``: c h_e (a number).
     """
 
     def __init__(self, disc, u, lam, c_times_h):
@@ -129,22 +132,20 @@ class Merit:
         self.inverse_diagonal = 1 / np.where(d > 0, d, 1.0)
         gauss = disc.gauss
         _, t = normal_tangent()
-        self.u_tau = u * t
+        self.u_tau, self.bound = u * t, disc.bound(u)
         lengths = np.linalg.norm(gauss.ends[:, 1] - gauss.ends[:, 0], axis=1)
         weights = np.asarray(contact_rule(disc.order)[ngs.SEGM].weights)
-        scale = c_times_h if isinstance(c_times_h, ngs.CoefficientFunction) else ngs.CF(c_times_h)
-        self.c = np.asarray(scale(gauss.points)).reshape(-1, gauss.q) / lengths[:, None]  # c = c0 ratio / h_e
-        c_tau = np.asarray(disc.c_tau(gauss.points)).ravel() * np.ones(len(gauss.points))
-        self.weights = (lengths[:, None] * weights[None, :]).ravel() * c_tau / self.c.ravel()
+        self.c = np.repeat(c_times_h / lengths, gauss.q)
+        self.weights = (lengths[:, None] * weights[None, :]).ravel() / self.c
         self._r = disc.F.CreateVector()
         self._u_start, self._lam_start = u.vec.CreateVector(), lam.vec.CreateVector()
 
     def __call__(self):
         r = self.disc.residual(self.u, self.lam, out=self._r).FV().NumPy()
         gauss = self.disc.gauss
-        lam = gauss.values(self.lam).ravel()
-        u_tau = evaluate_on_contact(self.u_tau, gauss.points)
-        r2 = lam - np.clip(lam + self.c.ravel() * u_tau, -1, 1)
+        b = evaluate_on_contact(self.bound, gauss.points)
+        psi = b * gauss.values(self.lam).ravel()
+        r2 = psi - np.clip(psi + self.c * evaluate_on_contact(self.u_tau, gauss.points), -b, b)
         return float(np.sum(r * r * self.inverse_diagonal) + np.sum(self.weights * r2 * r2))
 
     def line_search(self, u_start, lam_start, value_start, halvings=6):
@@ -171,7 +172,8 @@ def _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, 
     Each sweep is a Newton step for u with the current l (exact when the penetrating set does
     not change, m_n = 1) followed by the multiplier update.  The sweeps stop when their changes
     of u and l have dropped below ``forcing`` times the first sweep's (an inexact Newton step,
-    accurate to a fraction of its own size) or stop decreasing (round-off); returns the count.
+    accurate to a fraction of its own size) or stop decreasing (round-off); returns the count and
+    whether they stopped so (False: ``max_sweeps`` reached).
     """
     first = previous = None
     for sweep in range(1, max_sweeps + 1):
@@ -185,6 +187,6 @@ def _solve_frozen_sets(op, linear_solver, update, du, lam, lam_old, max_sweeps, 
         settled = not op.linear_compliance or np.array_equal(op.state(), state)
         stagnated = previous is not None and np.any(changes > 0.1 * previous)
         if settled and (stagnated or np.all(changes <= np.maximum(forcing * first, [1e-13, 1e-10]))):
-            return sweep
+            return sweep, True
         previous = changes
-    return max_sweeps
+    return max_sweeps, False

@@ -2,12 +2,13 @@
 
 Both solvers work with an operator of the form
 
-    F(u)(v) = B_h(u, v) + j_n(u, v) + int_{Gamma_C} c_tau phi(u_tau) v_tau ds - (f, v)
+    F(u)(v) = B_h(u, v) + j_n(u, v) + int_{Gamma_C} psi(u) v_tau ds - (f, v)
 
-(Gauss rule), where the friction force density phi is chosen by the solver: phi = l (Uzawa's
-inner problem for a given multiplier l), or phi = chi (l + gamma u_tau) + (1 - chi) s with
-frozen stick indicator chi and slip sign s (a semismooth Newton step).  The Jacobian of F is
-A + K(u), with K nonzero only in the blocks of the contact elements.
+(Gauss rule), where the friction force density psi is chosen by the solver: psi = c_tau l
+(Uzawa's inner problem for a given multiplier l), or the stick/slip forces of a semismooth
+Newton step (:mod:`ngdgfric.newton`), which for m_t > 0 contain the state-dependent bound
+c_tau (u_n - g_a)_+^{m_t}.  The Jacobian of F is A + K(u), with K nonzero only in the blocks of
+the contact elements.
 """
 
 import time
@@ -22,14 +23,15 @@ __all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newto
 
 
 class ContactOperator:
-    """F(u) and its Jacobian for the GridFunction ``u`` and a friction density ``phi(u_tau)``.
+    """F(u) and its Jacobian for the GridFunction ``u`` and a friction force density ``psi(u)``.
 
-    ``phi``: callable mapping the tangential displacement (a CoefficientFunction) to the friction
-    force density; ``switches``: CoefficientFunctions whose signs at the Gauss points, together
-    with the penetrating set, determine the Jacobian (used to detect an unchanged matrix).
+    ``psi``: callable mapping the displacement (a trial function) to the tangential friction force
+    density, affine in it; ``switches``: CoefficientFunctions whose signs at the Gauss points,
+    together with the penetrating set, and ``coefficients``: CoefficientFunctions whose values
+    there determine the Jacobian (used to detect an unchanged matrix).
     """
 
-    def __init__(self, disc, u, phi, switches=()):
+    def __init__(self, disc, u, psi, switches=(), coefficients=()):
         self.disc = disc
         self.u = u
         self.linear_compliance = disc.problem.m_n == 1
@@ -37,11 +39,11 @@ class ContactOperator:
         trial, test = disc.V.TnT()
         self.form = ngs.BilinearForm(disc.V)
         self.form += disc.compliance_form(trial, test)
-        self.form += disc.c_tau * phi(trial * t) * (test * t) * disc.dS
+        self.form += psi(trial) * (test * t) * disc.dS
         self.sum = BlockSum(disc.A, disc.contact_groups())
         self.points = disc.contact_points()
         self._gap = penetration(disc.problem, u)
-        self._switches = list(switches)
+        self._switches, self._coefficients = list(switches), list(coefficients)
         self._out = disc.F.CreateVector()
 
     def residual(self, vec=None):
@@ -59,11 +61,12 @@ class ContactOperator:
         return np.concatenate([gap > 0] + [evaluate_on_contact(cf, self.points) > 0 for cf in self._switches])
 
     def state(self):
-        """What the Jacobian at u depends on: :meth:`sets`, and for m_n > 1 also the penetrations."""
-        if self.linear_compliance:
-            return self.sets()
-        gap = evaluate_on_contact(self._gap, self.points)
-        return np.concatenate([self.sets(), gap * (gap > 0)])
+        """What the Jacobian at u depends on: :meth:`sets`, the coefficients, and for m_n > 1 the penetrations."""
+        values = [evaluate_on_contact(cf, self.points) for cf in self._coefficients]
+        if not self.linear_compliance:
+            gap = evaluate_on_contact(self._gap, self.points)
+            values.append(gap * (gap > 0))
+        return np.concatenate([self.sets()] + values)
 
     def jacobian(self):
         """A + K(u) as a sparse matrix (updated in place; valid until the next call)."""

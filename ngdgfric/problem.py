@@ -108,7 +108,7 @@ class Polygon:
 
 @dataclass(frozen=True)
 class ContactProblem:
-    """Data of problem (1.10) (reduced compliance law, Section 1).
+    """Data of problem (1.4): the reduced law (1.10) for m_t = 0 (Section 1).
 
     Every datum may be a number or an NGSolve CoefficientFunction of ``x, y``;
     ``f`` and ``g`` are pairs or 2-vector CoefficientFunctions.
@@ -118,7 +118,9 @@ class ContactProblem:
     g:         traction on Gamma_F (1.7).
     c_n, m_n:  normal compliance sigma_n = -c_n (u_n - g_a)_+^{m_n} on Gamma_C (1.8), m_n >= 1.
     g_a:       initial gap on Gamma_C.
-    c_tau:     friction bound on Gamma_C (1.9) with m_t = 0.
+    c_tau:     friction coefficient on Gamma_C: the friction bound of (1.9) is c_tau (u_n - g_a)_+^{m_t}.
+    m_t:       exponent of the friction bound, m_t >= 0; m_t = 0 is the reduced law (1.10) of the paper,
+               m_t > 0 makes (1.4) a quasi-variational inequality (bound 0 where there is no contact).
     geometry:  the polygon with its sides labelled by the boundary names below.
     """
 
@@ -134,6 +136,7 @@ class ContactProblem:
     dirichlet: str = "dirichlet"
     traction: str = "traction"
     contact: str = "contact"
+    m_t: float = 0.0
     name: str = field(default="contact problem", compare=False)
 
     def __post_init__(self):
@@ -154,6 +157,9 @@ class ContactProblem:
         _check_scalar("g_a", self.g_a)
         _check_scalar("c_tau", self.c_tau)
         _check_number("c_tau", self.c_tau, low=0, high=None)
+        if not _is_number(self.m_t) or self.m_t == float("inf"):
+            raise ValueError(f"m_t must be a finite number, got {self.m_t!r}")
+        _check_number("m_t", self.m_t, low=0, high=None)
         if not isinstance(self.geometry, Polygon):
             raise ValueError(f"geometry must be a Polygon, got {self.geometry!r}")
         names = (self.dirichlet, self.traction, self.contact)

@@ -4,18 +4,19 @@ import time
 from dataclasses import dataclass, field
 
 from .discretization import Discretization
+from .fixed_point import fixed_point
 from .newton import newton
 from .transfer import initial_guess
 from .uzawa import uzawa
 
 __all__ = ["Solution", "solve", "SOLVERS"]
 
-SOLVERS = {"newton": newton, "uzawa": uzawa}
+SOLVERS = {"newton": newton, "uzawa": uzawa, "fixed_point": fixed_point}
 
 
 @dataclass
 class Solution:
-    """A discrete solution u_h of (3.1) with its multiplier lam_tau = l t of Lemma 3.1.
+    """A discrete solution u_h of (3.1) (for m_t > 0 with j_tau(u_h, .) of (1.4)) and lam_tau = l t of Lemma 3.1.
 
     ``u``: GridFunction on the DG space; ``lam_tau``: GridFunction of l on Gamma_C;
     ``iterations``, ``history``: the nonlinear solver's iteration count and convergence history;
@@ -49,15 +50,17 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
     method: one of ``ngdgfric.forms.METHODS`` (Section 3); order: polynomial degree p >= 1.
     eta: penalty parameter (default 30 mu, Section 6).
-    solver: "newton" (default; semismooth Newton, :func:`ngdgfric.newton.newton`) or "uzawa"
-    (the paper's method, :func:`ngdgfric.uzawa.uzawa`); both solve the same discrete problem.
+    solver: "newton" (default; semismooth Newton, :func:`ngdgfric.newton.newton`, fully coupled
+    for m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.uzawa.uzawa`, m_t = 0 only) or
+    "fixed_point" (on the friction bound for m_t > 0, :func:`ngdgfric.fixed_point.fixed_point`,
+    option ``inner="newton"|"uzawa"``); all solve the same discrete problem.
     tol: relative max-norm tolerance of the nonlinear solver (1e-8 as in Section 6).
     penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
     threshold (:func:`ngdgfric.forms.check_penalty`).
     initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
     same domain: see :func:`ngdgfric.transfer.initial_guess`).
     options: passed to the solver (``maxit``, ``progress``; ``rho`` for Uzawa; ``kappa``, ``c0``,
-    ``krylov_steps`` for Newton).
+    ``krylov_steps`` for Newton; ``inner`` and the inner solver's options for the fixed point).
     """
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")

@@ -22,8 +22,8 @@ def initial_guess(sol, disc):
     nested meshes and equal or higher order) and l is the old multiplier, a piecewise polynomial
     on the old edges of Gamma_C, evaluated at the new Gauss points.  ``sol`` may also be any
     object with ``u``, ``mesh`` and ``multiplier`` (a :class:`GaussValues`, or None: then l is
-    estimated from the stress, l = P(-sigma_tau(u) / c_tau), since sigma_tau + c_tau l ~ 0 at a
-    solution, estimator eta_4).
+    estimated from the stress, l = P(-sigma_tau(u) / b) with b the friction bound at u, since
+    sigma_tau + b l ~ 0 at a solution, estimator eta_4).
     """
     u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
     old_lam = getattr(sol, "lam_tau", None)
@@ -39,7 +39,7 @@ def initial_guess(sol, disc):
         return u, lam
     n, t = normal_tangent()
     sigma_tau = stress(disc.problem, strain(u)) * n * t
-    c_tau = disc.c_tau
-    estimate = ngs.IfPos(c_tau, -sigma_tau / ngs.IfPos(c_tau, c_tau, 1), 0)
+    bound = disc.bound(u)
+    estimate = ngs.IfPos(bound, -sigma_tau / ngs.IfPos(bound, bound, 1), 0)
     multiplier_update(disc, lam, project_unit(estimate))()
     return u, lam

@@ -3,6 +3,7 @@
     l^{k+1} = P_[-1,1](l^k + rho c_tau u_tau^k)    at the contact Gauss points,
     u^{k+1}:  B_h(u, v) + j_n(u, v) = (f, v) - g(l^{k+1}, v)   (Newton on the compliance term),
 
+(l^{k+1} = sign(u_tau^k) where c_tau = 0: there l does not enter (3.3), only (3.4)),
 stopped when ||u^{k+1} - u^k||_inf <= tol ||u^{k+1}||_inf (the paper's relative max-norm
 criterion, here on the coefficient vector of u_h).
 """
@@ -69,8 +70,13 @@ def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None):
     ``initial``: optional (u, lam) GridFunctions on ``disc.V``, ``disc.Q`` to start from.
     ``rho``: step size; None picks :func:`default_rho`.
     ``progress``: callable(iteration, change) called every 100 iterations, or None.
-    Raises :class:`SolverError` (with the history of changes) on divergence or after ``maxit``.
+    Raises :class:`SolverError` (with the history of changes) on divergence or after ``maxit``, and
+    ValueError for m_t > 0 (Uzawa solves the reduced law; the fixed point of
+    :mod:`ngdgfric.fixed_point` runs it with the friction bound frozen).
     """
+    if disc.problem.m_t != 0:
+        raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {disc.problem.m_t!r}: use "
+                         "solver='newton', or solver='fixed_point' with inner='uzawa'")
     start = time.perf_counter()
     u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
     if initial is not None:
@@ -80,9 +86,11 @@ def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None):
     elif not (np.isfinite(rho) and rho > 0):
         raise ValueError(f"rho must be a positive number, got {rho!r}")
     _, t = normal_tangent()
-    op = ContactOperator(disc, u, lambda u_tau: lam)
+    op = ContactOperator(disc, u, lambda trial: disc.c_tau * lam)
     linear_solver = ReusedFactorization(disc.symmetric)
-    update = multiplier_update(disc, lam, project_unit(lam + rho * disc.c_tau * (u * t)))
+    u_tau = u * t
+    update = multiplier_update(disc, lam, ngs.IfPos(disc.c_tau, project_unit(lam + rho * disc.c_tau * u_tau),
+                                                    ngs.IfPos(u_tau, 1, -1)))
     du, u_old = u.vec.CreateVector(), u.vec.CreateVector()
     history = []
     inner_steps = 0

@@ -28,6 +28,7 @@ The solution has contact and no-contact zones and stick and slip zones on Gamma_
 """
 
 import dataclasses
+import math
 
 import ngsolve as ngs
 
@@ -63,5 +64,56 @@ def contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=50.0):
     g_a = u_n - chi / c_n + q * q * q
     c_tau = ngs.IfPos(s, mu * (dphi - psi), mu * (ngs.IfPos(dphi, dphi, -dphi) - s))
     problem = dataclasses.replace(base, g_a=g_a, c_tau=c_tau)
+    f, g = body_force_and_traction(problem, u)
+    return dataclasses.replace(problem, f=f, g=g), u
+
+
+def friction_manufactured(m_t=1, E=1000.0, nu=0.3, c_n=10.0, c_tau=100.0, K=50.0, M=32.0):
+    """(problem, u_exact) with the penetration-dependent friction bound c_tau (u_n - g_a)_+^{m_t}.
+
+    Same domain and boundary parts as :func:`contact_manufactured`; on Gamma_C (y = 0) n = (0, -1),
+    t = (1, 0).  Three zones along Gamma_C:
+
+        x < 1/4:        contact, stick   (u_tau = 0,  |sigma_tau| < bound),
+        1/4 < x < 1/2:  contact, slip    (u_tau > 0,  sigma_tau = -bound),
+        x > 1/2:        no contact       (bound = 0, so sigma_n = sigma_tau = 0 and u_tau is free).
+
+    Choose the penetration p = K (1/2 - x)_+^4 / c_n, so sigma_n = -c_n p is the compliance (1.8),
+    and the tangential traction sigma_tau = T = -c_tau p^{m_t} w with w = 1 - M (1/4 - x)_+^4
+    (w in [1/2, 1] for M <= 32): T = -bound where w = 1 (slip and no-contact zones, where the bound
+    c_tau p^{m_t} is 0), |T| < bound in the stick zone.  Choose u on Gamma_C: u_tau = psi =
+    (x - 1/4)_+^4 (> 0 exactly for x > 1/4, also in the no-contact zone), u_n = -phi, phi = x^2/4,
+    and the gap g_a = u_n - p + (x - 1/2)_+^4.  The displacement
+
+        u(x, y) = (1 - y) (psi, phi) + y (1 - y) (alpha, beta)
+
+    vanishes on Gamma_D (y = 1), equals (psi, phi) at y = 0, and its y-derivative there,
+    (alpha - psi, beta - phi), sets the tractions: sigma_tau = -sigma_12 = -mu (alpha - psi + phi')
+    and sigma_n = sigma_22 = lam psi' + (2 mu + lam)(beta - phi), so
+
+        alpha = psi - phi' - T / mu,      beta = phi + (-c_n p - lam psi') / (2 mu + lam).
+
+    m_t is a positive integer here.  Every function is C^3 in x, u is in H^3 (optimal rates up to
+    p = 2).  The multiplier is
+    l = -T / bound = w in the contact zone and l = sign(u_tau) = 1 in the no-contact zone.
+    f = -div sigma(u) in Omega, g = sigma(u) n on Gamma_F.
+    """
+    x, y = ngs.x, ngs.y
+    geometry = ndf.Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="traction", top="dirichlet",
+                                     left="traction")
+    base = ndf.ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=0.0, c_tau=c_tau,
+                              geometry=geometry, m_t=m_t)
+    mu, lam = base.mu, base.lam
+    fourth = lambda z: z * z * z * z  # products: Diff of a power of IfPos gives NaN at 0  # noqa: E731
+    r, s, q = positive_part(0.5 - x), positive_part(x - 0.25), positive_part(x - 0.5)
+    w = 1 - M * fourth(positive_part(0.25 - x))
+    penetration = K / c_n * fourth(r)
+    traction = -c_tau * math.prod([penetration] * m_t, start=ngs.CF(1)) * w
+    psi, dpsi = fourth(s), 4 * s * s * s
+    phi, dphi = x * x / 4, x / 2
+    alpha = psi - dphi - traction / mu
+    beta = phi + (-c_n * penetration - lam * dpsi) / (2 * mu + lam)
+    u = ngs.CF(((1 - y) * psi + y * (1 - y) * alpha, (1 - y) * phi + y * (1 - y) * beta))
+    problem = dataclasses.replace(base, g_a=-phi - penetration + fourth(q))
     f, g = body_force_and_traction(problem, u)
     return dataclasses.replace(problem, f=f, g=g), u
