@@ -8,7 +8,11 @@ setup(
     package_data={"ngdgfric": ["data/*.toml"]},
     python_requires=">=3.10",
     install_requires=["ngsolve", "numpy", "matplotlib", "tomli; python_version < '3.11'"],
-    extras_require={"test": ["pytest", "ruff", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
-                             "webgui_jupyter_widgets"]},
+    extras_require={
+        # the studies run many independent cases through dask.distributed (issue: the two studies)
+        "studies": ["dask[distributed]"],
+        "test": ["pytest", "ruff", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
+                 "webgui_jupyter_widgets", "dask[distributed]"],
+    },
     entry_points={"console_scripts": ["ngdgfric = ngdgfric.cli:main"]},
 )

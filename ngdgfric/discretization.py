@@ -92,8 +92,9 @@ class Discretization:
         self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
         self.order = int(self.orders.max())
         self.p = self.order if np.ndim(order) == 0 or np.all(order == self.order) else order_function(mesh, order)
-        self.eta = _check_eta(default_eta(problem, self.method) if eta is None else eta)
-        check_penalty(problem, self.method, self.eta, self.order, penalty_check)
+        lowest = int(self.orders.min())  # the lowest order has the highest SIPG threshold
+        self.eta = _check_eta(default_eta(problem, self.method, lowest) if eta is None else eta)
+        check_penalty(problem, self.method, self.eta, lowest, penalty_check)
         self.timings = {}
         self._gauss = None
         start = time.perf_counter()

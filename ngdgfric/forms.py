@@ -29,7 +29,7 @@ import ngsolve as ngs
 
 __all__ = ["Method", "METHODS", "get_method", "default_eta", "strain", "stress", "edge_length",
            "edge_penalty", "edge_order", "jump_penalty", "dg_terms", "load_terms", "jump_inner", "PenaltyWarning",
-           "coercivity_threshold", "check_penalty"]
+           "coercivity_threshold", "check_penalty", "SIPG_THRESHOLD"]
 
 
 @dataclass(frozen=True)
@@ -60,15 +60,21 @@ def get_method(name):
     return METHODS[key]
 
 
-def default_eta(problem, method):
+def default_eta(problem, method, order=1):
     """Default penalty: eta = 30 mu for the edge-penalty methods (Section 6).
 
-    For the lifting penalties eta is dimensionless (it multiplies (C r_e, r_e)): 6 for Bassi et
-    al. (twice the coercivity threshold 3, the number of edges of a triangle), 1 for Brezzi et al.
-    (any eta > 0 is stable, the global lifting term adds stability).
+    For SIPG it is raised to 1.5 times the measured coercivity threshold of
+    :func:`coercivity_threshold` where 30 mu is not above it (nearly incompressible materials: the
+    threshold grows like 2 mu + lam); both examples of the paper keep 30 mu.  For the lifting
+    penalties eta is dimensionless (it multiplies (C r_e, r_e)): 6 for Bassi et al. (twice the
+    coercivity threshold 3, the number of edges of a triangle), 1 for Brezzi et al. (any eta > 0
+    is stable, the global lifting term adds stability).
     """
     if method.penalty == "lift":
         return 6.0 if not method.global_lift else 1.0
+    threshold = coercivity_threshold(problem, method, order)
+    if threshold is not None and 30 * problem.mu <= threshold:
+        return 1.5 * threshold
     return 30 * problem.mu
 
 
@@ -87,13 +93,28 @@ class PenaltyWarning(UserWarning):
     """The penalty parameter is at or below the method's coercivity threshold."""
 
 
-def coercivity_threshold(problem, method, order):
-    """The smallest stable eta of ``method`` (None: any eta > 0 is stable).
+SIPG_THRESHOLD = {1: 4.0, 2: 2.2, 3: 1.75, 4: 1.55}
+"""Smallest coercive SIPG penalty as eta / (2 mu + lam), per order (p > 4: the p = 4 value).
 
-    Bassi et al.: eta > 3, the number of edges of a triangle (Arnold, Brezzi, Cockburn, Marini
-    2002, for liftings into a space containing eps_h(V_h)).
+Measured by ``scripts/stability.py`` (results/stability.md): the smallest eigenvalue of
+B_h(v, v) / |||v|||_h^2 changes sign at eta / (2 mu + lam) = 3.3-4.0 (p = 1), 1.85-2.15 (p = 2),
+1.5-1.74 (p = 3), 1.35-1.52 (p = 4) for nu = 0 ... 0.49 on the structured meshes of Examples
+6.1 and 6.2, independently of h; the table takes the largest, rounded up."""
+
+
+def coercivity_threshold(problem, method, order):
+    """The smallest stable eta of ``method`` for degree ``order`` (None: any eta > 0 is stable).
+
+    SIPG: :data:`SIPG_THRESHOLD` times 2 mu + lam (measured; the theory gives only "large
+    enough").  Bassi et al.: eta > 3, the number of edges of a triangle (Arnold, Brezzi,
+    Cockburn, Marini 2002, for liftings into a space containing eps_h(V_h)); sufficient, the
+    measured threshold is lower.  NIPG, Brezzi et al., LDG: any eta > 0.
     """
-    return 3.0 if method.name == "bassi" else None
+    if method.name == "bassi":
+        return 3.0
+    if method.name == "sipg":
+        return SIPG_THRESHOLD[min(int(order), max(SIPG_THRESHOLD))] * (2 * problem.mu + problem.lam)
+    return None
 
 
 def check_penalty(problem, method, eta, order, action="warn"):
