@@ -1,0 +1,223 @@
+"""Where each method fails: penalty, near incompressibility, stiff compliance, friction extremes, Uzawa's rho.
+
+Every case is one independent solve (:mod:`ngdgfric.cases`) run through dask.distributed
+(:mod:`ngdgfric.runner`: a LocalCluster with one worker per core, or ``--scheduler ADDRESS``),
+cached in ``--cache`` so a restarted study recomputes nothing.  Writes results/stability.md,
+stability.png and stability_<section>.csv; ``--speedup`` also times the locking section with one
+and with two workers (no cache).
+
+    python scripts/stability.py [--quick] [--scheduler tcp://host:8786] [--workers N] [--speedup]
+"""
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+from common import RESULTS, command_line, markdown_table, say, write_csv
+
+from ngdgfric import cases
+from ngdgfric.forms import METHODS, SIPG_THRESHOLD
+from ngdgfric.runner import run_cases
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+METHOD_NAMES = sorted(METHODS)
+
+
+def parse(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="a few cases per section (smoke test)")
+    parser.add_argument("--scheduler", default=None, help="address of a running dask scheduler")
+    parser.add_argument("--workers", type=int, default=None, help="local worker processes (default: cores)")
+    parser.add_argument("--cache", type=Path, default=Path(".cache/stability"))
+    parser.add_argument("--speedup", action="store_true", help="time the locking section with 1 and 2 workers")
+    parser.add_argument("--out", type=Path, default=RESULTS)
+    return parser.parse_args(argv)
+
+
+def sections(quick, reference):
+    """The case lists of the five sections."""
+    methods = ["sipg", "bassi"] if quick else METHOD_NAMES
+    orders = [1] if quick else [1, 2, 3]
+    ratios = [0.1, 10.0, 1000.0] if quick else [float(r) for r in np.logspace(-2, 3, 11)]
+    return {
+        "threshold": [dict(example=e, method=m, order=p, h=0.25) for e in ("6.1", "6.2") for m in methods
+                      for p in orders],
+        "penalty": [dict(example="6.1", method=m, order=p, ratio=r, h_eig=0.25, h=0.125, reference=reference)
+                    for m in methods for p in orders for r in ratios],
+        "locking": [dict(method=m, order=p, nu=nu, h=0.125) for m in methods for p in orders
+                    for nu in ([0.3, 0.4999] if quick else [0.3, 0.45, 0.49, 0.499, 0.4999])],
+        "compliance": [dict(example="6.1", c_n=c, solver=s, h=0.125, maxit=5000)
+                       for c in ([1.0, 1e8] if quick else [1.0, 1e2, 1e4, 1e6, 1e8]) for s in ("newton", "uzawa")],
+        "friction": [dict(example="6.1", c_tau=c, solver=s, h=0.125, maxit=5000)
+                     for c in ([0.0, 1e6] if quick else [0.0, 1e-2, 1.0, 450.0, 1e4, 1e6])
+                     for s in ("newton", "uzawa")],
+        "rho": [dict(example="6.1", factor=f, h=0.125 if not quick else 0.25, maxit=1000)
+                for f in ([1.0, 4.0] if quick else [0.1, 0.5, 1.0, 1.3, 1.5, 2.0, 4.0])],
+    }
+
+
+FUNCTIONS = {"threshold": cases.threshold_case, "penalty": cases.penalty_case, "locking": cases.locking_case,
+             "compliance": cases.compliance_case, "friction": cases.friction_case, "rho": cases.rho_case}
+
+
+def fmt(value, spec=".3g"):
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "-"
+    return format(value, spec) if isinstance(value, (int, float)) else str(value)
+
+
+def ok(row):
+    return row["status"] == "converged"
+
+
+def report(results, speedup):
+    lines = ["# Stability: where each method fails", "",
+             "Example 6.1 unless said otherwise; uniform meshes; P1-P3; Newton unless said otherwise.  Every number",
+             "below comes from `stability_<section>.csv`.  ![stability](stability.png)", ""]
+    thresholds = results["threshold"]
+    sipg1 = [r for r in thresholds if r["method"] == "sipg" and r["order"] == 1]
+    lines += ["## Penalty: coercivity thresholds", "",
+              "Smallest eta/mu (lifting methods: the dimensionless eta multiplying (C r_e, r_e)) for which the linear",
+              "part is coercive, min B_h(v, v)/|||v|||_h^2 > 0 (dense generalised eigenvalue problem, h = 1/4; the",
+              "value does not change from h = 1/4 to 1/8), by bisection on [1e-2, 1e3].  0.01 means: coercive",
+              "over the whole range.", "",
+              markdown_table(["example", "method", "p", "threshold eta/mu", "eta/(2mu+lam)", "theory"],
+                             [[r["example"], r["method"], r["order"], fmt(r["threshold_mu"]),
+                               fmt(r["threshold_2mu_lam"]), THEORY[r["method"]]] for r in thresholds]), "",
+              "SIPG's threshold is a constant times 2 mu + lam (at p = 1: " + ", ".join(
+                  f"Example {r['example']} {r['threshold_2mu_lam']:.2f}" for r in sipg1) + "), falling with p because",
+              f"the penalty carries p^2; the library warns below {SIPG_THRESHOLD} x (2 mu + lam)",
+              "(`ngdgfric.forms.SIPG_THRESHOLD`, which also covers nu = 0 ... 0.49) and raises its default above",
+              "30 mu where 30 mu is not enough.  The paper's 30 mu is " + ", ".join(
+                  f"{30 / r['threshold_mu']:.2f} times the P1 threshold of Example {r['example']}" for r in sipg1)
+              + ".", ""]
+    penalty = results["penalty"]
+    lines += ["## Penalty sweep: coercivity, error against the reference, Newton iterations", "",
+              "h = 1/8 for the solve; error |||u_ref - u_h|||_h against results/reference_6_1.npz.", "",
+              markdown_table(["method", "p", "eta/mu", "lambda_min", "error", "Newton its", "status"],
+                             [[r["method"], r["order"], fmt(r["ratio"]), fmt(r["lam_min"]), fmt(r["error"]),
+                               fmt(r["iterations"]), r["status"][:50]] for r in penalty]), ""]
+    failed = [r for r in penalty if not ok(r)]
+    lines += [f"- {len(failed)} of {len(penalty)} solves failed, all with lambda_min < 0: "
+              f"{all(r['lam_min'] < 0 for r in failed)}.  Below the threshold Newton either fails or returns a "
+              "solution whose error is far above the coercive ones (see the table).", ""]
+    locking = results["locking"]
+    lines += ["## Near incompressibility (volumetric locking)", "",
+              "Smooth manufactured solution (`ngdgfric.manufactured.elasticity_manufactured`, E = 1000), h = 1/8,",
+              "relative energy error.", "",
+              markdown_table(["method", "p"] + [f"nu = {nu}" for nu in sorted({r['nu'] for r in locking})],
+                             [[m, p] + [fmt(r["relative_error"]) for r in sorted(
+                                 (r for r in locking if r["method"] == m and r["order"] == p), key=lambda r: r["nu"])]
+                              for m in sorted({r["method"] for r in locking})
+                              for p in sorted({r["order"] for r in locking})]), ""]
+    pairs = sorted({(r["method"], r["order"]) for r in locking})
+    lines += [f"- Error growth nu = 0.3 -> {max(r['nu'] for r in locking)}: " + ", ".join(
+        f"{m} P{p} x{_growth(locking, m, p):.1f}" for m, p in pairs) + ".", ""]
+    lines += ["## Stiff compliance (towards Signorini)", "",
+              markdown_table(["c_n", "solver", "iterations", "seconds", "max penetration", "eta_h", "cond(A + c_n N)",
+                              "status"],
+                             [[fmt(r["c_n"]), r["solver"], fmt(r.get("iterations")), fmt(r["seconds"]),
+                               fmt(r.get("penetration")), fmt(r.get("eta")), fmt(r["condition"]), r["status"][:40]]
+                              for r in results["compliance"]]), ""]
+    lines += ["## Friction extremes", "",
+              markdown_table(["c_tau", "solver", "iterations", "seconds", "stick share", "max |u_tau|",
+                              "complementarity", "status"],
+                             [[fmt(r["c_tau"]), r["solver"], fmt(r.get("iterations")), fmt(r["seconds"]),
+                               fmt(r.get("stick_fraction")), fmt(r.get("max_slip")), fmt(r.get("complementarity")),
+                               r["status"][:40]] for r in results["friction"]]), ""]
+    lines += ["## Uzawa's step rho", "",
+              "rho = factor x the default 1.5/L (L: largest eigenvalue of the linearised Uzawa map, power iteration);",
+              "projected gradient theory: convergence for rho < 2/L, i.e. factor < 1.33.", "",
+              markdown_table(["factor", "rho", "iterations", "seconds", "status"],
+                             [[fmt(r["factor"]), fmt(r["rho"]), r["iterations"], fmt(r["seconds"]), r["status"][:70]]
+                              for r in results["rho"]]), ""]
+    if speedup:
+        lines += ["## Parallel speed-up (dask.distributed LocalCluster)", "",
+                  markdown_table(["workers", "locking section wall time (s)", "speed-up"],
+                                 [[w, f"{t:.1f}", f"{speedup[1] / t:.2f}"] for w, t in speedup.items()]), ""]
+    lines += [f"Regenerate: `{command_line()}`", ""]
+    return "\n".join(lines)
+
+
+THEORY = {"sipg": "large enough", "nipg": "any > 0", "bassi": "> 3", "brezzi": "any > 0", "ldg": "any > 0"}
+
+
+def _growth(rows, method, order):
+    chosen = sorted((r for r in rows if r["method"] == method and r["order"] == order), key=lambda r: r["nu"])
+    return chosen[-1]["relative_error"] / chosen[0]["relative_error"]
+
+
+def plot(results, path):
+    fig, axes = plt.subplots(1, 5, figsize=(24, 4.5))
+    colours = dict(zip(METHOD_NAMES, plt.rcParams["axes.prop_cycle"].by_key()["color"], strict=False))
+    for r_method in METHOD_NAMES:
+        for order, line in zip((1, 2, 3), ("-", "--", ":"), strict=True):
+            rows = [r for r in results["penalty"] if r["method"] == r_method and r["order"] == order]
+            if rows:
+                axes[0].semilogx([r["ratio"] for r in rows], [r["lam_min"] for r in rows], line,
+                                 color=colours[r_method], label=f"{r_method} P{order}" if order == 1 else None)
+            rows = sorted((r for r in results["locking"] if r["method"] == r_method and r["order"] == order),
+                          key=lambda r: r["nu"])
+            if rows:
+                axes[1].loglog([0.5 - r["nu"] for r in rows], [r["relative_error"] for r in rows], line,
+                               color=colours[r_method], marker="o", markersize=3)
+    axes[0].axhline(0, color="k", linewidth=0.5)
+    axes[0].set(xlabel="eta / mu", ylabel="min B_h(v,v) / |||v|||^2", title="coercivity (P1 -, P2 --, P3 :)",
+                ylim=(-2, 1.1))
+    axes[0].legend(fontsize=7)
+    axes[1].set(xlabel="0.5 - nu", ylabel="relative energy error", title="volumetric locking")
+    axes[1].invert_xaxis()
+    for ax, section, key, title in ((axes[2], "compliance", "c_n", "stiff compliance"),
+                                    (axes[3], "friction", "c_tau", "friction extremes")):
+        for solver, marker in (("newton", "o"), ("uzawa", "s")):
+            rows = [r for r in results[section] if r["solver"] == solver and ok(r)]
+            ax.loglog([max(r[key], 1e-3) for r in rows], [r["iterations"] for r in rows], marker=marker, label=solver)
+        ax.set(xlabel=key + " (0 drawn at 1e-3)" if section == "friction" else key, ylabel="iterations", title=title)
+        ax.legend()
+    rows = results["rho"]
+    axes[4].semilogx([r["factor"] for r in rows], [r["iterations"] for r in rows], "o-")
+    for r in rows:
+        if not ok(r):
+            axes[4].plot(r["factor"], r["iterations"], "rx", markersize=12)
+    axes[4].axvline(2 / 1.5, color="k", linestyle=":", label="rho = 2/L")
+    axes[4].set(xlabel="rho / default rho", ylabel="Uzawa iterations (x: failed)", title="Uzawa step")
+    axes[4].legend()
+    for ax in axes:
+        ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def main(argv=None):
+    args = parse(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    reference = str((RESULTS / "reference_6_1.npz").resolve())
+    results = {}
+    for name, case_list in sections(args.quick, reference).items():
+        say(f"{name}: {len(case_list)} cases")
+        results[name] = run_cases(FUNCTIONS[name], case_list, cache=args.cache, scheduler=args.scheduler,
+                                  workers=args.workers, progress=say)
+        write_csv(args.out / f"stability_{name}.csv", results[name],
+                  fields=list(dict.fromkeys(k for r in results[name] for k in r)))
+    speedup = {}
+    if args.speedup:
+        for workers in (1, 2):
+            start = time.perf_counter()
+            run_cases(cases.locking_case, sections(args.quick, reference)["locking"], cache=None, workers=workers,
+                      progress=None)
+            speedup[workers] = time.perf_counter() - start
+            say(f"locking section with {workers} worker(s): {speedup[workers]:.1f} s")
+    plot(results, args.out / "stability.png")
+    (args.out / "stability.md").write_text(report(results, speedup))
+    say(f"wrote {args.out / 'stability.md'}")
+    return results
+
+
+if __name__ == "__main__":
+    main()
