@@ -54,3 +54,18 @@ def test_reference_and_hp(tmp_path):
     for name in ("hp_6_2.csv", "hp_6_2.png", "hp_exponential_6_2.png", "hp_mesh_6_2.png", "hp.md"):
         assert (tmp_path / name).stat().st_size > 0
     assert "times fewer" in (tmp_path / "hp.md").read_text()
+
+
+def test_stability(tmp_path):
+    results = run("stability", tmp_path, "--cache", str(tmp_path / "cache"))
+    assert set(results) == {"threshold", "penalty", "locking", "compliance", "friction", "rho"}
+    sipg = [r for r in results["threshold"] if r["method"] == "sipg"]
+    assert all(1 < r["threshold_2mu_lam"] < 4.0 for r in sipg)  # below ngdgfric.forms.SIPG_THRESHOLD[1]
+    assert (tmp_path / "stability.png").exists() and "Uzawa's step rho" in (tmp_path / "stability.md").read_text()
+
+
+def test_work_precision(tmp_path):
+    run("work_precision", tmp_path, "--example", "6.2", "--cache", str(tmp_path / "cache"))
+    assert "fastest run" in (tmp_path / "work_precision.md").read_text()
+    for name in ("work_precision_6_2.png", "work_precision_6_2_dofs.png", "work_precision_6_2.csv"):
+        assert (tmp_path / name).stat().st_size > 0
