@@ -15,6 +15,7 @@ from .kkt import contact_state, kkt_residuals
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
 from .norms import energy_norm
 from .problem import ContactProblem, Polygon
+from .problem_file import example_file, load_problem
 from .reference import Reference, energy_error, load_reference, save_reference
 from .solution import Solution, solve
 
@@ -22,4 +23,4 @@ __all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_m
            "check_mesh", "Discretization", "solve", "Solution", "SolverError", "energy_norm", "METHODS",
            "contact_state", "kkt_residuals", "estimate", "Estimate", "dorfler_mark", "refine", "adapt",
            "minimum_angle", "HPState", "hp_refine", "Reference", "energy_error", "load_reference",
-           "save_reference"]
+           "save_reference", "load_problem", "example_file"]

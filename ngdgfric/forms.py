@@ -73,7 +73,7 @@ def default_eta(problem, method, order=1):
     if method.penalty == "lift":
         return 6.0 if not method.global_lift else 1.0
     threshold = coercivity_threshold(problem, method, order)
-    if threshold is not None and 30 * problem.mu <= threshold:
+    if isinstance(threshold, (int, float)) and 30 * problem.mu <= threshold:  # E a CoefficientFunction: 30 mu
         return 1.5 * threshold
     return 30 * problem.mu
 

@@ -82,7 +82,10 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
     linear_solver = ReusedFactorization(disc.symmetric and not coupled, krylov_steps)
     update = multiplier_update(disc, lam, stick * (lam + gamma / ngs.IfPos(b_k, b_k, 1) * (u * t))
                                + (1 - stick) * slip_sign)
-    merit = Merit(disc, u, lam, c0 * (2 * disc.problem.mu + disc.problem.lam))
+    modulus = 2 * disc.problem.mu + disc.problem.lam
+    if isinstance(modulus, ngs.CoefficientFunction):  # spatially varying E: its largest value on Gamma_C
+        modulus = float(np.max(np.asarray(modulus(disc.gauss.points))))
+    merit = Merit(disc, u, lam, c0 * modulus)
     du, lam_old = u.vec.CreateVector(), lam.vec.CreateVector()
     history, sweeps, steps = [], [], []
     sets, value, values = None, merit(), []

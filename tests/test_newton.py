@@ -1,5 +1,6 @@
 import dataclasses
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 
@@ -59,3 +60,13 @@ def test_non_convergence_raises_with_history():
         ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), maxit=1)
     assert len(err.value.history) == 1
     assert err.value.solver == "newton"
+
+
+def test_spatially_varying_young_modulus_newton_agrees_with_uzawa():
+    problem = dataclasses.replace(ndf.example_6_1(), E=2000 + 500 * ngs.x)
+    mesh = ndf.uniform_mesh(problem, 1 / 8)
+    newton_sol = ndf.solve(problem, mesh)
+    uzawa_sol = ndf.solve(problem, mesh, solver="uzawa")
+    a, b = newton_sol.u.vec.FV().NumPy(), uzawa_sol.u.vec.FV().NumPy()
+    assert np.abs(a - b).max() <= 1e-6 * np.abs(a).max()
+    assert ndf.kkt_residuals(newton_sol)["equilibrium"] < 1e-10
