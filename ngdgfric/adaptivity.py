@@ -9,6 +9,7 @@ conforming again (netgen ``bisect.cpp``: ``BTSortEdges``, ``BTDefineMarkedTri``,
 """
 
 import csv
+import gc
 import math
 import time
 from pathlib import Path
@@ -129,7 +130,8 @@ def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, 
             carrier.Set(sol.u)  # exact: element-wise L2 projection into a superspace
             previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
             indicators = est.element
-            sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes
+            sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
+            gc.collect()  # reference cycles may keep them alive (seen in dask workers)
             if hp:
                 state = hp_refine(mesh, state, indicators, marked, max_order)
             else:
