@@ -20,9 +20,9 @@ problem is solved by the iterated penalty (augmented Lagrangian) method with the
 A + K_n(u_k) + gamma chi (t.)(t.) + (1 - chi) b'_k s (n.)(t.): solve for u with the friction force
 chi (b_k l + gamma u_tau) + (1 - chi) (b_k + b'_k (u - u_k) . n) s, update
 l <- chi (l + gamma u_tau / b_k) + (1 - chi) s, repeat until the stick constraint holds to
-round-off.  All these solves share one matrix, so one factorisation (Cholesky for the symmetric
-methods with m_t = 0) serves a Newton step, and consecutive Newton steps with the same sets (and,
-for m_n > 1 or m_t not in {0, 1}, the same penetrations) share it too.
+round-off.  All these solves share one matrix, so one factorisation (UMFPACK, see
+:class:`ngdgfric.nonlinear.ReusedFactorization`) serves a Newton step, and consecutive Newton
+steps with the same sets (and, for m_n > 1 or m_t not in {0, 1}, the same penetrations) share it too.
 
 gamma = kappa (2 mu + lam) / h_e makes the stick penalty kappa times stiffer than the elastic
 boundary stiffness E/h, so each penalty sweep reduces the constraint violation by about 1/kappa.
@@ -79,7 +79,7 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
     psi = lambda trial: stick * (b_k * lam + gamma * (trial * t)) + (1 - stick) * slip(trial) * slip_sign
     op = ContactOperator(disc, u, psi, switches=[b_k * b_k - z * z] + ([z] if coupled else []),
                          coefficients=[slope_k] if coupled else [])
-    linear_solver = ReusedFactorization(disc.symmetric and not coupled, krylov_steps)
+    linear_solver = ReusedFactorization(krylov_steps)
     update = multiplier_update(disc, lam, stick * (lam + gamma / ngs.IfPos(b_k, b_k, 1) * (u * t))
                                + (1 - stick) * slip_sign)
     modulus = 2 * disc.problem.mu + disc.problem.lam
