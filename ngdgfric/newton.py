@@ -20,8 +20,8 @@ problem is solved by the iterated penalty (augmented Lagrangian) method with the
 A + K_n(u_k) + gamma chi (t.)(t.) + (1 - chi) b'_k s (n.)(t.): solve for u with the friction force
 chi (b_k l + gamma u_tau) + (1 - chi) (b_k + b'_k (u - u_k) . n) s, update
 l <- chi (l + gamma u_tau / b_k) + (1 - chi) s, repeat until the stick constraint holds to
-round-off.  All these solves share one matrix, so one factorisation (UMFPACK, see
-:class:`ngdgfric.nonlinear.ReusedFactorization`) serves a Newton step, and consecutive Newton
+round-off.  All these solves share one matrix, so one factorisation (Cholesky where it
+is symmetric, see :class:`ngdgfric.nonlinear.ReusedFactorization`) serves a Newton step, and consecutive Newton
 steps with the same sets (and, for m_n > 1 or m_t not in {0, 1}, the same penetrations) share it too.
 
 gamma = kappa (2 mu + lam) / h_e makes the stick penalty kappa times stiffer than the elastic
@@ -70,16 +70,13 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
     gamma = kappa * stiffness
     n, t = normal_tangent()
     b_k = disc.bound(u_k)
-    z = b_k * lam_k + c0 * stiffness * (u_k * t)
-    stick = ngs.IfPos(b_k * b_k - z * z, 1, 0)
-    slip_sign = ngs.IfPos(z, 1, -1)
     coupled = disc.problem.m_t > 0  # the slip force depends on u_n: nonsymmetric Jacobian, s and b'_k enter it
+    decide, stick, slip_sign = _frozen_sets(disc, b_k, b_k * lam_k + c0 * stiffness * (u_k * t), coupled)
     slope_k = friction_bound_slope(disc.problem, u_k) if coupled else None
     slip = (lambda trial: b_k + slope_k * ((trial - u_k) * n)) if coupled else (lambda trial: b_k)
     psi = lambda trial: stick * (b_k * lam + gamma * (trial * t)) + (1 - stick) * slip(trial) * slip_sign
-    op = ContactOperator(disc, u, psi, switches=[b_k * b_k - z * z] + ([z] if coupled else []),
-                         coefficients=[slope_k] if coupled else [])
-    linear_solver = ReusedFactorization(krylov_steps)
+    op = ContactOperator(disc, u, psi, switches=decide, coefficients=[slope_k] if coupled else [])
+    linear_solver = ReusedFactorization(disc.symmetric and not coupled, krylov_steps)
     update = multiplier_update(disc, lam, stick * (lam + gamma / ngs.IfPos(b_k, b_k, 1) * (u * t))
                                + (1 - stick) * slip_sign)
     modulus = 2 * disc.problem.mu + disc.problem.lam
@@ -119,6 +116,29 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, krylov_ste
     raise SolverError(f"semismooth Newton did not reach tol = {tol:g} in {len(history)} iterations "
                       f"(last change {history[-1]:.3e}, last step sizes {steps[-3:]})",
                       history=history, solver="newton")
+
+
+def _frozen_sets(disc, b_k, z, coupled):
+    """The stick set chi = {|z| < b_k} and the slip sign s = sign(z), decided once per Newton step.
+
+    Returns (decide, chi, s): ``decide()`` evaluates b_k and z at the contact Gauss points, stores
+    chi and s in the multiplier space (whose functions are fixed by their Gauss values) and
+    returns the decisions as a boolean array; chi and s are those GridFunctions.  Deciding once
+    keeps the solve and the multiplier update consistent: with IfPos(b_k^2 - z^2) evaluated in
+    each form separately, a point with |z| = b_k up to round-off could be stick in the matrix and
+    slip in the update (or the reverse), and the penalty sweeps then grew by gamma / b_k per sweep.
+    """
+    gauss = disc.gauss
+    stick, slip_sign = ngs.GridFunction(disc.Q), ngs.GridFunction(disc.Q)
+
+    def decide():
+        b, zq = evaluate_on_contact(b_k, gauss.points), evaluate_on_contact(z, gauss.points)
+        is_stick = b * b - zq * zq > 0
+        gauss.set_values(stick, is_stick.astype(float))
+        gauss.set_values(slip_sign, np.where(zq > 0, 1.0, -1.0))
+        return np.concatenate([is_stick] + ([zq > 0] if coupled else []))
+
+    return decide, stick, slip_sign
 
 
 class Merit:

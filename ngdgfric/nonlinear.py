@@ -26,12 +26,13 @@ class ContactOperator:
     """F(u) and its Jacobian for the GridFunction ``u`` and a friction force density ``psi(u)``.
 
     ``psi``: callable mapping the displacement (a trial function) to the tangential friction force
-    density, affine in it; ``switches``: CoefficientFunctions whose signs at the Gauss points,
-    together with the penetrating set, and ``coefficients``: CoefficientFunctions whose values
-    there determine the Jacobian (used to detect an unchanged matrix).
+    density, affine in it; ``switches``: callable returning the boolean array of the solver's
+    frozen decisions at the Gauss points (or None), which together with the penetrating set and
+    ``coefficients`` (CoefficientFunctions whose values there enter the Jacobian) determine the
+    Jacobian (used to detect an unchanged matrix).
     """
 
-    def __init__(self, disc, u, psi, switches=(), coefficients=()):
+    def __init__(self, disc, u, psi, switches=None, coefficients=()):
         self.disc = disc
         self.u = u
         self.linear_compliance = disc.problem.m_n == 1
@@ -43,7 +44,7 @@ class ContactOperator:
         self.sum = BlockSum(disc.A, disc.contact_groups())
         self.points = disc.contact_points()
         self._gap = penetration(disc.problem, u)
-        self._switches, self._coefficients = list(switches), list(coefficients)
+        self._switches, self._coefficients = switches, list(coefficients)
         self._out = disc.F.CreateVector()
 
     def residual(self, vec=None):
@@ -56,9 +57,9 @@ class ContactOperator:
         return r
 
     def sets(self):
-        """The penetrating Gauss points and the signs of the switches there (boolean array)."""
+        """The penetrating Gauss points and the switches (boolean array)."""
         gap = evaluate_on_contact(self._gap, self.points)
-        return np.concatenate([gap > 0] + [evaluate_on_contact(cf, self.points) > 0 for cf in self._switches])
+        return np.concatenate([gap > 0] + ([] if self._switches is None else [self._switches()]))
 
     def state(self):
         """What the Jacobian at u depends on: :meth:`sets`, the coefficients, and for m_n > 1 the penetrations."""
@@ -84,12 +85,11 @@ class ReusedFactorization:
     has rank at most the number of contact Gauss points whose state changed, so GMRES converges
     in about as many steps; if it needs more than ``krylov_steps``, J is refactorised.
 
-    J is factorised by UMFPACK even when it is symmetric positive definite: with sparsecholesky
-    the iterated-penalty sweeps of Newton's warm starts diverged in about 2 of 3 runs of the same
-    script (steps of 1e61, Example 6.1, h = 1/32, warm from h = 1/16), with UMFPACK never (11 runs).
+    ``symmetric``: J is symmetric positive definite (factorised by Cholesky, else by UMFPACK).
     """
 
-    def __init__(self, krylov_steps=0, krylov_tol=1e-8):
+    def __init__(self, symmetric, krylov_steps=0, krylov_tol=1e-8):
+        self.symmetric = symmetric
         self.krylov_steps = krylov_steps
         self.krylov_tol = krylov_tol
         self._inverse = None
@@ -105,7 +105,7 @@ class ReusedFactorization:
         start = time.perf_counter()
         self._inverse = None  # free the old factor first: reusing its memory is much faster
         with threads(J.height):
-            self._inverse = direct_inverse(J, symmetric=False)
+            self._inverse = direct_inverse(J, self.symmetric)
         self.factor_time += time.perf_counter() - start
         self._state = state
         self.counts["factorizations"] += 1

@@ -87,7 +87,7 @@ def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None):
         raise ValueError(f"rho must be a positive number, got {rho!r}")
     _, t = normal_tangent()
     op = ContactOperator(disc, u, lambda trial: disc.c_tau * lam)
-    linear_solver = ReusedFactorization()
+    linear_solver = ReusedFactorization(disc.symmetric)
     u_tau = u * t
     update = multiplier_update(disc, lam, ngs.IfPos(disc.c_tau, project_unit(lam + rho * disc.c_tau * u_tau),
                                                     ngs.IfPos(u_tau, 1, -1)))
