@@ -55,11 +55,17 @@ class BlockSum:
         else:
             keys_j = np.insert(keys_a, np.searchsorted(keys_a, new), new)
             self.J = ngs.la.SparseMatrixd.CreateFromCOO(keys_j // n, keys_j % n, np.zeros(len(keys_j)), n, n)
-        self._pos_a = np.searchsorted(keys_j, keys_a)
         self._pos_b = np.searchsorted(keys_j, keys_b)
         self._keys_b = keys_b
         self._k_positions = None
-        self._a_values = np.asarray(A.AsVector().FV().NumPy()).copy()
+        values = self.J.AsVector().FV().NumPy()
+        values[:] = 0.0
+        values[np.searchsorted(keys_j, keys_a)] = A.AsVector().FV().NumPy()
+        self._a_blocks = values[self._pos_b].copy()  # J = A outside the blocks, for good
+        d = np.ones(n)
+        d[:A.height] = np.abs(diagonal(A))
+        d[d == 0] = 1.0
+        self._scale = 1 / np.sqrt(d[keys_b // n] * d[keys_b % n])
 
     def update(self, K):
         """Set J = A + K (K restricted to the blocks) and return J."""
@@ -67,18 +73,13 @@ class BlockSum:
             self._k_positions = _positions(csr_keys(K, self.n), self._keys_b)
         pos, found = self._k_positions
         values = self.J.AsVector().FV().NumPy()
-        values[:] = 0.0
-        values[self._pos_a] = self._a_values
-        k_values = K.AsVector().FV().NumPy()
-        values[self._pos_b[found]] += k_values[pos[found]]
+        values[self._pos_b] = self._a_blocks
+        values[self._pos_b[found]] += K.AsVector().FV().NumPy()[pos[found]]
         return self.J
 
-    def block_values(self, K):
-        """The entries of K inside the blocks (to detect an unchanged Jacobian)."""
-        if self._k_positions is None:
-            self._k_positions = _positions(csr_keys(K, self.n), self._keys_b)
-        pos, found = self._k_positions
-        return K.AsVector().FV().NumPy()[pos[found]].copy()
+    def scaled_blocks(self):
+        """J_ij / sqrt(|A_ii A_jj|) on the blocks (1 for a zero diagonal), to measure changes of J."""
+        return self.J.AsVector().FV().NumPy()[self._pos_b] * self._scale
 
 
 def direct_inverse(mat, symmetric):

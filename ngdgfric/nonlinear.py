@@ -75,25 +75,28 @@ class ContactOperator:
             self.form.AssembleLinearization(self.u.vec)
         return self.sum.update(self.form.mat)
 
+    def scaled_blocks(self):
+        """The contact-block entries J_ij / sqrt(A_ii A_jj) of the last :meth:`jacobian`."""
+        return self.sum.scaled_blocks()
+
 
 class ReusedFactorization:
     """Solves J x = b for a sequence of Jacobians J that differ only in the contact blocks.
 
-    The factorisation of the last factorised J is kept.  If the new J has the same ``state``
-    (same active sets), it is the same matrix and one back-substitution solves.  Otherwise, with
-    ``krylov_steps`` > 0, GMRES preconditioned by the old factorisation is tried first: J - J_old
-    has rank at most the number of contact Gauss points whose state changed, so GMRES converges
-    in about as many steps; if it needs more than ``krylov_steps``, J is refactorised.
-
-    ``symmetric``: J is symmetric positive definite (factorised by Cholesky, else by UMFPACK).
+    The factorisation of the last factorised J_0 is kept.  If the new J has the same ``state``
+    (same sets), it is J_0 and one back-substitution solves.  Otherwise J - J_0 lives in the
+    contact blocks; if it is small there, max |J - J_0|_ij / sqrt(A_ii A_jj) <= ``reuse_tol``
+    (typical: the penetrating set changed and c_n is soft against the elastic stiffness
+    (2 mu + lam) / h), GMRES preconditioned by J_0 solves in a few steps (tolerance
+    ``krylov_tol``, at most ``krylov_steps``) and J_0 is kept.  Else, or if GMRES needs more
+    steps, J is factorised: Cholesky if ``symmetric`` (positive definite), else UMFPACK.
+    ``reuse_tol = 0`` factorises every new J.
     """
 
-    def __init__(self, symmetric, krylov_steps=0, krylov_tol=1e-8):
+    def __init__(self, symmetric, reuse_tol=1e-2, krylov_steps=10, krylov_tol=1e-10):
         self.symmetric = symmetric
-        self.krylov_steps = krylov_steps
-        self.krylov_tol = krylov_tol
-        self._inverse = None
-        self._state = None
+        self.reuse_tol, self.krylov_steps, self.krylov_tol = reuse_tol, krylov_steps, krylov_tol
+        self._inverse = self._state = self._blocks = None
         self.counts = dict(factorizations=0, solves=0, krylov=0)
         self.factor_time = 0.0
 
@@ -101,30 +104,31 @@ class ReusedFactorization:
         """Factorise at the next solve even if the state is unchanged."""
         self._state = None
 
-    def factorize(self, J, state):
+    def factorize(self, J, state, blocks):
         start = time.perf_counter()
         self._inverse = None  # free the old factor first: reusing its memory is much faster
         with threads(J.height):
             self._inverse = direct_inverse(J, self.symmetric)
         self.factor_time += time.perf_counter() - start
-        self._state = state
+        self._state, self._blocks = state, blocks
         self.counts["factorizations"] += 1
 
-    def solve(self, jacobian, state, b, x):
-        """x = J^-1 b with J = ``jacobian()`` (called only if needed); ``state`` identifies J."""
-        same = self._inverse is not None and self._state is not None and np.array_equal(state, self._state)
-        J = None if same else jacobian()
-        if not same and self._state is not None and self.krylov_steps > 0:
-            x[:] = 0.0
-            with threads(J.height):
-                solver = ngs.krylovspace.GMResSolver(J, self._inverse, maxiter=self.krylov_steps,
-                                                     tol=self.krylov_tol, printrates=False)
-                solver.Solve(rhs=b, sol=x)
-            self.counts["krylov"] += solver.iterations
-            if solver.iterations < self.krylov_steps:
-                return
-        if not same:
-            self.factorize(J, state)
+    def solve(self, op, state, b, x):
+        """x = J^-1 b with J = ``op.jacobian()`` (assembled only if needed); ``state`` identifies J."""
+        if self._inverse is None or self._state is None or not np.array_equal(state, self._state):
+            J = op.jacobian()
+            blocks = op.scaled_blocks()
+            if self._state is not None and np.max(np.abs(blocks - self._blocks), initial=0.0) <= self.reuse_tol:
+                x[:] = 0.0
+                with threads(J.height):
+                    solver = ngs.krylovspace.GMResSolver(J, self._inverse, maxiter=self.krylov_steps,
+                                                         tol=self.krylov_tol, printrates=False)
+                    solver.Solve(rhs=b, sol=x)
+                self.counts["krylov"] += solver.iterations
+                self.counts["solves"] += solver.iterations
+                if solver.iterations < self.krylov_steps:
+                    return
+            self.factorize(J, state, blocks)
         with threads(len(b)):
             x.data = self._inverse * b
         self.counts["solves"] += 1
@@ -152,7 +156,7 @@ def newton_step(op, linear_solver, du):
     r = op.residual()
     state = op.state()
     norm = float(np.linalg.norm(r.FV().NumPy()))
-    linear_solver.solve(op.jacobian, state, r, du)
+    linear_solver.solve(op, state, r, du)
     return state, norm
 
 

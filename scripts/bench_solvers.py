@@ -97,9 +97,10 @@ def reuse_study(example, method, order, k):
     problem = EXAMPLES[example]()
     disc = ndf.Discretization(problem, ndf.uniform_mesh(problem, 2.0**-k), method, order)
     out = []
-    for label, options in (("refactorise on every matrix", dict(krylov_steps=0, reuse=False)),
-                           ("reuse while the sets stay (default)", dict(krylov_steps=0)),
-                           ("reuse + GMRES on an old factorisation (30 steps)", dict(krylov_steps=30))):
+    for label, options in (("refactorise on every matrix", dict(reuse=False)),
+                           ("reuse while the sets stay", dict(reuse_tol=0.0)),
+                           ("reuse + GMRES for small changes (default)", dict()),
+                           ("reuse + GMRES for every change (30 steps)", dict(reuse_tol=np.inf, krylov_steps=30))):
         (_, _, info), seconds = timed(newton, disc, **options)
         out.append(dict(policy=label, seconds=seconds, iterations=info["iterations"],
                         factorizations=info["factorizations"], solves=info["solves"], krylov=info["krylov"]))
