@@ -51,7 +51,9 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, reuse=True
     tol: stop when the active sets (and the penetrating points) are those of the previous step
     and finishing that step's linear solve changes u by at most tol (relative max norm).
     ``iterations`` counts Newton steps, i.e. set updates; ``sweeps`` and ``solves`` count the
-    back-substitutions, ``factorizations`` the matrices factorised.
+    back-substitutions, ``factorizations`` the matrices factorised; ``stick_points`` is the size
+    of the stick set decided at each step (of ``contact_points`` Gauss points) and ``timings``
+    the seconds spent (factor, solve, jacobian, total).
     initial: optional (u, lam) GridFunctions on ``disc.V``, ``disc.Q`` to start from.
     kappa, c0: penalty and active-set parameters (module docstring).
     reuse: keep the factorisation while the active sets stay (False: factorise every Newton step).
@@ -85,11 +87,13 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, reuse=True
         modulus = float(np.max(np.asarray(modulus(disc.gauss.points))))
     merit = Merit(disc, u, lam, c0 * modulus)
     du, lam_old = u.vec.CreateVector(), lam.vec.CreateVector()
-    history, sweeps, steps = [], [], []
+    history, sweeps, steps, stick_points = [], [], [], []
     sets, value, values = None, merit(), []
+    points = len(op.points)
     for k in range(maxit + 1):
         u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
         sets, previous = op.sets(), sets
+        stick_points.append(int(np.sum(sets[points:2 * points])))
         if history and np.array_equal(sets, previous):
             # the last step used the right sets: finish its linear solve (for m_t > 0: one more
             # Newton step with these sets)
@@ -97,8 +101,9 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, reuse=True
             sweeps[-1] += count
             du.data = u.vec - u_k.vec
             if solved and relative_change(du, u.vec) <= tol:
-                info = dict(iterations=k, history=history, sweeps=sweeps, step_sizes=steps, **linear_solver.counts,
-                            timings=dict(factor=linear_solver.factor_time, total=time.perf_counter() - start))
+                info = dict(iterations=k, history=history, sweeps=sweeps, step_sizes=steps, stick_points=stick_points,
+                            contact_points=points, **linear_solver.counts,
+                            timings=dict(**linear_solver.times, total=time.perf_counter() - start))
                 return u, lam, info
             u_k.vec.data, lam_k.vec.data = u.vec, lam.vec
             sets, value = op.sets(), merit()

@@ -98,7 +98,7 @@ class ReusedFactorization:
         self.reuse_tol, self.krylov_steps, self.krylov_tol = reuse_tol, krylov_steps, krylov_tol
         self._inverse = self._state = self._blocks = None
         self.counts = dict(factorizations=0, solves=0, krylov=0)
-        self.factor_time = 0.0
+        self.times = dict(factor=0.0, solve=0.0, jacobian=0.0)  # seconds spent in each part
 
     def forget(self):
         """Factorise at the next solve even if the state is unchanged."""
@@ -109,16 +109,19 @@ class ReusedFactorization:
         self._inverse = None  # free the old factor first: reusing its memory is much faster
         with threads(J.height):
             self._inverse = direct_inverse(J, self.symmetric)
-        self.factor_time += time.perf_counter() - start
+        self.times["factor"] += time.perf_counter() - start
         self._state, self._blocks = state, blocks
         self.counts["factorizations"] += 1
 
     def solve(self, op, state, b, x):
         """x = J^-1 b with J = ``op.jacobian()`` (assembled only if needed); ``state`` identifies J."""
         if self._inverse is None or self._state is None or not np.array_equal(state, self._state):
+            start = time.perf_counter()
             J = op.jacobian()
             blocks = op.scaled_blocks()
+            self.times["jacobian"] += time.perf_counter() - start
             if self._state is not None and np.max(np.abs(blocks - self._blocks), initial=0.0) <= self.reuse_tol:
+                start = time.perf_counter()
                 x[:] = 0.0
                 with threads(J.height):
                     solver = ngs.krylovspace.GMResSolver(J, self._inverse, maxiter=self.krylov_steps,
@@ -126,12 +129,15 @@ class ReusedFactorization:
                     solver.Solve(rhs=b, sol=x)
                 self.counts["krylov"] += solver.iterations
                 self.counts["solves"] += solver.iterations
+                self.times["solve"] += time.perf_counter() - start
                 if solver.iterations < self.krylov_steps:
                     return
             self.factorize(J, state, blocks)
+        start = time.perf_counter()
         with threads(len(b)):
             x.data = self._inverse * b
         self.counts["solves"] += 1
+        self.times["solve"] += time.perf_counter() - start
 
 
 def multiplier_update(disc, lam, value):

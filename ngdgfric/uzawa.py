@@ -115,5 +115,5 @@ def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None):
                           f"(last relative change {history[-1]:.3e}, rho = {rho:.4g})",
                           history=history, solver="uzawa")
     info = dict(iterations=k, history=history, rho=rho, inner_steps=inner_steps, **linear_solver.counts,
-                timings=dict(factor=linear_solver.factor_time, total=time.perf_counter() - start))
+                timings=dict(**linear_solver.times, total=time.perf_counter() - start))
     return u, lam, info
