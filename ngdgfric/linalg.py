@@ -7,11 +7,12 @@ pattern of J once and refreshes its values with two numpy scatters.
 """
 
 import contextlib
+import ctypes
 
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal", "sparse_sum", "threads"]
+__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal", "limit_blas_threads", "sparse_sum", "threads"]
 
 
 def csr_keys(mat, ncols=None):
@@ -65,7 +66,18 @@ class BlockSum:
         d = np.ones(n)
         d[:A.height] = np.abs(diagonal(A))
         d[d == 0] = 1.0
-        self._scale = 1 / np.sqrt(d[keys_b // n] * d[keys_b % n])
+        self.root_diagonal = np.sqrt(d)
+        unique = list(dict.fromkeys(tuple(g) for g in groups if len(g)))
+        m = max((len(g) for g in unique), default=0)
+        self.dofs = np.full((len(unique), m), -1, dtype=np.int64)
+        for i, g in enumerate(unique):
+            self.dofs[i, :len(g)] = g
+        valid = self.dofs >= 0
+        pair_keys = self.dofs[:, :, None] * n + self.dofs[:, None, :]
+        pair_valid = valid[:, :, None] & valid[:, None, :]
+        self._group_pos = np.where(pair_valid, np.searchsorted(keys_j, np.where(pair_valid, pair_keys, 0)), -1)
+        r = np.where(valid, self.root_diagonal[np.where(valid, self.dofs, 0)], 1.0)
+        self._group_scale = np.where(pair_valid, 1 / (r[:, :, None] * r[:, None, :]), 0.0)
 
     def update(self, K):
         """Set J = A + K (K restricted to the blocks) and return J."""
@@ -78,8 +90,10 @@ class BlockSum:
         return self.J
 
     def scaled_blocks(self):
-        """J_ij / sqrt(|A_ii A_jj|) on the blocks (1 for a zero diagonal), to measure changes of J."""
-        return self.J.AsVector().FV().NumPy()[self._pos_b] * self._scale
+        """The dense blocks of J scaled to J_ij / sqrt(|A_ii A_jj|), shape (groups, m, m), zero-padded
+        (groups as :attr:`dofs`: one per distinct dof set, padded with -1 to the largest size m)."""
+        values = np.append(self.J.AsVector().FV().NumPy(), 0.0)
+        return values[self._group_pos] * self._group_scale
 
 
 def direct_inverse(mat, symmetric):
@@ -146,3 +160,34 @@ def threads(size):
     steps at 200 DOFs while another process ran).
     """
     return ngs.TaskManager() if size >= PARALLEL_FROM else contextlib.nullcontext()
+
+
+_BLAS_THREAD_SETTERS = ("openblas_set_num_threads", "scipy_openblas_set_num_threads64_",
+                        "scipy_openblas_set_num_threads", "openblas_set_num_threads64_")
+
+
+def limit_blas_threads(count=1):
+    """Limit every OpenBLAS loaded in this process (numpy's, NGSolve's) to ``count`` threads.
+
+    Idle OpenBLAS threads busy-wait for a while after each call; on two cores they took the cores
+    from NGSolve's TaskManager, and inside Newton each sparse back-substitution took 30-40 ms
+    instead of 3-4 ms (Example 6.1, P2, 24576 DOFs).  Our dense work (12 x 12 blocks, batched
+    Vandermonde solves) gains nothing from BLAS threads.  Linux only (reads /proc/self/maps);
+    returns the libraries limited.
+    """
+    try:
+        with open("/proc/self/maps") as maps:
+            paths = {line.split()[-1] for line in maps if "openblas" in line.rsplit("/", 1)[-1].lower()}
+    except OSError:
+        return []
+    limited = []
+    for path in sorted(paths):
+        try:
+            library = ctypes.CDLL(path)
+        except OSError:
+            continue
+        setter = next((getattr(library, name) for name in _BLAS_THREAD_SETTERS if hasattr(library, name)), None)
+        if setter is not None:
+            setter(ctypes.c_int(count))
+            limited.append(path)
+    return limited

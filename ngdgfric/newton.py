@@ -44,8 +44,8 @@ from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, 
 __all__ = ["newton", "Merit"]
 
 
-def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, reuse=True, reuse_tol=1e-2,
-           krylov_steps=10, progress=None, max_sweeps=20):
+def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, reuse=True, low_rank=True,
+           progress=None, max_sweeps=20):
     """Semismooth Newton (module docstring); returns (u, lam, info).
 
     tol: stop when the active sets (and the penetrating points) are those of the previous step
@@ -57,8 +57,8 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, reuse=True
     initial: optional (u, lam) GridFunctions on ``disc.V``, ``disc.Q`` to start from.
     kappa, c0: penalty and active-set parameters (module docstring).
     reuse: keep the factorisation while the active sets stay (False: factorise every Newton step).
-    reuse_tol, krylov_steps: keep it also for small changes of the Jacobian, solving by GMRES with
-    at most ``krylov_steps`` steps (:class:`ngdgfric.nonlinear.ReusedFactorization`).
+    low_rank: keep it also when the sets change, correcting it by low-rank updates where that is
+    cheaper than a new factorisation (:class:`ngdgfric.nonlinear.ReusedFactorization`).
     progress: callable(iteration, change) called after each iteration, or None.
     Raises :class:`SolverError` with the history of changes if it does not converge in maxit.
     """
@@ -79,7 +79,7 @@ def newton(disc, tol=1e-8, maxit=50, initial=None, kappa=1e4, c0=1.0, reuse=True
     slip = (lambda trial: b_k + slope_k * ((trial - u_k) * n)) if coupled else (lambda trial: b_k)
     psi = lambda trial: stick * (b_k * lam + gamma * (trial * t)) + (1 - stick) * slip(trial) * slip_sign
     op = ContactOperator(disc, u, psi, switches=decide, coefficients=[slope_k] if coupled else [])
-    linear_solver = ReusedFactorization(disc.symmetric and not coupled, reuse_tol if reuse else 0.0, krylov_steps)
+    linear_solver = ReusedFactorization(disc.symmetric and not coupled, low_rank=reuse and low_rank)
     update = multiplier_update(disc, lam, stick * (lam + gamma / ngs.IfPos(b_k, b_k, 1) * (u * t))
                                + (1 - stick) * slip_sign)
     modulus = 2 * disc.problem.mu + disc.problem.lam

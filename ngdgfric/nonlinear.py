@@ -18,6 +18,7 @@ import numpy as np
 
 from .contact import evaluate_on_contact, normal_tangent, penetration
 from .linalg import BlockSum, direct_inverse, threads
+from .lowrank import LowRankUpdate
 
 __all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newton_step", "relative_change"]
 
@@ -76,68 +77,98 @@ class ContactOperator:
         return self.sum.update(self.form.mat)
 
     def scaled_blocks(self):
-        """The contact-block entries J_ij / sqrt(A_ii A_jj) of the last :meth:`jacobian`."""
+        """The dense contact blocks of the last :meth:`jacobian`, scaled (:meth:`BlockSum.scaled_blocks`)."""
         return self.sum.scaled_blocks()
 
 
 class ReusedFactorization:
     """Solves J x = b for a sequence of Jacobians J that differ only in the contact blocks.
 
-    The factorisation of the last factorised J_0 is kept.  If the new J has the same ``state``
-    (same sets), it is J_0 and one back-substitution solves.  Otherwise J - J_0 lives in the
-    contact blocks; if it is small there, max |J - J_0|_ij / sqrt(A_ii A_jj) <= ``reuse_tol``
-    (typical: the penetrating set changed and c_n is soft against the elastic stiffness
-    (2 mu + lam) / h), GMRES preconditioned by J_0 solves in a few steps (tolerance
-    ``krylov_tol``, at most ``krylov_steps``) and J_0 is kept.  Else, or if GMRES needs more
-    steps, J is factorised: Cholesky if ``symmetric`` (positive definite), else UMFPACK.
-    ``reuse_tol = 0`` factorises every new J.
+    The factorisation of the last factorised J_0 is kept (Cholesky if ``symmetric``, i.e.
+    symmetric positive definite, else UMFPACK).  If the new J has the same ``state`` (same sets),
+    it is J_0 and one back-substitution solves.  Otherwise, with ``low_rank``, J - J_0 is
+    applied as a low-rank correction (:class:`ngdgfric.lowrank.LowRankUpdate`, singular values
+    above ``tol`` in the diagonal scaling, the rest removed by at most ``refinement_steps`` steps
+    of iterative refinement to the relative residual ``refinement_tol``) whenever its new columns
+    cost fewer back-substitutions than one factorisation takes (both times measured as we go);
+    else, or if the refinement stalls, J is factorised.
     """
 
-    def __init__(self, symmetric, reuse_tol=1e-2, krylov_steps=10, krylov_tol=1e-10):
-        self.symmetric = symmetric
-        self.reuse_tol, self.krylov_steps, self.krylov_tol = reuse_tol, krylov_steps, krylov_tol
-        self._inverse = self._state = self._blocks = None
-        self.counts = dict(factorizations=0, solves=0, krylov=0)
-        self.times = dict(factor=0.0, solve=0.0, jacobian=0.0)  # seconds spent in each part
+    def __init__(self, symmetric, low_rank=True, tol=1e-2, refinement_steps=10, refinement_tol=1e-10,
+                 max_memory=1e9):
+        self.symmetric, self.low_rank, self.tol = symmetric, low_rank, tol
+        self.refinement_steps, self.refinement_tol, self.max_memory = refinement_steps, refinement_tol, max_memory
+        self._inverse = self._update = self._state = self._current = None
+        self._seconds = dict(factor=np.inf, backsub=0.0)
+        self.counts = dict(factorizations=0, solves=0, columns=0, refinements=0)
+        self.times = dict(factor=0.0, solve=0.0, jacobian=0.0, low_rank=0.0)  # seconds spent in each part
 
     def forget(self):
         """Factorise at the next solve even if the state is unchanged."""
-        self._state = None
+        self._state = self._current = None
 
-    def factorize(self, J, state, blocks):
+    def factorize(self, op, J, state, blocks):
         start = time.perf_counter()
-        self._inverse = None  # free the old factor first: reusing its memory is much faster
+        self._inverse = self._update = None  # free the old factor first: reusing its memory is much faster
         with threads(J.height):
             self._inverse = direct_inverse(J, self.symmetric)
-        self.times["factor"] += time.perf_counter() - start
-        self._state, self._blocks = state, blocks
+        self._update = LowRankUpdate(self._inverse, op.sum.dofs, op.sum.root_diagonal, blocks, op.disc.F, self.tol)
+        self._seconds["factor"] = time.perf_counter() - start
+        self.times["factor"] += self._seconds["factor"]
+        self._state = self._current = state
         self.counts["factorizations"] += 1
 
     def solve(self, op, state, b, x):
         """x = J^-1 b with J = ``op.jacobian()`` (assembled only if needed); ``state`` identifies J."""
-        if self._inverse is None or self._state is None or not np.array_equal(state, self._state):
+        if self._current is None or not np.array_equal(state, self._current):
             start = time.perf_counter()
             J = op.jacobian()
             blocks = op.scaled_blocks()
             self.times["jacobian"] += time.perf_counter() - start
-            if self._state is not None and np.max(np.abs(blocks - self._blocks), initial=0.0) <= self.reuse_tol:
-                start = time.perf_counter()
-                x[:] = 0.0
-                with threads(J.height):
-                    solver = ngs.krylovspace.GMResSolver(J, self._inverse, maxiter=self.krylov_steps,
-                                                         tol=self.krylov_tol, printrates=False)
-                    solver.Solve(rhs=b, sol=x)
-                self.counts["krylov"] += solver.iterations
-                self.counts["solves"] += solver.iterations
-                self.times["solve"] += time.perf_counter() - start
-                if solver.iterations < self.krylov_steps:
-                    return
-            self.factorize(J, state, blocks)
+            if not self._use_update(blocks, len(b)):
+                self.factorize(op, J, state, blocks)
+            self._current = state
+        if not self._solve(op.sum.J, b, x):
+            self.factorize(op, op.sum.J, self._current, op.scaled_blocks())
+            self._solve(op.sum.J, b, x)
+
+    def _use_update(self, blocks, n):
+        """Prepare the low-rank correction for J if that is cheaper than factorising it."""
+        if not self.low_rank or self._state is None:
+            return False
         start = time.perf_counter()
-        with threads(len(b)):
-            x.data = self._inverse * b
+        new = self._update.columns_needed(blocks)
+        affordable = (new * self._seconds["backsub"] < self._seconds["factor"]
+                      and (self._update.rank + new) * n * 8 <= self.max_memory)
+        if affordable:
+            self._update.prepare(blocks)
+            self.counts["columns"] += new
+            self.counts["solves"] += new
+        self.times["low_rank"] += time.perf_counter() - start
+        return affordable
+
+    def _solve(self, J, b, x):
+        """Solve by the (corrected) factorisation, refined with J; False if the refinement stalls."""
+        start = time.perf_counter()
+        self._update.apply(b, x)
+        self._seconds["backsub"] = time.perf_counter() - start
         self.counts["solves"] += 1
+        converged = np.array_equal(self._current, self._state)
+        if not converged:
+            r, dx = b.CreateVector(), b.CreateVector()
+            size = np.linalg.norm(b.FV().NumPy())
+            for _ in range(self.refinement_steps):
+                with threads(len(b)):
+                    r.data = b - J * x
+                if np.linalg.norm(r.FV().NumPy()) <= self.refinement_tol * size:
+                    converged = True
+                    break
+                self._update.apply(r, dx)
+                x.data += dx
+                self.counts["solves"] += 1
+                self.counts["refinements"] += 1
         self.times["solve"] += time.perf_counter() - start
+        return converged
 
 
 def multiplier_update(disc, lam, value):

@@ -60,7 +60,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
     same domain: see :func:`ngdgfric.transfer.initial_guess`).
     options: passed to the solver (``maxit``, ``progress``; ``rho`` for Uzawa; ``kappa``, ``c0``,
-    ``reuse_tol``, ``krylov_steps`` for Newton; ``inner`` and the inner solver's options for the fixed point).
+    ``low_rank`` for Newton; ``inner`` and the inner solver's options for the fixed point).
     """
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
