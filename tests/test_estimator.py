@@ -74,3 +74,26 @@ def test_dorfler_marks_the_minimal_set():
         assert v[marked].sum() >= 0.3 * v.sum()
         # minimal: dropping the smallest marked indicator breaks the bulk criterion
         assert v[marked].sum() - v[marked].min() < 0.3 * v.sum()
+
+
+def test_element_integrals_equal_integrate_element_wise():
+    from ngdgfric.estimator import element_integrals
+
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 4)
+    u = ngs.GridFunction(ngs.VectorL2(mesh, order=3))
+    u.Set(ngs.CF((ngs.x * ngs.y**2, ngs.sin(3 * ngs.x))))
+    u.vec.FV().NumPy()[:] += np.random.default_rng(0).standard_normal(len(u.vec)) * 0.1  # discontinuous
+    n = ngs.specialcf.normal(2)
+    on_contact = ndf.meshes.facet_indicator(mesh, p.contact)
+
+    def integrals(bonus):  # quadrature order 8: a LinearForm adds the bonus to 0, Integrate to 5
+        boundary, volume = ngs.dx(element_boundary=True, bonus_intorder=bonus), ngs.dx(bonus_intorder=bonus)
+        return {"volume": ngs.x * u[0] ** 2 * volume,
+                "boundary": on_contact * (u * n) ** 2 * boundary + ngs.InnerProduct(u, u) * boundary,
+                "mixed": u[1] * volume + ngs.specialcf.mesh_size * (u * n) * boundary}
+
+    together = element_integrals(mesh, integrals(8))
+    for name, integral in integrals(3).items():
+        alone = ngs.Integrate(integral, mesh, element_wise=True).NumPy()
+        assert np.allclose(together[name], alone, rtol=1e-12, atol=1e-14 * np.max(np.abs(alone)))
