@@ -137,7 +137,7 @@ def main(argv=None):
              "is not weighted by the material (E = 2000, 2500), so eta_h is about 100-200 times the energy error.  "
              "The references are continuations of the hp run (its meshes are nested in theirs), so the last hp "
              "errors are measured against a refinement of their own discretisation; the h-adaptive P2/P3 errors "
-             "are independent checks of the references.  Timings were taken on a shared 2-core machine.",
+             "are independent checks of the references.  Timings: 2-core machine, one run at a time.",
              ""]
     for example in args.example:
         runs, final, reference = run_example(example, args, budget)
