@@ -108,7 +108,7 @@ def estimate(sol):
         "eta6": contact * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
     })
     # the jump terms need the neighbour (Other()), which only Integrate provides on element boundaries
-    # (on a boundary edge Other() is the element's own value: these jumps vanish there)
+    # (on boundary edges u - u.Other() evaluates to zero, so these terms cover interior edges only)
     for name, integrand in (("eta2", 0.5 * h_e / p * jump_sigma * jump_sigma),
                             ("eta3", 0.5 * penalty * jump_inner(jump_u, jump_u, n))):
         parts[name] = parts.get(name, 0) + ngs.Integrate(integrand * jump_measure, mesh, element_wise=True).NumPy()

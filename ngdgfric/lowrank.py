@@ -30,7 +30,7 @@ class LowRankUpdate:
     """
 
     def __init__(self, inverse, dofs, root_diagonal, blocks_0, vector, tol):
-        self.inverse, self.dofs, self.blocks_0, self.tol = inverse, dofs, blocks_0, tol
+        self.inverse, self.blocks_0, self.tol = inverse, blocks_0, tol
         self.root_diagonal = root_diagonal
         self._valid = dofs >= 0
         self._index = np.where(self._valid, dofs, 0)
