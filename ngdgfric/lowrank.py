@@ -36,7 +36,6 @@ class LowRankUpdate:
         self._index = np.where(self._valid, dofs, 0)
         self._vec, self._out = vector.CreateVector(), vector.CreateVector()
         self._cache = {}  # group -> (scaled change, U_g, V_g, Z_g)
-        self._active = []
         self._Z = self._V = self._rows = self._capacitance = None
 
     def columns_needed(self, blocks):
@@ -50,7 +49,7 @@ class LowRankUpdate:
             if not self._cached(g, delta):
                 self._cache[g] = (delta, *self._columns(g, delta))
             active.append(g)
-        self._active = active
+        self._cache = {g: self._cache[g] for g in active}  # memory stays bounded by the active rank
         if not active:
             self._Z = None
             return
