@@ -270,7 +270,7 @@ def report(zone_h, zone_rows, solver_rows, curves):
         "penetration to the power m_t - 1): the outer map is a contraction only while the bound varies slowly "
         "with u_n compared with the stiffness of the body.  Beyond that it stalls (changes stop decreasing), or "
         "a warm-started inner reduced-law solve cycles because the frozen bound jumps between outer iterations.  "
-        "Times are wall-clock on two shared cores; the factorisation counts are the robust measure (the coupled "
+        "Times are wall-clock on two cores; the factorisation counts are the robust measure (the coupled "
         "Newton factorises nonsymmetric matrices with UMFPACK, the fixed point's inner solves symmetric ones with "
         "Cholesky).", ""])
 
