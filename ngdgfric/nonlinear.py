@@ -76,10 +76,6 @@ class ContactOperator:
             self.form.AssembleLinearization(self.u.vec)
         return self.sum.update(self.form.mat)
 
-    def scaled_blocks(self):
-        """The dense contact blocks of the last :meth:`jacobian`, scaled (:meth:`BlockSum.scaled_blocks`)."""
-        return self.sum.scaled_blocks()
-
 
 class ReusedFactorization:
     """Solves J x = b for a sequence of Jacobians J that differ only in the contact blocks.
@@ -123,13 +119,13 @@ class ReusedFactorization:
         if self._current is None or not np.array_equal(state, self._current):
             start = time.perf_counter()
             J = op.jacobian()
-            blocks = op.scaled_blocks()
+            blocks = op.sum.scaled_blocks()
             self.times["jacobian"] += time.perf_counter() - start
             if not self._use_update(blocks, len(b)):
                 self.factorize(op, J, state, blocks)
             self._current = state
         if not self._solve(op.sum.J, b, x):
-            self.factorize(op, op.sum.J, self._current, op.scaled_blocks())
+            self.factorize(op, op.sum.J, self._current, op.sum.scaled_blocks())
             self._solve(op.sum.J, b, x)
 
     def _use_update(self, blocks, n):

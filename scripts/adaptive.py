@@ -16,7 +16,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
+from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.forms import METHODS
@@ -128,9 +128,7 @@ def plot_curves(args, adaptive, uniform, path):
     ax.set_title(f"Example {args.example}: estimator, theta = 0.3")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def plot_meshes(args, problem, meshes, level, path):
@@ -142,9 +140,7 @@ def plot_meshes(args, problem, meshes, level, path):
         ax.set_xticks([])
         ax.set_yticks([])
     fig.suptitle(f"Example {args.example}: adaptive mesh")
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    save_figure(fig, path, dpi=150)
 
 
 def report(args, rows, curve_png, mesh_png, mesh_level):

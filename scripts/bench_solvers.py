@@ -19,7 +19,7 @@ from pathlib import Path
 import matplotlib
 import ngsolve as ngs
 import numpy as np
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
+from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.newton import newton
@@ -157,9 +157,7 @@ def plot(rows, path):
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("seconds (without assembly)")
     axes[1].legend(fontsize=6, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def report(rows, policies):

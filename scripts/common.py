@@ -50,3 +50,12 @@ def say(message):
 
 
 os.environ.setdefault("PYTHONUNBUFFERED", "1")
+
+
+def save_figure(fig, path, dpi=120):
+    """Lay out, write and close a matplotlib figure."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)

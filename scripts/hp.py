@@ -15,7 +15,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
+from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.meshes import mesh_arrays
@@ -92,9 +92,7 @@ def plot(example, runs, final, out):
         ax.set_title(f"Example {example}: {title}")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / f"hp_{example.replace('.', '_')}.png", dpi=110)
-    plt.close(fig)
+    save_figure(fig, out / f"hp_{example.replace('.', '_')}.png", dpi=110)
 
     hp = runs["hp-adaptive"]
     b, residual = exponential_fit(hp)
@@ -108,9 +106,7 @@ def plot(example, runs, final, out):
     ax.set_title(f"Example {example}: hp-adaptive, exponential convergence")
     ax.legend()
     ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / f"hp_exponential_{example.replace('.', '_')}.png", dpi=110)
-    plt.close(fig)
+    save_figure(fig, out / f"hp_exponential_{example.replace('.', '_')}.png", dpi=110)
 
     fig, ax = plt.subplots(figsize=(6.5, 6))
     pts, tri = final["points"], final["triangles"]
@@ -119,9 +115,7 @@ def plot(example, runs, final, out):
     fig.colorbar(art, ax=ax, label="polynomial order p_T")
     ax.set_aspect("equal")
     ax.set_title(f"Example {example}: final hp mesh ({len(tri)} elements)")
-    fig.tight_layout()
-    fig.savefig(out / f"hp_mesh_{example.replace('.', '_')}.png", dpi=110)
-    plt.close(fig)
+    save_figure(fig, out / f"hp_mesh_{example.replace('.', '_')}.png", dpi=110)
     return b, residual
 
 

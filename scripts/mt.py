@@ -23,7 +23,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, say
+from common import RESULTS, command_line, markdown_table, save_figure, say
 
 import ngdgfric as ndf
 
@@ -181,9 +181,7 @@ def plot(states, curves, path):
     adaptive.grid(True, which="both", alpha=0.3)
     adaptive.legend(fontsize=7)
     fig.suptitle(r"Example 6.1 with the friction bound $c_\tau (u_n - g_a)_+^{m_t}$")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def main(argv=None):

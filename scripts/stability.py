@@ -17,7 +17,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 from ngdgfric import cases
 from ngdgfric.forms import METHODS, SIPG_THRESHOLD
@@ -204,9 +204,7 @@ def plot(results, path):
     axes[4].legend()
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)
 
 
 def main(argv=None):

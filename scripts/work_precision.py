@@ -15,7 +15,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 from ngdgfric.cases import precision_case
 from ngdgfric.forms import METHODS
@@ -97,9 +97,7 @@ def plot(example, runs, out):
                   "faint -> solid: P1 -> P3", title_fontsize=7)
         ax.set(xlabel=xlabel, ylabel="true error $|||u_{ref} - u_h|||_h$", title=f"Example {example}")
         ax.grid(True, which="both", alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(out / f"work_precision_{example.replace('.', '_')}{suffix}.png", dpi=100)
-        plt.close(fig)
+        save_figure(fig, out / f"work_precision_{example.replace('.', '_')}{suffix}.png", dpi=100)
 
 
 def cheapest(runs, key, target, value="seconds"):
