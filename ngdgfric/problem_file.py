@@ -67,8 +67,24 @@ FUNCTIONS = {
     "atan": (math.atan, ngs.atan), "abs": (abs, _cf_abs),
 }
 VARIABLES = {"x": ngs.x, "y": ngs.y, "pi": math.pi}
+
+
+def _power(base, exponent):
+    """base ** exponent; an integer exponent on a CoefficientFunction by repeated multiplication
+    (NGSolve's vectorised pow computes exp(e log b), NaN for b < 0: (x - 1)**2 was NaN for x < 1)."""
+    if isinstance(base, ngs.CoefficientFunction) and isinstance(exponent, float) and exponent.is_integer() \
+            and 0 < abs(exponent) <= 64:
+        result, factor, n = None, base, int(abs(exponent))
+        while n:
+            if n & 1:
+                result = factor if result is None else result * factor
+            factor, n = factor * factor, n >> 1
+        return result if exponent > 0 else 1 / result
+    return operator.pow(base, exponent)
+
+
 OPERATORS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
-             ast.Pow: operator.pow}
+             ast.Pow: _power}
 MAX_LENGTH = 1000
 
 # section: {key: kind}; kind "scalar" (number or expression), "vector" (pair of those), "number",
