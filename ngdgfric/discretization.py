@@ -21,6 +21,7 @@ from .forms import check_penalty, default_eta, dg_terms, edge_length, get_method
 from .liftings import lifting_stiffness
 from .linalg import sparse_sum, threads
 from .meshes import check_mesh
+from .traces import ContactTraces
 
 __all__ = ["Discretization", "dg_space", "check_order", "order_function"]
 
@@ -96,7 +97,7 @@ class Discretization:
         self.eta = _check_eta(default_eta(problem, self.method, lowest) if eta is None else eta)
         check_penalty(problem, self.method, self.eta, lowest, penalty_check)
         self.timings = {}
-        self._gauss = None
+        self._gauss = self._traces = None
         start = time.perf_counter()
         self.V = dg_space(mesh, order)
         self.Q = multiplier_space(problem, mesh, self.order)
@@ -116,7 +117,7 @@ class Discretization:
             f.Assemble()
             self.F = f.vec
             self.timings["assemble"] = time.perf_counter() - start
-            self._V_plain = dg_space(mesh, order, dgjumps=False)
+            self.V_plain = dg_space(mesh, order, dgjumps=False)
             self.G = self._friction_matrix() if problem.m_t == 0 else None
             lam, q = self.Q.TnT()
             m = ngs.BilinearForm(self.Q)
@@ -158,7 +159,7 @@ class Discretization:
         u_frozen = ngs.GridFunction(self.V)
         u_frozen.vec.data = u.vec
         frozen.problem = dataclasses.replace(self.problem, c_tau=self.bound(u_frozen), m_t=0.0)
-        frozen._contact_forms, frozen._gauss = {}, self.gauss
+        frozen._contact_forms, frozen._gauss, frozen._traces = {}, self.gauss, None
         with threads(self.V.ndof):
             frozen.G = frozen._friction_matrix()
         return frozen
@@ -166,8 +167,8 @@ class Discretization:
     def _friction_matrix(self):
         """The matrix of g(lam, v) = int c_tau l v.t ds (m_t = 0)."""
         _, t = normal_tangent()
-        lam, v = self.Q.TrialFunction(), self._V_plain.TestFunction()
-        g = ngs.BilinearForm(trialspace=self.Q, testspace=self._V_plain)
+        lam, v = self.Q.TrialFunction(), self.V_plain.TestFunction()
+        g = ngs.BilinearForm(trialspace=self.Q, testspace=self.V_plain)
         g += self.c_tau * lam * (v * t) * self.dS
         g.Assemble()
         return g.mat
@@ -204,6 +205,13 @@ class Discretization:
             self._gauss = ContactGauss(self.problem, self.mesh, self.order, self.Q)
         return self._gauss
 
+    @property
+    def traces(self):
+        """The :class:`ngdgfric.traces.ContactTraces` of this discretisation (built on first use)."""
+        if self._traces is None:
+            self._traces = ContactTraces(self)
+        return self._traces
+
     def contact_points(self):
         """Mapped Gauss points on Gamma_C (see :func:`ngdgfric.contact.contact_points`)."""
         return contact_points(self.problem, self.mesh, self.order)
@@ -223,8 +231,16 @@ class Discretization:
         return groups
 
     def _check_contact_data(self):
-        """Spatially varying c_n, c_tau must be >= 0 on Gamma_C (checked at the Gauss points)."""
+        """Spatially varying g_a must be finite and c_n, c_tau finite and >= 0 on Gamma_C (checked at the
+        Gauss points, where the contact laws are evaluated)."""
         points = self.contact_points()
+        if isinstance(self.problem.g_a, ngs.CoefficientFunction):
+            values = np.asarray(self.problem.g_a(points)).ravel()
+            if not np.all(np.isfinite(values)):
+                k = int(np.flatnonzero(~np.isfinite(values))[0])
+                x, y = float(ngs.x(points[k])), float(ngs.y(points[k]))
+                raise ValueError(f"g_a must be finite on Gamma_C, got {values[k]!r} at the contact point "
+                                 f"({x:.6g}, {y:.6g})")
         for name in ("c_n", "c_tau"):
             value = getattr(self.problem, name)
             if isinstance(value, ngs.CoefficientFunction):
