@@ -2,8 +2,8 @@
 
 The nonlinearity of (3.1) lives on Gamma_C only, so every Jacobian is J = A + K with the linear
 DG matrix A assembled once and K nonzero only in the blocks coupling the degrees of freedom of
-the elements on Gamma_C (and the multiplier on the same edge).  :class:`BlockSum` builds the
-pattern of J once and refreshes its values with two numpy scatters.
+the elements on Gamma_C.  :class:`BlockSum` builds the pattern of J once and refreshes its values
+with two numpy scatters.
 """
 
 import contextlib
@@ -38,20 +38,19 @@ def _positions(sorted_keys, keys):
 
 
 class BlockSum:
-    """J = A (embedded in an n x n matrix) + K restricted to dense blocks ``groups`` x ``groups``.
+    """J = A + K with K restricted to dense blocks ``groups`` x ``groups``.
 
-    A: NGSolve sparse matrix of size m <= n (its dofs are the first m of J).
-    groups: lists of dof numbers in J's numbering; K may be nonzero only inside each group x group.
+    A: NGSolve sparse matrix; groups: lists of dof numbers; K may be nonzero only inside each
+    group x group (the contact elements' blocks).
     """
 
-    def __init__(self, A, groups, n=None):
-        n = n or A.height
-        self.n = n
+    def __init__(self, A, groups):
+        n = self.n = A.height
         keys_a = csr_keys(A, n)
         keys_b = _block_keys(groups, n)
         _, found = _positions(keys_a, keys_b)
         new = keys_b[~found]
-        if len(new) == 0 and n == A.height:
+        if len(new) == 0:
             keys_j, self.J = keys_a, A.CreateMatrix()
         else:
             keys_j = np.insert(keys_a, np.searchsorted(keys_a, new), new)
@@ -63,21 +62,6 @@ class BlockSum:
         values[:] = 0.0
         values[np.searchsorted(keys_j, keys_a)] = A.AsVector().FV().NumPy()
         self._a_blocks = values[self._pos_b].copy()  # J = A outside the blocks, for good
-        d = np.ones(n)
-        d[:A.height] = np.abs(diagonal(A))
-        d[d == 0] = 1.0
-        self.root_diagonal = np.sqrt(d)
-        unique = list(dict.fromkeys(tuple(g) for g in groups if len(g)))
-        m = max((len(g) for g in unique), default=0)
-        self.dofs = np.full((len(unique), m), -1, dtype=np.int64)
-        for i, g in enumerate(unique):
-            self.dofs[i, :len(g)] = g
-        valid = self.dofs >= 0
-        pair_keys = self.dofs[:, :, None] * n + self.dofs[:, None, :]
-        pair_valid = valid[:, :, None] & valid[:, None, :]
-        self._group_pos = np.where(pair_valid, np.searchsorted(keys_j, np.where(pair_valid, pair_keys, 0)), -1)
-        r = np.where(valid, self.root_diagonal[np.where(valid, self.dofs, 0)], 1.0)
-        self._group_scale = np.where(pair_valid, 1 / (r[:, :, None] * r[:, None, :]), 0.0)
 
     def update(self, K):
         """Set J = A + K (K restricted to the blocks) and return J."""
@@ -88,12 +72,6 @@ class BlockSum:
         values[self._pos_b] = self._a_blocks
         values[self._pos_b[found]] += K.AsVector().FV().NumPy()[pos[found]]
         return self.J
-
-    def scaled_blocks(self):
-        """The dense blocks of J scaled to J_ij / sqrt(|A_ii A_jj|), shape (groups, m, m), zero-padded
-        (groups as :attr:`dofs`: one per distinct dof set, padded with -1 to the largest size m)."""
-        values = np.append(self.J.AsVector().FV().NumPy(), 0.0)
-        return values[self._group_pos] * self._group_scale
 
 
 def direct_inverse(mat, symmetric):

@@ -1,0 +1,150 @@
+"""MKL PARDISO through ctypes: a sparse factorisation that returns a Schur complement.
+
+The contact solver (:mod:`ngdgfric.condensation`) needs the Schur complement of the last ``m``
+rows of a sparse matrix K, computed by one partial factorisation (PARDISO's ``iparm[35] = 2``:
+the other rows are eliminated first, the dense m x m Schur complement is returned), and solves
+with the eliminated block through the forward (phase 331) and backward (phase 333) substitutions
+of that factorisation.  NGSolve's own direct solvers (sparsecholesky, umfpack) have no Schur
+complement; PARDISO comes with the ``mkl`` wheel from PyPI (x86_64), which NGSolve's wheel also
+finds at run time.  :func:`available` says whether it is there; without it the contact solver
+takes a slower path with NGSolve's solvers (same results).
+
+Reference: Intel oneMKL Developer Reference, "pardiso" and "pardiso iparm Parameter"
+(iparm[35], phases 331-333); PETSc's ``mkl_pardiso.c`` uses the same sequence.
+"""
+
+import ctypes
+import importlib.metadata
+
+import numpy as np
+
+__all__ = ["available", "SchurFactorization", "PardisoError"]
+
+_LIBRARY = None
+
+
+class PardisoError(RuntimeError):
+    """PARDISO returned an error code."""
+
+
+def _library():
+    """libmkl_rt from the ``mkl`` wheel (None if it is not installed or does not load)."""
+    global _LIBRARY
+    if _LIBRARY is None:
+        _LIBRARY = False
+        try:
+            dist = importlib.metadata.distribution("mkl")
+        except importlib.metadata.PackageNotFoundError:
+            return None
+        for file in dist.files or []:
+            if "mkl_rt" in file.name and ".so" in file.name or file.name.startswith("mkl_rt") and file.suffix == ".dll":
+                try:
+                    lib = ctypes.CDLL(str(dist.locate_file(file)))
+                    lib.pardiso.restype = None
+                    lib.pardisoinit.restype = None
+                    _LIBRARY = lib
+                    break
+                except (OSError, AttributeError):
+                    continue
+    return _LIBRARY or None
+
+
+def available():
+    """True if MKL PARDISO can be loaded (``pip install mkl``)."""
+    return _library() is not None
+
+
+def _pointer(array):
+    return array.ctypes.data_as(ctypes.c_void_p)
+
+
+class SchurFactorization:
+    """PARDISO factorisation of a square CSR matrix K with the Schur complement of its last rows.
+
+    indptr, indices, data: K in CSR (0-based, column indices sorted in each row); for
+    ``symmetric`` only the upper triangle, diagonal included (also where it is zero).
+    n_schur: the last ``n_schur`` rows and columns form the Schur block.  ``symmetric``: K is
+    real symmetric (PARDISO's symmetric indefinite type -2, Bunch-Kaufman pivots), else real
+    nonsymmetric (type 11).  Pivots of the eliminated block below 1e-13 times the largest are
+    perturbed (iparm[9] = 13), so that block must be nonsingular, as a coercive B_h is.
+
+    After construction ``schur`` holds K_SS - K_SI K_II^-1 K_IS (dense, n_schur x n_schur) and
+    :meth:`solve_eliminated` solves with K_II.
+    """
+
+    def __init__(self, indptr, indices, data, n_schur, symmetric):
+        lib = _library()
+        if lib is None:
+            raise PardisoError("MKL PARDISO is not available: pip install mkl")
+        self._lib = lib
+        self.n = len(indptr) - 1
+        self.n_schur = int(n_schur)
+        if not 0 < self.n_schur < self.n:
+            raise ValueError(f"n_schur must be in (0, {self.n}), got {n_schur}")
+        self._indptr = np.ascontiguousarray(indptr, dtype=np.int32)
+        self._indices = np.ascontiguousarray(indices, dtype=np.int32)
+        self._data = np.ascontiguousarray(data, dtype=np.float64)
+        self._mtype = np.array([-2 if symmetric else 11], dtype=np.int32)
+        self._pt = np.zeros(64, dtype=np.int64)
+        self._iparm = np.zeros(64, dtype=np.int32)
+        lib.pardisoinit(_pointer(self._pt), _pointer(self._mtype), _pointer(self._iparm))
+        self._iparm[7] = 0    # no iterative refinement (partial solves cannot refine)
+        self._iparm[9] = 13   # pivot perturbation 1e-13
+        self._iparm[12] = 0   # no weighted matching (keeps the Schur rows last)
+        self._iparm[34] = 1   # 0-based indices
+        self._iparm[35] = 2   # Schur complement, factorisation kept for partial solves
+        self._perm = np.zeros(self.n, dtype=np.int32)
+        self._perm[self.n - self.n_schur:] = 1
+        self.schur = np.zeros((self.n_schur, self.n_schur))
+        self._released = False
+        self._call(12, x=self.schur)  # analysis + numerical factorisation + Schur complement
+        if not symmetric:  # returned row by row
+            self.schur = np.ascontiguousarray(self.schur)
+
+    def _call(self, phase, b=None, x=None, nrhs=1):
+        error = np.zeros(1, dtype=np.int32)
+        one = np.ones(1, dtype=np.int32)
+        null = ctypes.c_void_p(0)
+        self._lib.pardiso(_pointer(self._pt), _pointer(one), _pointer(one), _pointer(self._mtype),
+                          _pointer(np.array([phase], dtype=np.int32)), _pointer(np.array([self.n], dtype=np.int32)),
+                          _pointer(self._data), _pointer(self._indptr), _pointer(self._indices),
+                          _pointer(self._perm), _pointer(np.array([nrhs], dtype=np.int32)), _pointer(self._iparm),
+                          _pointer(np.zeros(1, dtype=np.int32)), null if b is None else _pointer(b),
+                          null if x is None else _pointer(x), _pointer(error))
+        if error[0] != 0:
+            raise PardisoError(f"MKL PARDISO failed in phase {phase} with error {error[0]} "
+                               "(-4: zero pivot, -2: out of memory; see the oneMKL reference)")
+
+    def solve_eliminated(self, b_eliminated, x_schur):
+        """x_I = K_II^-1 (b_I - K_IS x_S): the eliminated unknowns for given Schur unknowns.
+
+        Returns (x_I, r_S) with r_S = b_S - K_SI K_II^-1 b_I for b_S = 0, the right-hand side the
+        Schur system would have (forward substitution, phase 331), and x_I from the backward
+        substitution (phase 333) with the Schur part of the solution set to ``x_schur``.
+        """
+        m = self.n - self.n_schur
+        b = np.zeros(self.n)
+        b[:m] = b_eliminated
+        x = np.zeros(self.n)
+        self._call(331, b=b, x=x)
+        r_schur = x[m:].copy()
+        if self._mtype[0] == -2:  # symmetric indefinite: D^-1 between the triangular solves
+            y = np.zeros(self.n)
+            self._call(332, b=x, x=y)
+            x = y
+        x[m:] = x_schur
+        out = np.zeros(self.n)
+        self._call(333, b=x, x=out)
+        return out[:m], r_schur
+
+    def release(self):
+        """Free PARDISO's memory (also done when the object is garbage collected)."""
+        if not self._released:
+            self._released = True
+            self._call(-1)
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:  # interpreter shutdown
+            pass

@@ -1,0 +1,359 @@
+"""The contact problem condensed onto the Gauss points of Gamma_C, and its semismooth Newton method.
+
+Unknowns: the contact forces f = (f_n, f_t) at the M Gauss points (f = omega x traction density,
+:mod:`ngdgfric.traces`), with the traces w(f) = w0 - W f of the displacement (W the Delassus
+operator, :mod:`ngdgfric.condensation`).  The compliance law (1.8), the friction law (1.9) and
+Lemma 3.1 hold at every point q iff G(f) = 0, where
+
+    G_n = f_n - N(w_n),                N(w_n) = omega c_n (w_n - g_a)_+^{m_n},
+    G_t = f_t - P_[-beta, beta](f_t + r w_t),   beta(w_n) = omega c_tau (w_n - g_a)_+^{m_t}
+
+(beta = omega c_tau for the reduced law m_t = 0); the multiplier is l = f_t / beta, so
+|l| <= 1 and l u_tau = |u_tau| (3.4).  Any r > 0 gives the same solutions; r_q = 1 / W_{t_q t_q},
+the point's own tangential stiffness, makes the stick/slip decision scale-free (the Alart-Curnier
+choice; Acary, Bremond & Huber, "On solving contact problems with Coulomb friction:
+formulations and numerical comparisons", 2018).
+
+**Newton step.**  J d = -G with J an element of the generalised Jacobian of G: the identity row
+for a point without penetration (G_n = f_n) or slipping with a fixed bound (G_t = f_t -+ beta),
+e_q + N'(w_n) W_q for a penetrating point, r W_q for a sticking one (G_t = -r w_t), and
+e_q +- beta'(w_n) W_q for a slipping one with m_t > 0.  Identity rows are eliminated, so the dense
+system has one row per penetrating or sticking point.
+
+**Globalisation.**
+* B_h symmetric and m_t = 0: the solution minimises the convex complementary energy
+  Theta(f) = 1/2 f.W f - w0.f + sum_q Phi_q*(f_n,q) over K = {f_n >= 0, |f_t| <= beta}, with
+  Phi*(s) = g_a s + m/(m+1) (omega c_n)^{-1/m} s^{(m+1)/m} the conjugate of the compliance energy
+  (f_n = 0 where c_n = 0).  The Newton point, projected onto K, is accepted when it lowers Theta by
+  a fixed fraction sigma of what a diagonally scaled projected-gradient step promises (delta =
+  -grad Theta . p with p = P_K(f - D^-1 grad Theta) - f); otherwise that gradient step is taken
+  with Armijo backtracking.  Theta decreases by at least sigma x (a forcing function of the
+  projected gradient) at every step, so every limit point minimises Theta (Bertsekas, Nonlinear
+  Programming, 2nd ed., Prop. 2.3.3); near the solution the Newton steps are accepted, the sets
+  settle, and for m_n = 1 (G piecewise affine) the step with the final sets is exact.
+* NIPG or m_t > 0 (no energy): merit Psi(f) = 1/2 sum_q W_qq G_q^2 (energy units).  Newton steps
+  with non-monotone Armijo backtracking (reference: the largest of the last five Psi; Grippo,
+  Lampariello & Lucidi 1986); when that fails, a Levenberg-Marquardt step
+  (J^T S J + mu diag(J^T S J)) d = -J^T S G with mu raised until Psi decreases (More 1978; for
+  semismooth equations Facchinei & Kanzow 1997).  For m_t = 0 and a coercive B_h (W's symmetric
+  part positive definite) J is nonsingular, so Psi's smooth stationary points solve G = 0.
+
+**Stopping test** (on the KKT system, not on the change of f): |G_q| <= max(tol S, e_q) at every
+point, S = max(|f|_inf, max |w0| / W_qq) the force scale of the problem and e_q the round-off in
+evaluating G_q (8 eps times the sizes of its terms; it matters for stiff compliance, c_n -> 1e10).
+
+**Redundant points** (``redundant``: an element with two edges on Gamma_C, or p_T < p on hp meshes):
+W is singular and the forces at those points are not unique (the displacement is); the sticking
+rows of J get 1e-10 on the diagonal (r W_qq = 1 there), which leaves the solutions unchanged
+(d = 0 iff G = 0) and picks a small step in the kernel.
+"""
+
+import numpy as np
+
+from .errors import SolverError
+
+__all__ = ["ReducedContact", "SIGMA"]
+
+SIGMA = 1e-4  # sufficient-decrease fraction
+EPS = np.finfo(float).eps
+
+
+def _positive_power(x, m):
+    """x_+^m for m >= 0 (1 where x > 0 for m = 0)."""
+    positive = np.maximum(x, 0.0)
+    if m == 1:
+        return positive
+    return np.where(x > 0, positive ** m, 0.0)
+
+
+class _State:
+    """Everything Newton needs at one f: traces, residual, sets and derivatives."""
+
+    __slots__ = ("f", "w", "G", "N", "dN", "beta", "dbeta", "stick", "sign", "penetrating")
+
+
+class ReducedContact:
+    """The condensed problem of the module docstring.
+
+    W (2M x 2M, rows and columns ordered n_1 ... n_M, t_1 ... t_M) and w0 (2M) from the
+    condensation; omega, g_a, c_n, c_tau: arrays of length M; m_n >= 1, m_t >= 0; symmetric: W is
+    symmetric (B_h symmetric); redundant: see the module docstring.
+    """
+
+    def __init__(self, W, w0, omega, g_a, c_n, c_tau, m_n, m_t, symmetric, redundant=False):
+        self.M = M = len(omega)
+        self.W, self.w0 = np.asarray(W, dtype=float), np.asarray(w0, dtype=float)
+        self.absW = np.abs(self.W)
+        self.omega, self.g_a = np.asarray(omega, dtype=float), np.asarray(g_a, dtype=float)
+        self.c_n, self.c_tau = np.asarray(c_n, dtype=float), np.asarray(c_tau, dtype=float)
+        self.m_n, self.m_t = float(m_n), float(m_t)
+        diagonal = np.diag(self.W).copy()
+        largest = np.max(np.abs(diagonal), initial=0.0)
+        self.diagonal = np.maximum(diagonal, 1e-14 * largest if largest > 0 else 1.0)
+        self.r = 1.0 / self.diagonal[M:]
+        self.energy_merit = bool(symmetric and self.m_t == 0)
+        self.regularization = 1e-10 if redundant else 0.0
+        self.force_scale = max(float(np.max(np.abs(self.w0) / self.diagonal, initial=0.0)), np.finfo(float).tiny)
+        self.compliant = self.c_n > 0
+        self.beta_fixed = self.omega * self.c_tau if self.m_t == 0 else None
+
+    # ------------------------------------------------------------------ the laws and G
+    def evaluate(self, f):
+        """The :class:`_State` at forces f."""
+        M, s = self.M, _State()
+        s.f = f
+        s.w = self.w0 - self.W @ f
+        gap = s.w[:M] - self.g_a
+        s.penetrating = gap > 0
+        if self.m_n == 1:
+            s.N = self.omega * self.c_n * np.maximum(gap, 0.0)
+            s.dN = np.where(s.penetrating, self.omega * self.c_n, 0.0)
+        else:
+            s.N = self.omega * self.c_n * _positive_power(gap, self.m_n)
+            s.dN = self.omega * self.c_n * self.m_n * _positive_power(gap, self.m_n - 1)
+        if self.m_t == 0:
+            s.beta, s.dbeta = self.beta_fixed, np.zeros(M)
+        else:
+            s.beta = self.omega * self.c_tau * _positive_power(gap, self.m_t)
+            s.dbeta = self.omega * self.c_tau * self.m_t * _positive_power(gap, self.m_t - 1)
+        z = f[M:] + self.r * s.w[M:]
+        s.stick = np.abs(z) < s.beta
+        s.sign = np.where(z >= 0, 1.0, -1.0)
+        s.G = np.concatenate([f[:M] - s.N, np.where(s.stick, -self.r * s.w[M:], f[M:] - s.sign * s.beta)])
+        return s
+
+    def residual(self, s):
+        """max_q |G_q| / S (the relative KKT residual) and whether every |G_q| is within tolerance."""
+        return float(np.max(np.abs(s.G), initial=0.0)) / self.scale(s)
+
+    def scale(self, s):
+        return max(self.force_scale, float(np.max(np.abs(s.f), initial=0.0)))
+
+    def converged(self, s, tol):
+        """|G_q| <= max(tol S, round-off in G_q) at every point."""
+        M = self.M
+        size = np.abs(self.w0) + self.absW @ np.abs(s.f)  # magnitude of the terms summed into w
+        roundoff = 8 * EPS * np.concatenate([
+            np.abs(s.f[:M]) + s.N + s.dN * size[:M],
+            np.abs(s.f[M:]) + s.beta + np.where(s.stick, self.r * size[M:], np.abs(s.dbeta) * size[:M])])
+        return bool(np.all(np.abs(s.G) <= np.maximum(tol * self.scale(s), roundoff)))
+
+    # ------------------------------------------------------------------ Newton direction
+    def newton_direction(self, s):
+        """d with J d = -G (identity rows eliminated; least squares if the rest is singular)."""
+        M, W = self.M, self.W
+        identity = np.concatenate([s.dN == 0, ~s.stick & (s.dbeta == 0)])
+        d = np.where(identity, -s.G, 0.0)
+        rows = np.flatnonzero(~identity)
+        if rows.size == 0:
+            return d
+        # row of J = coefficient x (a row of W) + unit x e_row
+        normal = rows < M
+        t = rows[~normal] - M
+        stick = s.stick[t]
+        source, coefficient, unit = rows.copy(), np.empty(rows.size), np.ones(rows.size)
+        coefficient[normal] = s.dN[rows[normal]]
+        source[~normal] = np.where(stick, rows[~normal], t)  # stick: r W_t; slip (m_t > 0): s beta' W_n
+        coefficient[~normal] = np.where(stick, self.r[t], s.sign[t] * s.dbeta[t])
+        unit[~normal] = np.where(stick, self.regularization, 1.0)
+        J_rows = coefficient[:, None] * W[source]
+        rhs = -s.G[rows] - J_rows[:, identity] @ d[identity]
+        block = J_rows[:, rows]
+        block[np.arange(rows.size), np.arange(rows.size)] += unit
+        try:
+            d[rows] = np.linalg.solve(block, rhs)
+        except np.linalg.LinAlgError:
+            d[rows] = np.linalg.lstsq(block, rhs, rcond=1e-13)[0]
+        if not np.all(np.isfinite(d)):
+            d[rows] = np.linalg.lstsq(block, rhs, rcond=1e-13)[0]
+        return d
+
+    # ------------------------------------------------------------------ the energy (symmetric, m_t = 0)
+    def project(self, f):
+        """P_K(f): f_n >= 0 (= 0 where c_n = 0), |f_t| <= beta."""
+        M = self.M
+        return np.concatenate([np.where(self.compliant, np.maximum(f[:M], 0.0), 0.0),
+                               np.clip(f[M:], -self.beta_fixed, self.beta_fixed)])
+
+    def _conjugate(self, fn):
+        """Phi*(f_n) per point (f_n >= 0; 0 where c_n = 0)."""
+        m, safe = self.m_n, np.where(self.compliant, self.omega * self.c_n, 1.0)
+        power = fn * fn / (2 * safe) if m == 1 else m / (m + 1) * safe ** (-1 / m) * fn ** ((m + 1) / m)
+        return np.where(self.compliant, self.g_a * fn + power, 0.0)
+
+    def gradient(self, s):
+        """grad Theta = -w + (g_a + (f_n / (omega c_n))^{1/m}, 0) (0 in the f_n fixed at 0)."""
+        M = self.M
+        safe = np.where(self.compliant, self.omega * self.c_n, 1.0)
+        normal = np.where(self.compliant, -s.w[:M] + self.g_a + (s.f[:M] / safe) ** (1 / self.m_n), 0.0)
+        return np.concatenate([normal, -s.w[M:]])
+
+    def _gradient_scaling(self, s):
+        """D = diag(W) + the curvature of Phi* (capped), for the scaled projected gradient."""
+        M, m = self.M, self.m_n
+        safe = np.where(self.compliant, self.omega * self.c_n, 1.0)
+        fn = np.maximum(s.f[:M], 1e-300)
+        curvature = 1 / safe if m == 1 else (1 / m) * safe ** (-1 / m) * fn ** (1 / m - 1)
+        normal = self.diagonal[:M] + np.minimum(curvature, 1e12 * self.diagonal[:M])
+        return np.concatenate([normal, self.diagonal[M:]])
+
+    def energy_change(self, s, f_new):
+        """Theta(f_new) - Theta(f), evaluated as a difference (not of two large numbers), and its round-off."""
+        M = self.M
+        d = f_new - s.f
+        Wd = self.W @ d
+        conj_new, conj_old = self._conjugate(f_new[:M]), self._conjugate(s.f[:M])
+        terms = np.array([-s.w @ d, 0.5 * d @ Wd, np.sum(conj_new - conj_old)])
+        size = np.abs(s.w) @ np.abs(d) + 0.5 * np.abs(d) @ np.abs(Wd) + np.sum(np.abs(conj_new) + np.abs(conj_old))
+        return float(np.sum(terms)), 64 * EPS * size
+
+    def _bounds(self):
+        lower = np.concatenate([np.zeros(self.M), -self.beta_fixed])
+        upper = np.concatenate([np.where(self.compliant, np.inf, 0.0), self.beta_fixed])
+        return lower, upper
+
+    def _energy_step(self, s, d):
+        """The Newton point if it lowers Theta enough, else a projected Newton step (module docstring)."""
+        grad = self.gradient(s)
+        scaling = self._gradient_scaling(s)
+        p = self.project(s.f - grad / scaling) - s.f
+        delta = max(float(-grad @ p), 0.0)
+        trial = self.project(s.f + d)
+        change, roundoff = self.energy_change(s, trial)
+        if change <= -SIGMA * delta + roundoff:
+            return trial, "newton"
+        return self._projected_newton_step(s, grad, scaling, float(np.max(np.abs(p), initial=0.0)))
+
+    def _projected_newton_step(self, s, grad, scaling, projected_gradient):
+        """Bertsekas' projected Newton step (SIAM J. Control Optim. 20, 1982): variables within epsilon of
+        a bound that the gradient pushes out stay there (scaled gradient step), the others take the Newton
+        step of Theta restricted to them; Armijo search along the projection arc."""
+        M, f = self.M, s.f
+        lower, upper = self._bounds()
+        epsilon = min(1e-2 * self.scale(s), projected_gradient)
+        bound = ((f <= lower + epsilon) & (grad > 0)) | ((f >= upper - epsilon) & (grad < 0)) | (lower == upper)
+        free = np.flatnonzero(~bound)
+        direction = np.where(bound, -grad / scaling, 0.0)
+        if free.size:
+            curvature = np.concatenate([scaling[:M] - self.diagonal[:M], np.zeros(M)])  # Phi*'' (capped)
+            hessian = self.W[np.ix_(free, free)] + np.diag(curvature[free] + self.regularization * self.diagonal[free])
+            try:
+                direction[free] = np.linalg.solve(hessian, -grad[free])
+            except np.linalg.LinAlgError:
+                direction[free] = np.linalg.lstsq(hessian, -grad[free], rcond=1e-13)[0]
+        free_decrease = float(-grad[free] @ direction[free])
+        t = 1.0
+        for _ in range(50):
+            trial = self.project(f + t * direction)
+            predicted = t * free_decrease + float(grad[bound] @ (f[bound] - trial[bound]))
+            if -self.energy_change(s, trial)[0] >= SIGMA * predicted:
+                break
+            t *= 0.5
+        return trial, "projected newton" if t == 1 else f"projected newton x{t:g}"
+
+    # ------------------------------------------------------------------ the merit function (otherwise)
+    def merit(self, s):
+        return 0.5 * float(np.sum(self.diagonal * s.G * s.G))
+
+    def _merit_step(self, s, d, recent):
+        psi = self.merit(s)
+        reference = max(recent[-5:] + [psi])
+        alpha = 1.0
+        for _ in range(9):
+            trial = s.f + alpha * d
+            if self.merit(self.evaluate(trial)) <= reference - SIGMA * alpha * 2 * psi:
+                return trial, "newton" if alpha == 1 else f"newton x{alpha:g}"
+            alpha *= 0.5
+        # Levenberg-Marquardt on the Gauss-Newton model of Psi
+        J = self._jacobian(s)
+        JtS = J.T * self.diagonal
+        H = JtS @ J
+        g = JtS @ s.G
+        scaling = np.maximum(np.diag(H), 1e-300)
+        mu = 1e-6
+        for _ in range(24):
+            step = np.linalg.lstsq(H + mu * np.diag(scaling), -g, rcond=None)[0]
+            trial = s.f + step
+            if self.merit(self.evaluate(trial)) < psi:
+                return trial, "levenberg-marquardt"
+            mu *= 10
+        return None, "stalled"
+
+    def _jacobian(self, s):
+        """The full generalised Jacobian J (2M x 2M)."""
+        M, W = self.M, self.W
+        J = np.empty((2 * M, 2 * M))
+        J[:M] = s.dN[:, None] * W[:M]
+        J[M:] = np.where(s.stick[:, None], self.r[:, None] * W[M:], (s.sign * s.dbeta)[:, None] * W[:M])
+        diagonal = np.concatenate([np.ones(M), np.where(s.stick, self.regularization, 1.0)])
+        J[np.arange(2 * M), np.arange(2 * M)] += diagonal
+        return J
+
+    # ------------------------------------------------------------------ forces <-> displacement, multiplier
+    def forces(self, w, lam_tau):
+        """The forces of the laws at traces w with multiplier values l = ``lam_tau``: (N(w_n), beta(w_n) l)
+        (a warm start)."""
+        M = self.M
+        gap = w[:M] - self.g_a
+        normal = self.omega * self.c_n * _positive_power(gap, self.m_n)
+        beta = self.beta_fixed if self.m_t == 0 else self.omega * self.c_tau * _positive_power(gap, self.m_t)
+        f = np.concatenate([normal, beta * np.clip(lam_tau, -1.0, 1.0)])
+        return self.project(f) if self.energy_merit else f
+
+    def traces(self, f):
+        """w(f) = w0 - W f."""
+        return self.w0 - self.W @ f
+
+    def shift(self, mismatch):
+        """w0 += mismatch (:func:`ngdgfric.newton.newton`: make w(f) the traces of the computed u)."""
+        self.w0 = self.w0 + mismatch
+
+    def multiplier(self, f):
+        """l = f_t / beta at the points (in [-1, 1]); sign(w_t) where beta = 0 (Lemma 3.1)."""
+        s = self.evaluate(f)
+        M = self.M
+        w_t = s.w[M:]
+        lam_tau = np.where(s.beta > 0, f[M:] / np.where(s.beta > 0, s.beta, 1.0), np.sign(w_t))
+        return np.clip(lam_tau, -1.0, 1.0)
+
+    # ------------------------------------------------------------------ the iteration
+    def solve(self, f0=None, tol=1e-12, maxit=100, progress=None):
+        """Globalised semismooth Newton from f0 (default 0); returns (f, info).
+
+        info: ``iterations``; ``history``: relative KKT residual max_q |G_q| / S after each
+        iteration; ``initial_residual``; ``steps``: the kind of each step ("newton", "newton x0.5",
+        "gradient", "levenberg-marquardt"); ``penetrating``, ``stick``: set sizes at the end.
+        Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations.
+        """
+        f = np.zeros(2 * self.M) if f0 is None else np.asarray(f0, dtype=float).copy()
+        if self.energy_merit:
+            f = self.project(f)
+        s = self.evaluate(f)
+        history, steps, recent = [], [], []
+        initial = self.residual(s)
+        for k in range(maxit + 1):
+            if self.converged(s, tol):
+                return s.f, dict(iterations=k, history=history, initial_residual=initial, steps=steps,
+                                 penetrating=int(np.sum(s.penetrating)), stick=int(np.sum(s.stick)),
+                                 residual=self.residual(s))
+            if k == maxit:
+                break
+            d = self.newton_direction(s)
+            if self.energy_merit:
+                f, kind = self._energy_step(s, d)
+            else:
+                recent.append(self.merit(s))
+                f, kind = self._merit_step(s, d, recent)
+                if f is None:
+                    raise SolverError(f"semismooth Newton on the contact points stalled at iteration {k + 1}: no "
+                                      f"Levenberg-Marquardt step lowers the merit function (KKT residual "
+                                      f"{self.residual(s):.3e}); the problem may have no solution",
+                                      history=history, solver="newton")
+            s = self.evaluate(f)
+            steps.append(kind)
+            history.append(self.residual(s))
+            if progress is not None:
+                progress(k + 1, history[-1])
+        raise SolverError(f"semismooth Newton on the contact points did not reach tol = {tol:g} in {maxit} "
+                          f"iterations (relative KKT residual {history[-1] if history else initial:.3e}; "
+                          f"last steps {steps[-3:]})", history=history, solver="newton")

@@ -1,0 +1,113 @@
+"""Displacement traces at the contact Gauss points, and the point data of the contact laws.
+
+Every contact term of (3.1) is a sum over the Gauss points x_q of Gamma_C (p + 1 per edge, the rule
+of :mod:`ngdgfric.contact`), q = 1 ... M, with weights omega_q (Gauss weight times edge length):
+
+    j_n(u, v) + g(lam, v) = sum_q f_n,q v_n(x_q) + f_t,q v_t(x_q) = v^T B^T f,
+
+    f_n,q = omega_q c_n (u_n - g_a)_+^{m_n}(x_q),   f_t,q = omega_q c_tau (u_n - g_a)_+^{m_t}(x_q) l(x_q),
+
+where B (2M x N) is the trace matrix, (B u)_q = u_n(x_q) and (B u)_{M+q} = u_t(x_q), and f the
+contact forces at the points.  B is built from the Gauss-rule mass matrices int (u . n) mu ds and
+int (u . t) mu ds with mu in the multiplier space Q (degree p per edge): for edge e with
+Vandermonde matrix V_e (values of Q's basis at its points) and weights D_e = diag(omega), those
+matrices are B_e^T D_e V_e, so B_e = D_e^-1 V_e^-T (mass matrix)_e^T.
+"""
+
+import ngsolve as ngs
+import numpy as np
+
+from .contact import contact_rule, evaluate_on_contact, normal_tangent
+from .linalg import threads
+
+__all__ = ["ContactTraces"]
+
+
+def _point_values(value, points):
+    """A datum (a number, or a CoefficientFunction that may contain volume GridFunctions) at the
+    mapped contact points, as an array."""
+    if isinstance(value, ngs.CoefficientFunction):
+        return evaluate_on_contact(value, points) * np.ones(len(points))
+    return np.full(len(points), float(value))
+
+
+class ContactTraces:
+    """B, the weights and the data of the contact laws at the M Gauss points of Gamma_C.
+
+    Attributes: ``rows``, ``cols``, ``values`` (B as COO triplets, shape ``(2 M, ndof)``),
+    ``omega``, ``g_a``, ``c_n``, ``c_tau`` (arrays of length M, in the point order of
+    ``disc.gauss``: edge by edge), ``m_n``, ``m_t``, and ``redundant``: True if some element's
+    traces at its points are linearly dependent (an element with two edges on Gamma_C, or on hp
+    meshes an element of degree p_T < p, whose trace is fixed by fewer than p + 1 values); then
+    the forces at those points are not unique (u is).
+    """
+
+    def __init__(self, disc):
+        problem, gauss = disc.problem, disc.gauss
+        self.ndof = disc.V.ndof
+        self.M = gauss.dofs.size
+        q = gauss.q
+        lengths = np.linalg.norm(gauss.ends[:, 1] - gauss.ends[:, 0], axis=1)
+        weights = np.asarray(contact_rule(disc.order)[ngs.SEGM].weights)
+        self.omega = (lengths[:, None] * weights[None, :]).ravel()
+        self.g_a = _point_values(problem.g_a, gauss.points)
+        self.c_n = _point_values(problem.c_n, gauss.points)
+        self.c_tau = _point_values(problem.c_tau, gauss.points)
+        self.m_n, self.m_t = float(problem.m_n), float(problem.m_t)
+        # Q dof -> (edge, basis index) and V_e^-T
+        edge_of = np.empty(disc.Q.ndof, dtype=np.int64)
+        index_of = np.empty(disc.Q.ndof, dtype=np.int64)
+        edge_of[gauss.dofs.ravel()] = np.repeat(np.arange(len(gauss.dofs)), q)
+        index_of[gauss.dofs.ravel()] = np.tile(np.arange(q), len(gauss.dofs))
+        inverse_t = np.linalg.inv(gauss.vandermonde).transpose(0, 2, 1)
+        rows, cols, values = [], [], []
+        for component, direction in enumerate(normal_tangent()):
+            mass = self._mass_matrix(disc, direction)
+            v_dof, q_dof, entry = mass
+            e, k = edge_of[q_dof], index_of[q_dof]
+            for i in range(q):
+                rows.append(component * self.M + e * q + i)
+                cols.append(v_dof)
+                values.append(inverse_t[e, i, k] * entry / self.omega[e * q + i])
+        rows, cols, values = np.concatenate(rows), np.concatenate(cols), np.concatenate(values)
+        keys, where = np.unique(rows * self.ndof + cols, return_inverse=True)
+        summed = np.bincount(where, weights=values)
+        keep = np.abs(summed) > 1e-13 * np.max(np.abs(summed), initial=0.0)
+        self.rows, self.cols, self.values = keys[keep] // self.ndof, keys[keep] % self.ndof, summed[keep]
+        self.redundant = self._redundant(disc)
+
+    @staticmethod
+    def _mass_matrix(disc, direction):
+        """(V dof, Q dof, value) of int (u . direction) mu ds over Gamma_C (Gauss rule), copied."""
+        mu, v = disc.Q.TrialFunction(), disc.V_plain.TestFunction()
+        form = ngs.BilinearForm(trialspace=disc.Q, testspace=disc.V_plain)
+        form += mu * (v * direction) * disc.dS
+        with threads(disc.V.ndof):
+            form.Assemble()
+        values, cols, rowptr = form.mat.CSR()
+        rowptr = np.array(rowptr, dtype=np.int64)
+        rows = np.repeat(np.arange(form.mat.height, dtype=np.int64), np.diff(rowptr))
+        values = np.array(values)
+        nonzero = values != 0
+        return rows[nonzero], np.array(cols, dtype=np.int64)[nonzero], values[nonzero]
+
+    def _redundant(self, disc):
+        """Whether the rows of B belonging to some element are linearly dependent."""
+        gauss = disc.gauss
+        element_of_edge = []
+        for el in disc.mesh.Elements(ngs.BND):
+            if el.mat == disc.problem.contact:
+                element_of_edge.append(disc.mesh[el.edges[0]].elements[0].nr)
+        element_of_edge = np.asarray(element_of_edge)
+        if len(np.unique(element_of_edge)) < len(element_of_edge):
+            return True  # an element with two edges on Gamma_C
+        orders = disc.orders[element_of_edge]
+        return bool(np.any(orders + 1 < gauss.q))
+
+    def apply(self, vec):
+        """B u for a coefficient vector (numpy array) u."""
+        return np.bincount(self.rows, weights=self.values * vec[self.cols], minlength=2 * self.M)
+
+    def apply_transpose(self, f):
+        """B^T f for forces f (numpy array of length 2 M)."""
+        return np.bincount(self.cols, weights=self.values * f[self.rows], minlength=self.ndof)
