@@ -23,13 +23,19 @@ import ngsolve as ngs
 import numpy as np
 
 from .errors import SolverError
+from .newton import OPTIONS as NEWTON_OPTIONS
 from .newton import newton
 from .nonlinear import relative_change
+from .options import callback, choice, positive_integer, positive_number, validate
+from .uzawa import OPTIONS as UZAWA_OPTIONS
 from .uzawa import uzawa
 
-__all__ = ["fixed_point", "INNER"]
+__all__ = ["fixed_point", "INNER", "OPTIONS"]
 
-INNER = {"newton": newton, "uzawa": uzawa}
+INNER = {"newton": (newton, NEWTON_OPTIONS), "uzawa": (uzawa, UZAWA_OPTIONS)}
+OUTER = ("tol", "maxit", "progress")
+OPTIONS = {**{name: check for spec in (NEWTON_OPTIONS, UZAWA_OPTIONS) for name, check in spec.items()},
+           **dict(tol=positive_number, maxit=positive_integer, progress=callback, inner=choice(*INNER))}
 
 
 def fixed_point(disc, tol=1e-8, maxit=100, initial=None, inner="newton", progress=None, **options):
@@ -43,8 +49,10 @@ def fixed_point(disc, tol=1e-8, maxit=100, initial=None, inner="newton", progres
     iteration), ``factorizations`` (summed over the inner solves), ``timings``.
     Raises :class:`SolverError` (with the history) if it diverges or does not converge in maxit.
     """
-    if inner not in INNER:
-        raise ValueError(f"inner must be one of {sorted(INNER)}, got {inner!r}")
+    validate(OPTIONS, "fixed_point", tol=tol, maxit=maxit, progress=progress, inner=inner, **options)
+    inner_solver, inner_options = INNER[inner]
+    validate({name: check for name, check in inner_options.items() if name not in OUTER},
+             f"fixed_point with inner={inner!r}", **options)
     start = time.perf_counter()
     u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
     if initial is not None:
@@ -53,7 +61,7 @@ def fixed_point(disc, tol=1e-8, maxit=100, initial=None, inner="newton", progres
     history, inner_iterations, factorizations = [], [], 0
     for k in range(1, maxit + 1):
         try:
-            u_new, lam_new, info = INNER[inner](disc.frozen_bound(u), tol=tol, initial=(u, lam), **options)
+            u_new, lam_new, info = inner_solver(disc.frozen_bound(u), tol=tol, initial=(u, lam), **options)
         except SolverError as error:
             raise SolverError(f"fixed point: the inner {inner} solve {k} failed: {error}", history=history,
                               solver="fixed_point") from error

@@ -3,15 +3,16 @@
 import time
 from dataclasses import dataclass, field
 
+from . import fixed_point, newton, uzawa
 from .discretization import Discretization
-from .fixed_point import fixed_point
-from .newton import newton
+from .options import validate
 from .transfer import initial_guess
-from .uzawa import uzawa
 
-__all__ = ["Solution", "solve", "SOLVERS"]
+__all__ = ["Solution", "solve", "SOLVERS", "DEFAULT_TOL"]
 
-SOLVERS = {"newton": newton, "uzawa": uzawa, "fixed_point": fixed_point}
+SOLVERS = {"newton": (newton.newton, newton.OPTIONS), "uzawa": (uzawa.uzawa, uzawa.OPTIONS),
+           "fixed_point": (fixed_point.fixed_point, fixed_point.OPTIONS)}
+DEFAULT_TOL = {"newton": 1e-12, "uzawa": 1e-8, "fixed_point": 1e-8}
 
 
 @dataclass
@@ -43,31 +44,38 @@ class Solution:
         return self.u.space.ndof
 
 
-def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=1e-8, initial=None,
+def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=None, initial=None,
           penalty_check="warn", **options):
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
     problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
     method: one of ``ngdgfric.forms.METHODS`` (Section 3); order: polynomial degree p >= 1.
     eta: penalty parameter (default 30 mu, Section 6).
-    solver: "newton" (default; semismooth Newton, :func:`ngdgfric.newton.newton`, fully coupled
-    for m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.uzawa.uzawa`, m_t = 0 only) or
+    solver: "newton" (default; the problem condensed onto the contact points and solved there by a
+    globalised semismooth Newton method, :func:`ngdgfric.newton.newton`, fully coupled for
+    m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.uzawa.uzawa`, m_t = 0 only) or
     "fixed_point" (on the friction bound for m_t > 0, :func:`ngdgfric.fixed_point.fixed_point`,
     option ``inner="newton"|"uzawa"``); all solve the same discrete problem.
-    tol: relative max-norm tolerance of the nonlinear solver (1e-8 as in Section 6).
+    tol: the solver's tolerance; None: ``DEFAULT_TOL[solver]`` (Newton: 1e-12 on the relative KKT
+    residual at the contact points; Uzawa and the fixed point: 1e-8 on the relative max-norm
+    change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4)).
     penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
     threshold (:func:`ngdgfric.forms.check_penalty`).
     initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
     same domain: see :func:`ngdgfric.transfer.initial_guess`).
-    options: passed to the solver (``maxit``, ``progress``; ``rho`` for Uzawa; ``kappa``, ``c0``,
-    ``low_rank`` for Newton; ``inner`` and the inner solver's options for the fixed point).
+    options: passed to the solver (``maxit``, ``progress``; ``linear_solver`` for Newton; ``rho``
+    for Uzawa; ``inner`` and the inner solver's options for the fixed point); unknown names and
+    bad values raise ValueError before anything is assembled.
     """
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
+    function, spec = SOLVERS[solver]
+    tol = DEFAULT_TOL[solver] if tol is None else tol
+    validate(spec, solver, tol=tol, **options)
     start = time.perf_counter()
     disc = Discretization(problem, mesh, method, order, eta, penalty_check)
     start_guess = None if initial is None else initial_guess(initial, disc)
-    u, lam, info = SOLVERS[solver](disc, tol=tol, initial=start_guess, **options)
+    u, lam, info = function(disc, tol=tol, initial=start_guess, **options)
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
     return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam,
