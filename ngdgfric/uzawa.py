@@ -145,7 +145,7 @@ def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None, k
         if change <= tol and kkt[-1] <= max(tol, kkt_tol) and k > 1:
             break
         if k % WINDOW == 0 and k >= 2 * WINDOW:
-            _check_progress(kkt, history, k, tol, maxit, fail)
+            _check_progress(kkt, history, k, max(tol, kkt_tol), maxit, fail)
     else:
         fail(f"did not reach tol = {tol:g} in {maxit} iterations (last relative change {history[-1]:.3e}, "
              f"complementarity residual {kkt[-1]:.3e})")
@@ -154,19 +154,20 @@ def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None, k
     return u, lam, info
 
 
-def _check_progress(kkt, changes, k, tol, maxit, fail):
-    """Stop Uzawa early when its KKT residual stalls or decays too slowly to finish within maxit."""
+def _check_progress(kkt, changes, k, kkt_tol, maxit, fail):
+    """Stop Uzawa early when its KKT residual stalls above ``kkt_tol`` or decays too slowly to reach it
+    within maxit (once it is below, only the change is waited for)."""
     recent, earlier = min(kkt[k - WINDOW:k]), min(kkt[k - 2 * WINDOW:k - WINDOW])
-    if recent <= tol:
+    if recent <= kkt_tol:
         return
     if recent > 0.99 * earlier:
         moves = float(np.median(changes[k - WINDOW:k]))
         why = (f"u hardly moves (median change {moves:.1e} per iteration): rho is probably too small"
-               if moves <= tol else "the multiplier oscillates: rho is probably too large")
+               if moves <= 1e-3 * recent else "the multiplier oscillates: rho is probably too large")
         fail(f"makes no progress: the complementarity residual stays at {recent:.3e} over iterations "
              f"{k - WINDOW + 1}-{k}; {why} (see default_rho)")
     rate = (recent / earlier) ** (1 / WINDOW)
-    needed = np.log(tol / recent) / np.log(rate)
+    needed = np.log(kkt_tol / recent) / np.log(rate)
     if k + needed > 10 * maxit:
         fail(f"converges too slowly: the complementarity residual {recent:.3e} falls by a factor {rate:.6f} "
              f"per iteration and needs about {needed:.3g} more iterations (maxit = {maxit}; rho is probably "

@@ -1,10 +1,14 @@
+"""The default solver (condensation onto Gamma_C + semismooth Newton at the points) where methods fail."""
+
 import dataclasses
 
 import ngsolve as ngs
 import numpy as np
 import pytest
+from manufactured import contact_manufactured
 
 import ngdgfric as ndf
+from ngdgfric import pardiso
 
 
 def max_rel_diff(a, b):
@@ -12,37 +16,102 @@ def max_rel_diff(a, b):
     return np.max(np.abs(a - b)) / np.max(np.abs(b))
 
 
+def rounding_residual(sol):
+    """The equilibrium residual of u rounded once more (u (1 +- eps)): what round-off alone leaves."""
+    disc, u = sol.discretization, ngs.GridFunction(sol.u.space)
+    signs = np.random.default_rng(0).choice([-1.0, 1.0], size=len(u.vec))
+    u.vec.FV().NumPy()[:] = sol.u.vec.FV().NumPy() * (1 + np.finfo(float).eps * signs)
+    r = disc.residual(u, sol.lam_tau).FV().NumPy()
+    return np.linalg.norm(r) / np.linalg.norm(disc.F.FV().NumPy())
+
+
+def assert_kkt_at_roundoff(sol):
+    kkt = ndf.kkt_residuals(sol)
+    assert kkt["lam_excess"] <= 1e-14
+    assert kkt["complementarity"] <= 1e-12
+    assert kkt["equilibrium"] <= 10 * max(rounding_residual(sol), 1e-14)
+
+
 @pytest.mark.parametrize("example", [ndf.example_6_1, ndf.example_6_2])
 def test_newton_agrees_with_uzawa_at_h_1_16(example):
     p = example()
     mesh = ndf.uniform_mesh(p, 1 / 16)
-    newton = ndf.solve(p, mesh, solver="newton", tol=1e-12)
+    newton = ndf.solve(p, mesh)
     uzawa = ndf.solve(p, mesh, solver="uzawa", tol=1e-12)
     assert max_rel_diff(newton, uzawa) <= 1e-7
     assert newton.iterations <= 10
+    assert_kkt_at_roundoff(newton)
 
 
-@pytest.mark.parametrize("method", ["sipg", "nipg"])
+@pytest.mark.parametrize("method", ["sipg", "nipg", "bassi", "brezzi", "ldg"])
 @pytest.mark.parametrize("order", [1, 2])
 def test_newton_solution_satisfies_kkt(method, order):
     p = ndf.example_6_1()
     sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), method=method, order=order)
-    kkt = ndf.kkt_residuals(sol)
-    assert kkt["lam_excess"] <= 1e-12
-    assert kkt["complementarity"] <= 1e-8
-    assert kkt["equilibrium"] <= 1e-8
+    assert_kkt_at_roundoff(sol)
+    assert sol.info["timings"]["total"] >= sol.info["timings"]["condense"] > 0
 
 
-def test_newton_with_m_n_2_converges_and_satisfies_kkt():
-    p = dataclasses.replace(ndf.example_6_2(), m_n=2.0, c_n=1e5)
+@pytest.mark.parametrize("nu", [0.499, 0.4999])
+def test_nearly_incompressible_material(nu):
+    """The old Newton failed after 50 iterations on every mesh h = 1/8 ... 1/32 (issue 12)."""
+    p = dataclasses.replace(ndf.example_6_1(), nu=nu)
+    for h in (1 / 8, 1 / 32):
+        assert_kkt_at_roundoff(ndf.solve(p, ndf.uniform_mesh(p, h)))
+
+
+def test_nearly_incompressible_material_agrees_with_uzawa():
+    p = dataclasses.replace(ndf.example_6_1(), nu=0.499)
+    mesh = ndf.uniform_mesh(p, 1 / 8)
+    uzawa = ndf.solve(p, mesh, solver="uzawa", tol=1e-11)  # 9000 iterations
+    assert max_rel_diff(ndf.solve(p, mesh), uzawa) <= 1e-7
+
+
+@pytest.mark.parametrize("method", ["nipg", "sipg"])
+def test_scaled_material_manufactured_solution(method):
+    """E = 1000, c_n = 1e4: NIPG P2 cycled at h = 1/8 and SIPG P2 needed 32 iterations at h = 1/16
+    (issue 12).  Uzawa does not finish here (a point at the stick-slip transition with a small
+    c_tau: 20000 iterations), so the check is the KKT system and the rate against the exact u."""
+    problem, exact = contact_manufactured(E=1000.0, nu=0.3, c_n=1e4)
+    errors = []
+    for h in (1 / 8, 1 / 16):
+        sol = ndf.solve(problem, ndf.uniform_mesh(problem, h), method=method, order=2)
+        assert_kkt_at_roundoff(sol)
+        assert sol.iterations <= 30
+        errors.append(ndf.energy_norm(sol, exact))
+    assert np.log2(errors[0] / errors[1]) >= 1.5  # optimal: 2
+
+
+@pytest.mark.skipif(not pardiso.available(), reason="needs MKL PARDISO")
+@pytest.mark.parametrize("method", ["sipg", "nipg"])
+def test_both_linear_solvers_give_the_same_solution(method):
+    p = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(p, 1 / 8)
+    a = ndf.solve(p, mesh, method=method, order=2, linear_solver="pardiso")
+    b = ndf.solve(p, mesh, method=method, order=2, linear_solver="ngsolve")
+    assert a.info["linear_solver"] == "pardiso" and b.info["linear_solver"] == "ngsolve"
+    assert max_rel_diff(a, b) <= 1e-11
+
+
+@pytest.mark.parametrize("m_n, c_n", [(2.0, 1e5), (1.0, 1e10), (1.0, 0.0)])
+def test_compliance_extremes_with_initial_penetration(m_n, c_n):
+    p = dataclasses.replace(ndf.example_6_1(), m_n=m_n, c_n=c_n, g_a=-0.01)
     sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 8))
     state = ndf.contact_state(sol)
-    assert (state["gap"] > 0).any()  # the compliance is active
-    kkt = ndf.kkt_residuals(sol)
-    assert kkt["complementarity"] <= 1e-8
-    assert kkt["equilibrium"] <= 1e-8
-    uzawa = ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), solver="uzawa", tol=1e-12)
-    assert max_rel_diff(sol, uzawa) <= 1e-7
+    if c_n > 0:
+        assert (state["gap"] > 0).any()  # the compliance is active
+    assert_kkt_at_roundoff(sol)
+
+
+def test_element_with_two_contact_edges():
+    """W is singular (dependent traces at the corner): forces not unique, u is."""
+    corner = ndf.Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="contact", top="dirichlet", left="traction")
+    p = dataclasses.replace(ndf.example_6_2(), geometry=corner)
+    mesh = ndf.uniform_mesh(p, 1 / 4)
+    sol = ndf.solve(p, mesh)
+    assert sol.discretization.traces.redundant
+    assert_kkt_at_roundoff(sol)
+    assert max_rel_diff(sol, ndf.solve(p, mesh, solver="uzawa", tol=1e-12)) <= 1e-7
 
 
 def test_warm_start_from_a_coarser_mesh_needs_few_iterations():
@@ -51,7 +120,15 @@ def test_warm_start_from_a_coarser_mesh_needs_few_iterations():
     cold = ndf.solve(p, ndf.uniform_mesh(p, 1 / 16))
     warm = ndf.solve(p, ndf.uniform_mesh(p, 1 / 16), initial=coarse)
     assert warm.iterations <= 4 < cold.iterations
-    assert max_rel_diff(warm, cold) <= 1e-7
+    assert max_rel_diff(warm, cold) <= 1e-12
+
+
+def test_warm_start_from_the_solution_needs_no_iteration():
+    p = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(p, 1 / 8)
+    sol = ndf.solve(p, mesh)
+    again = ndf.solve(p, mesh, initial=sol)
+    assert again.iterations == 0 and max_rel_diff(again, sol) <= 1e-12
 
 
 def test_non_convergence_raises_with_history():
@@ -66,7 +143,6 @@ def test_spatially_varying_young_modulus_newton_agrees_with_uzawa():
     problem = dataclasses.replace(ndf.example_6_1(), E=2000 + 500 * ngs.x)
     mesh = ndf.uniform_mesh(problem, 1 / 8)
     newton_sol = ndf.solve(problem, mesh)
-    uzawa_sol = ndf.solve(problem, mesh, solver="uzawa")
-    a, b = newton_sol.u.vec.FV().NumPy(), uzawa_sol.u.vec.FV().NumPy()
-    assert np.abs(a - b).max() <= 1e-6 * np.abs(a).max()
-    assert ndf.kkt_residuals(newton_sol)["equilibrium"] < 1e-10
+    uzawa_sol = ndf.solve(problem, mesh, solver="uzawa", tol=1e-12)
+    assert max_rel_diff(newton_sol, uzawa_sol) <= 1e-7
+    assert_kkt_at_roundoff(newton_sol)

@@ -68,3 +68,25 @@ def test_too_large_rho_is_reported_as_divergence():
     p = ndf.example_6_1()
     with pytest.raises(ndf.SolverError, match="rho"):
         ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), solver="uzawa", rho=1.0, maxit=2000)
+
+
+def test_tiny_rho_cannot_report_convergence():
+    """With rho = 1e-12 u hardly moves: the change alone reported convergence after 2 iterations, 45 % off."""
+    p = ndf.example_6_1()
+    with pytest.raises(ndf.SolverError, match="too small") as err:
+        ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), solver="uzawa", rho=1e-12)
+    assert len(err.value.history) <= 500
+
+
+def test_huge_rho_fails_within_a_few_hundred_iterations():
+    """With rho = 1e6 the multiplier oscillates between -1 and 1; it used to run for minutes."""
+    p = ndf.example_6_1()
+    with pytest.raises(ndf.SolverError, match="too large") as err:
+        ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), solver="uzawa", rho=1e6)
+    assert len(err.value.history) <= 500
+
+
+def test_kkt_test_is_part_of_the_stopping_rule(solution_6_1):
+    assert solution_6_1.info["kkt_history"][-1] <= 1e-6
+    assert ndf.uzawa.complementarity(solution_6_1.discretization, solution_6_1.u, solution_6_1.lam_tau) \
+        == pytest.approx(solution_6_1.info["kkt_history"][-1], rel=1e-12)
