@@ -7,11 +7,18 @@ setup(
     packages=find_packages(include=["ngdgfric", "ngdgfric.*"]),
     package_data={"ngdgfric": ["data/*.toml"]},
     python_requires=">=3.10",
-    install_requires=["ngsolve", "numpy", "matplotlib", "tomli; python_version < '3.11'"],
+    install_requires=[
+        "ngsolve", "numpy", "matplotlib", "tomli; python_version < '3.11'",
+        # MKL PARDISO: the only pip-installable sparse factorisation with a Schur complement; the contact
+        # solver condenses onto Gamma_C with it in one partial factorisation (results/linear_solvers.md).
+        # Without it (other platforms) W comes from back-substitutions: same results, slower.
+        "mkl; platform_machine == 'x86_64' and (sys_platform == 'linux' or sys_platform == 'win32')",
+    ],
     extras_require={
         # the studies run many independent cases through dask.distributed (issue: the two studies)
         "studies": ["dask[distributed]"],
-        "test": ["pytest", "ruff", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
+        # hypothesis: property tests of the condensed contact solver over random data (tests/test_reduced.py)
+        "test": ["pytest", "ruff", "hypothesis", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
                  "webgui_jupyter_widgets", "dask[distributed]"],
     },
     entry_points={"console_scripts": ["ngdgfric = ngdgfric.cli:main"]},
