@@ -12,7 +12,8 @@ setup(
         # MKL PARDISO: the only pip-installable sparse factorisation with a Schur complement; the contact
         # solver condenses onto Gamma_C with it in one partial factorisation (results/linear_solvers.md).
         # Without it (other platforms) W comes from back-substitutions: same results, slower.
-        "mkl; platform_machine == 'x86_64' and (sys_platform == 'linux' or sys_platform == 'win32')",
+        "mkl; (sys_platform == 'linux' and platform_machine == 'x86_64')"
+        " or (sys_platform == 'win32' and platform_machine == 'AMD64')",
     ],
     extras_require={
         # the studies run many independent cases through dask.distributed (issue: the two studies)

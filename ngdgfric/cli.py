@@ -83,12 +83,14 @@ def build_parser():
                              help="DG method of Section 3 (default: sipg)")
         sub.add_argument("--order", type=_number(int), default=1, help="polynomial degree p >= 1 (default: 1)")
         sub.add_argument("--solver", choices=sorted(SOLVERS), default="newton",
-                         help="nonlinear solver (default: newton, semismooth Newton; uzawa: the paper's method)")
+                         help="nonlinear solver (default: newton, the problem condensed onto Gamma_C and solved by "
+                              "semismooth Newton there; uzawa: the paper's method)")
         sub.add_argument("--eta", type=_number(float), default=None,
                          help="penalty parameter (default: 30 mu for the edge penalties, Section 6)")
         if solver_tol:
-            sub.add_argument("--solver-tol", type=_number(float), default=1e-8,
-                             help="relative tolerance of the nonlinear solver (default: 1e-8, Section 6)")
+            sub.add_argument("--solver-tol", type=_number(float), default=None,
+                             help="tolerance of the nonlinear solver (default: 1e-13 on the KKT residual for "
+                                  "newton, 1e-8 on the relative change for uzawa as in Section 6)")
         sub.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out/)")
 
     def meshes(sub, default):
@@ -117,7 +119,7 @@ def build_parser():
     sub = commands.add_parser("adaptive", help="adaptive loop of Section 6; write CSV and a PNG of eta_h vs DOFs",
                               description="SOLVE -> ESTIMATE -> MARK (Doerfler) -> REFINE (newest vertex "
                                           "bisection, or h/p with --hp), one progress line per level.")
-    common(sub, solver_tol=False)  # adapt() keeps the solver tolerance of Section 6
+    common(sub, solver_tol=False)  # adapt() keeps the solvers' default tolerances
     meshes(sub, "h = 1/2, or Netgen maxh = 1/2 for other polygons")
     sub.add_argument("--theta", type=_number(float, high=1.0, what="in (0, 1]"), default=0.3,
                      help="Doerfler parameter (default: 0.3)")

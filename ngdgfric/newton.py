@@ -37,10 +37,10 @@ MAX_CONSISTENCY = 3  # re-solves after a recovery whose traces violate the laws 
 OPTIONS = dict(tol=positive_number, maxit=positive_integer, progress=callback, linear_solver=choice(*LINEAR_SOLVERS))
 
 
-def newton(disc, tol=1e-12, maxit=100, initial=None, progress=None, linear_solver="auto"):
+def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solver="auto"):
     """Solve (3.3)-(3.4) on ``disc`` (module docstring); returns (u, lam, info).
 
-    tol: relative KKT residual max_q |G_q| / S at the contact points (:mod:`ngdgfric.reduced`;
+    tol: relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points (:mod:`ngdgfric.reduced`;
     round-off sets its floor).  maxit: Newton iterations.  initial: optional (u, lam) GridFunctions
     on ``disc.V``, ``disc.Q`` (a warm start: the forces of the laws at u, with l).
     progress: callable(iteration, residual) after each iteration, or None.

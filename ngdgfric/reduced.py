@@ -31,16 +31,32 @@ system has one row per penetrating or sticking point.
   projected gradient) at every step, so every limit point minimises Theta (Bertsekas, Nonlinear
   Programming, 2nd ed., Prop. 2.3.3); near the solution the Newton steps are accepted, the sets
   settle, and for m_n = 1 (G piecewise affine) the step with the final sets is exact.
-* NIPG or m_t > 0 (no energy): merit Psi(f) = 1/2 sum_q W_qq G_q^2 (energy units).  Newton steps
+* NIPG with m_t = 0 (no energy): merit Psi(f) = 1/2 sum_q W_qq G_q^2 (energy units).  Newton steps
   with non-monotone Armijo backtracking (reference: the largest of the last five Psi; Grippo,
   Lampariello & Lucidi 1986); when that fails, a Levenberg-Marquardt step
   (J^T S J + mu diag(J^T S J)) d = -J^T S G with mu raised until Psi decreases (More 1978; for
-  semismooth equations Facchinei & Kanzow 1997).  For m_t = 0 and a coercive B_h (W's symmetric
-  part positive definite) J is nonsingular, so Psi's smooth stationary points solve G = 0.
+  semismooth equations Facchinei & Kanzow 1997).  For a coercive B_h (W's symmetric part positive
+  definite) J is nonsingular, so Psi's smooth stationary points solve G = 0; Psi's kinks can still
+  stop it (seen from poor starting points with c_n = 1e6).  Then a continuation from the symmetric
+  problem: W(s) = sym(W) + s skew(W), s = 0 (solved by the energy method above), 1/16, 1/8, ... 1,
+  the step in s doubled after a success and halved after a failure, each solve started from the last.
+* m_t > 0 (a quasi-variational inequality, (1.4)): let T(f) be the solution with the friction bound
+  frozen at beta(w_n(f)) (the reduced law with a spatially varying c_tau, solved by this method with
+  its own globalisation).  The merit is the fixed-point residual r(f) = |f - T(f)|_inf: the Newton
+  point (or half a step) is taken if it lowers r by the fraction sigma, else the fixed-point step
+  f <- T(f).  Where T is a contraction with constant L, the regime in which the QVI is known to have
+  a unique solution (small c_tau m_t (u_n - g_a)^{m_t - 1}), r falls at least by max(1 - sigma/2, L)
+  per step, and the coupled Newton finishes quadratically.  (The merit Psi stalled here: seen with
+  c_n = 0, m_t = 2.)  If r stops falling (T no contraction, no Newton progress: seen with c_n = 0,
+  m_t = 1, where T cycles between two states), a continuation in c_tau follows: c_tau scaled by
+  s = 1e-6, then s multiplied by 4 (the factor squared after a success, square-rooted after a
+  failure) up to 1, so the solution branch is followed from the contractive regime of small c_tau.
 
-**Stopping test** (on the KKT system, not on the change of f): |G_q| <= max(tol S, e_q) at every
-point, S = max(|f|_inf, max |w0| / W_qq) the force scale of the problem and e_q the round-off in
-evaluating G_q (8 eps times the sizes of its terms; it matters for stiff compliance, c_n -> 1e10).
+**Stopping test** (on the KKT system, not on the change of f): W_qq |G_q| <= max(tol max_q |w_q|,
+W_qq e_q) at every point: each point's residual force measured by the displacement it causes there
+(at a sticking point W_tt |G_t| = |u_tau|, the complementarity of (3.4)), relative to the largest
+trace, and e_q the round-off in evaluating G_q (8 eps times the sizes of its terms; it matters for
+stiff compliance, c_n -> 1e10).
 
 **Redundant points** (``redundant``: an element with two edges on Gamma_C, or p_T < p on hp meshes):
 W is singular and the forces at those points are not unique (the displacement is); the sticking
@@ -59,11 +75,11 @@ EPS = np.finfo(float).eps
 
 
 def _positive_power(x, m):
-    """x_+^m for m >= 0 (1 where x > 0 for m = 0)."""
-    positive = np.maximum(x, 0.0)
-    if m == 1:
-        return positive
-    return np.where(x > 0, positive ** m, 0.0)
+    """x_+^m for any real m (1 where x > 0 for m = 0; 0 where x <= 0, also for m < 0)."""
+    out = np.zeros_like(x, dtype=float)
+    positive = x > 0
+    out[positive] = x[positive] if m == 1 else x[positive] ** m
+    return out
 
 
 class _State:
@@ -91,6 +107,7 @@ class ReducedContact:
         largest = np.max(np.abs(diagonal), initial=0.0)
         self.diagonal = np.maximum(diagonal, 1e-14 * largest if largest > 0 else 1.0)
         self.r = 1.0 / self.diagonal[M:]
+        self.energy_symmetric = bool(symmetric)
         self.energy_merit = bool(symmetric and self.m_t == 0)
         self.regularization = 1e-10 if redundant else 0.0
         self.force_scale = max(float(np.max(np.abs(self.w0) / self.diagonal, initial=0.0)), np.finfo(float).tiny)
@@ -123,20 +140,27 @@ class ReducedContact:
         return s
 
     def residual(self, s):
-        """max_q |G_q| / S (the relative KKT residual) and whether every |G_q| is within tolerance."""
-        return float(np.max(np.abs(s.G), initial=0.0)) / self.scale(s)
+        """The relative KKT residual max_q W_qq |G_q| / max_q |w_q|: each point's residual force measured
+        by the displacement it causes at that point, relative to the largest trace."""
+        return float(np.max(self.diagonal * np.abs(s.G), initial=0.0)) / self._trace_scale(s)
+
+    @staticmethod
+    def _trace_scale(s):
+        return max(float(np.max(np.abs(s.w), initial=0.0)), np.finfo(float).tiny)
 
     def scale(self, s):
+        """The force scale S = max(|f|_inf, max |w0| / W_qq) (for the projected Newton's epsilon)."""
         return max(self.force_scale, float(np.max(np.abs(s.f), initial=0.0)))
 
     def converged(self, s, tol):
-        """|G_q| <= max(tol S, round-off in G_q) at every point."""
+        """W_qq |G_q| <= max(tol max|w|, W_qq x round-off in G_q) at every point."""
         M = self.M
         size = np.abs(self.w0) + self.absW @ np.abs(s.f)  # magnitude of the terms summed into w
         roundoff = 8 * EPS * np.concatenate([
             np.abs(s.f[:M]) + s.N + s.dN * size[:M],
-            np.abs(s.f[M:]) + s.beta + np.where(s.stick, self.r * size[M:], np.abs(s.dbeta) * size[:M])])
-        return bool(np.all(np.abs(s.G) <= np.maximum(tol * self.scale(s), roundoff)))
+            np.where(s.stick, self.r * size[M:], np.abs(s.f[M:]) + s.beta + np.abs(s.dbeta) * size[:M])])
+        weighted = self.diagonal * np.abs(s.G)
+        return bool(np.all(weighted <= np.maximum(tol * self._trace_scale(s), self.diagonal * roundoff)))
 
     # ------------------------------------------------------------------ Newton direction
     def newton_direction(self, s):
@@ -258,11 +282,16 @@ class ReducedContact:
     def _merit_step(self, s, d, recent):
         psi = self.merit(s)
         reference = max(recent[-5:] + [psi])
-        alpha = 1.0
-        for _ in range(9):
-            trial = s.f + alpha * d
-            if self.merit(self.evaluate(trial)) <= reference - SIGMA * alpha * 2 * psi:
-                return trial, "newton" if alpha == 1 else f"newton x{alpha:g}"
+
+        def accepted(trial, alpha):
+            return self.merit(self.evaluate(trial)) <= reference - SIGMA * alpha * 2 * psi
+
+        if accepted(s.f + d, 1.0):
+            return s.f + d, "newton"
+        alpha = 0.5
+        for _ in range(8):
+            if accepted(s.f + alpha * d, alpha):
+                return s.f + alpha * d, f"newton x{alpha:g}"
             alpha *= 0.5
         # Levenberg-Marquardt on the Gauss-Newton model of Psi
         J = self._jacobian(s)
@@ -278,6 +307,25 @@ class ReducedContact:
                 return trial, "levenberg-marquardt"
             mu *= 10
         return None, "stalled"
+
+    def _qvi_step(self, s, d, fixed_point):
+        """m_t > 0: the Newton point if it lowers the fixed-point residual r(f) = |f - T(f)|_inf (T: the
+        solution with the bound frozen at f), else T(f).  ``fixed_point``: T(s.f).  Returns
+        (new f, kind, T(new f) or None)."""
+        residual = np.max(np.abs(s.f - fixed_point))
+        for alpha in (1.0, 0.5):
+            trial = s.f + alpha * d
+            trial_fixed_point = self._fixed_point_step(self.evaluate(trial))
+            if np.max(np.abs(trial - trial_fixed_point)) <= (1 - SIGMA * alpha) * residual:
+                return trial, "newton" if alpha == 1 else f"newton x{alpha:g}", trial_fixed_point
+        return fixed_point, "fixed point", None
+
+    def _fixed_point_step(self, s):
+        """The solution of the problem with the friction bound frozen at its value at f (m_t = 0, a
+        spatially varying c_tau = beta / omega), by this solver's own globalised Newton method."""
+        frozen = ReducedContact(self.W, self.w0, self.omega, self.g_a, self.c_n, s.beta / self.omega, self.m_n, 0.0,
+                                self.energy_symmetric, self.regularization > 0)
+        return frozen.solve(s.f, tol=1e-13, maxit=200)[0]
 
     def _jacobian(self, s):
         """The full generalised Jacobian J (2M x 2M)."""
@@ -309,27 +357,92 @@ class ReducedContact:
         self.w0 = self.w0 + mismatch
 
     def multiplier(self, f):
-        """l = f_t / beta at the points (in [-1, 1]); sign(w_t) where beta = 0 (Lemma 3.1)."""
+        """l at the points: f_t / beta (clipped to [-1, 1]) where the point sticks, the slip direction
+        sign(f_t + r w_t) where it slips or beta = 0 (Lemma 3.1).  The slip direction is taken from the
+        law rather than from f_t / beta: where beta is below the force tolerance (c_tau or the
+        penetration tiny) f_t carries no information about the direction, w_t does."""
         s = self.evaluate(f)
         M = self.M
-        w_t = s.w[M:]
-        lam_tau = np.where(s.beta > 0, f[M:] / np.where(s.beta > 0, s.beta, 1.0), np.sign(w_t))
-        return np.clip(lam_tau, -1.0, 1.0)
+        ratio = f[M:] / np.where(s.beta > 0, s.beta, 1.0)
+        direction = np.where(f[M:] + self.r * s.w[M:] != 0, s.sign, 0.0)
+        return np.where(s.stick, np.clip(ratio, -1.0, 1.0), direction)
 
     # ------------------------------------------------------------------ the iteration
     def solve(self, f0=None, tol=1e-12, maxit=100, progress=None):
         """Globalised semismooth Newton from f0 (default 0); returns (f, info).
 
-        info: ``iterations``; ``history``: relative KKT residual max_q |G_q| / S after each
+        info: ``iterations``; ``history``: relative KKT residual (:meth:`residual`) after each
         iteration; ``initial_residual``; ``steps``: the kind of each step ("newton", "newton x0.5",
-        "gradient", "levenberg-marquardt"); ``penetrating``, ``stick``: set sizes at the end.
+        "projected newton", "levenberg-marquardt", "fixed point", "continuation s = ..."); ``penetrating``,
+        ``stick``: set sizes at the end; ``residual``.
+        For m_t > 0, if the iteration stalls, a continuation in c_tau (module docstring) follows.
         Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations.
         """
         f = np.zeros(2 * self.M) if f0 is None else np.asarray(f0, dtype=float).copy()
+        try:
+            return self._iterate(f, tol, maxit, progress)
+        except SolverError as error:
+            if self.energy_merit:
+                raise
+            return self._continuation(tol, maxit, progress, error)
+
+    def _homotopy(self, s):
+        """The problem at continuation parameter s in [0, 1] (s = 1: this one): for m_t > 0 c_tau scaled
+        by s; otherwise (NIPG) W = sym(W) + s skew(W), symmetric at s = 0."""
+        if self.m_t > 0:
+            return ReducedContact(self.W, self.w0, self.omega, self.g_a, self.c_n, s * self.c_tau, self.m_n, self.m_t,
+                                  self.energy_symmetric, self.regularization > 0)
+        symmetric_part = 0.5 * (self.W + self.W.T)
+        return ReducedContact(symmetric_part + s * (self.W - symmetric_part), self.w0, self.omega, self.g_a, self.c_n,
+                              self.c_tau, self.m_n, self.m_t, s == 0, self.regularization > 0)
+
+    def _continuation(self, tol, maxit, progress, error):
+        """After a failure without energy: follow the solution from an easy problem to this one
+        (:meth:`_homotopy`).  NIPG: s = 0 (the symmetric problem, solved by the energy method), then
+        steps in s doubled after a success and halved after a failure, from 1/16.  m_t > 0: s = 1e-6
+        (c_tau tiny: the bound map contracts), then s multiplied by a factor (4 at first) that is squared
+        after a success and square-rooted after a failure.  Each solve starts from the last solution.
+        Raises the original ``error`` (with a note) when the step (factor) falls below 1/1024 (1.001)."""
+        f, iterations, steps, history = np.zeros(2 * self.M), 0, [], []
+        geometric = self.m_t > 0
+        done, step = (0.0, 1e-6) if geometric else (-1.0, 1.0)  # s = 1e-6, or s = 0 first
+
+        def next_value():
+            return min(1.0, step if done == 0 and geometric else done * step if geometric else done + step)
+
+        while done < 1:
+            s = next_value() if done >= 0 else 0.0
+            try:
+                f, info = self._homotopy(s)._iterate(f.copy(), tol, maxit, progress)
+            except SolverError:
+                if done < 0 or (geometric and done == 0):
+                    raise SolverError(f"{error} (and the continuation failed at its start s = {s:g})",
+                                      history=error.history, solver="newton") from error
+                step = np.sqrt(step) if geometric else step / 2
+                if (geometric and step < 1.001) or (not geometric and step < 1 / 1024):
+                    raise SolverError(f"{error} (and the continuation stopped at s = {done:g})",
+                                      history=error.history, solver="newton") from error
+                continue
+            iterations += info["iterations"]
+            steps += [f"continuation s = {s:g}"] + info["steps"]
+            history += info["history"]
+            if geometric:
+                step = 4.0 if done == 0 else step * step
+            elif done < 0:
+                step = 1 / 16
+            else:
+                step *= 2
+            done = s
+        info.update(iterations=iterations, steps=steps, history=history)
+        return f, info
+
+    def _iterate(self, f, tol, maxit, progress):
+        """The iteration of :meth:`solve` from f."""
         if self.energy_merit:
             f = self.project(f)
         s = self.evaluate(f)
         history, steps, recent = [], [], []
+        fixed_point, fixed_point_changes = None, []  # m_t > 0: T(f), and |f - T(f)| per iteration
         initial = self.residual(s)
         for k in range(maxit + 1):
             if self.converged(s, tol):
@@ -341,6 +454,17 @@ class ReducedContact:
             d = self.newton_direction(s)
             if self.energy_merit:
                 f, kind = self._energy_step(s, d)
+            elif self.m_t > 0:
+                fixed_point = self._fixed_point_step(s) if fixed_point is None else fixed_point
+                change = np.max(np.abs(s.f - fixed_point)) / self.scale(s)
+                fixed_point_changes.append(change)
+                if len(fixed_point_changes) > 10 and min(fixed_point_changes[-5:]) > min(fixed_point_changes[:-5]):
+                    raise SolverError(f"semismooth Newton on the contact points: neither Newton steps nor the fixed "
+                                      f"point on the friction bound reduce |f - T(f)| (now {change:.3e} after {k} "
+                                      "iterations): the bound map is not a contraction here, and the quasi-variational "
+                                      "inequality (m_t > 0) may have no solution or several", history=history,
+                                      solver="newton")
+                f, kind, fixed_point = self._qvi_step(s, d, fixed_point)
             else:
                 recent.append(self.merit(s))
                 f, kind = self._merit_step(s, d, recent)

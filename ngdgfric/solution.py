@@ -12,7 +12,7 @@ __all__ = ["Solution", "solve", "SOLVERS", "DEFAULT_TOL"]
 
 SOLVERS = {"newton": (newton.newton, newton.OPTIONS), "uzawa": (uzawa.uzawa, uzawa.OPTIONS),
            "fixed_point": (fixed_point.fixed_point, fixed_point.OPTIONS)}
-DEFAULT_TOL = {"newton": 1e-12, "uzawa": 1e-8, "fixed_point": 1e-8}
+DEFAULT_TOL = {"newton": 1e-13, "uzawa": 1e-8, "fixed_point": 1e-8}
 
 
 @dataclass
@@ -56,7 +56,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.uzawa.uzawa`, m_t = 0 only) or
     "fixed_point" (on the friction bound for m_t > 0, :func:`ngdgfric.fixed_point.fixed_point`,
     option ``inner="newton"|"uzawa"``); all solve the same discrete problem.
-    tol: the solver's tolerance; None: ``DEFAULT_TOL[solver]`` (Newton: 1e-12 on the relative KKT
+    tol: the solver's tolerance; None: ``DEFAULT_TOL[solver]`` (Newton: 1e-13 on the relative KKT
     residual at the contact points; Uzawa and the fixed point: 1e-8 on the relative max-norm
     change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4)).
     penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
