@@ -27,6 +27,7 @@ import ngsolve as ngs
 import numpy as np
 
 from . import pardiso
+from .errors import SolverError
 from .linalg import direct_inverse, threads
 
 __all__ = ["Condensation", "LINEAR_SOLVERS", "default_linear_solver"]
@@ -102,7 +103,11 @@ class Condensation:
         self._F = F.FV().NumPy().copy()
         if linear_solver == "pardiso":
             indptr, cols, values = augmented_matrix(A, traces, symmetric)
-            self._factorization = pardiso.SchurFactorization(indptr, cols, values, 2 * traces.M, symmetric)
+            try:
+                self._factorization = pardiso.SchurFactorization(indptr, cols, values, 2 * traces.M, symmetric)
+            except pardiso.PardisoError as error:
+                raise SolverError(f"{error}: the linear part A cannot be factorised (is B_h coercive? check the "
+                                  "penalty eta)", solver="newton") from error
             self.W = -self._factorization.schur
             _, minus_w0 = self._factorization.solve_eliminated(self._F, np.zeros(2 * traces.M))
             self.w0 = -minus_w0

@@ -113,7 +113,7 @@ def report(results, speedup):
               f"- {len(coercive_failures)} coercive cases failed: " + (", ".join(
                   f"{r['method']} P{r['order']} eta/mu = {r['ratio']:.3g}" for r in coercive_failures) or "none")
               + ".  (The norm's jump term carries no mu, so NIPG's symmetric part stays above the norm for any eta "
-              "here; a weak penalty still leaves Newton's contact sets cycling.)", ""]
+              "here.)", ""]
     locking = results["locking"]
     lines += ["## Near incompressibility (volumetric locking)", "",
               "Smooth manufactured solution (`ngdgfric.manufactured.elasticity_manufactured`, E = 1000), h = 1/8,",
