@@ -26,13 +26,14 @@ system has one row per penetrating or sticking point.
   Phi*(s) = g_a s + m/(m+1) (omega c_n)^{-1/m} s^{(m+1)/m} the conjugate of the compliance energy
   (f_n = 0 where c_n = 0).  The Newton point, projected onto K, is accepted when it lowers Theta by
   a fixed fraction sigma of what a diagonally scaled projected-gradient step promises (delta =
-  -grad Theta . p with p = P_K(f - D^-1 grad Theta) - f), or when the next Newton point from it
-  does (a watchdog: near the solution a step with a few wrong stick/slip guesses may raise Theta by
-  more than its round-off while the next step lands on the solution); otherwise a projected Newton
-  step with Armijo backtracking.  Theta decreases by at least sigma x (a forcing function of the
-  projected gradient) at every step, so every limit point minimises Theta (Bertsekas, Nonlinear
-  Programming, 2nd ed., Prop. 2.3.3); near the solution the Newton steps are accepted, the sets
-  settle, and for m_n = 1 (G piecewise affine) the step with the final sets is exact.
+  -grad Theta . p with p = P_K(f - D^-1 grad Theta) - f), or, once the relative KKT residual is
+  below 1e-6, when the next Newton point from it does (a watchdog: near the solution a step with
+  a few wrong stick/slip guesses may raise Theta by more than its round-off while the next step
+  lands on the solution); otherwise a projected Newton step with Armijo backtracking.  Theta
+  decreases by at least sigma x (a forcing function of the projected gradient) at every step, so
+  every limit point minimises Theta (Bertsekas, Nonlinear Programming, 2nd ed., Prop. 2.3.3); near
+  the solution the Newton steps are accepted, the sets settle, and for m_n = 1 (G piecewise
+  affine) the step with the final sets is exact.
 * NIPG with m_t = 0 (no energy): merit Psi(f) = 1/2 sum_q W_qq G_q^2 (energy units).  Newton steps
   with non-monotone Armijo backtracking (reference: the largest of the last five Psi; Grippo,
   Lampariello & Lucidi 1986); when that fails, a Levenberg-Marquardt step
@@ -76,6 +77,7 @@ from .errors import SolverError
 __all__ = ["ReducedContact", "SIGMA"]
 
 SIGMA = 1e-4  # sufficient-decrease fraction
+WATCHDOG = 1e-6  # relative KKT residual below which a rejected Newton step gets a second chance
 EPS = np.finfo(float).eps
 
 
@@ -251,12 +253,13 @@ class ReducedContact:
         change, roundoff = self.energy_change(s, trial)
         if change <= -SIGMA * delta + roundoff:
             return trial, "newton"
-        # watchdog (Chamberlain, Powell, Lemarechal & Pedersen, Math. Prog. Study 16, 1982): a Newton step
-        # with a few wrong sets may raise Theta and the next one repair it; accept the pair if it decreases
-        second = self.project(trial + self.newton_direction(self.evaluate(trial)))
-        change, roundoff = self.energy_change(s, second)
-        if change <= -SIGMA * delta + roundoff:
-            return second, "newton (watchdog)"
+        # watchdog (Chamberlain, Powell, Lemarechal & Pedersen, Math. Prog. Study 16, 1982): near the
+        # solution a Newton step with a few wrong sets may raise Theta and the next one repair it
+        if self.residual(s) <= WATCHDOG:
+            second = self.project(trial + self.newton_direction(self.evaluate(trial)))
+            change, roundoff = self.energy_change(s, second)
+            if change <= -SIGMA * delta + roundoff:
+                return second, "newton (watchdog)"
         return self._projected_newton_step(s, grad, scaling, p)
 
     def _projected_newton_step(self, s, grad, scaling, projected_gradient):

@@ -245,7 +245,8 @@ def report(zone_h, zone_rows, solver_rows, curves):
         "The paper analyses the reduced law m_t = 0 and leaves m_t > 0 to future work (Section 7).  With "
         "j_tau(u, v) = int c_tau (u_n - g_a)_+^{m_t} |v_tau| ds, problem (1.4) is a quasi-variational "
         "inequality: the friction bound is zero where there is no contact and grows with the penetration.  "
-        "Example 6.1 (c_tau = 450 unless stated), SIPG, P1, eta = 30 mu, tolerance 1e-8 (relative max norm).", "",
+        "Example 6.1 (c_tau = 450 unless stated), SIPG, P1, eta = 30 mu, default tolerances (Newton: "
+        "relative KKT residual 1e-13; fixed point: change 1e-8 in the relative max norm).", "",
         "![zones and adaptivity](mt.png)", "",
         f"## Contact, stick and slip along Gamma_C (uniform h = 1/{round(1 / zone_h)})", "",
         "Zones are runs of contact Gauss points (x intervals): contact where u_n - g_a > 0, slip where "
