@@ -492,7 +492,7 @@ def counts(rows, key):
 
 def value_range(rows, name):
     values = [r[name] for r in rows if r.get(name) is not None]
-    return f"{min(values):.3g} ... {max(values):.3g}" if values else "-"
+    return f"{min(values):.4g} ... {max(values):.4g}" if values else "-"
 
 
 def report(rows, total, seconds, interrupted, budget):
