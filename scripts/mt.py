@@ -267,11 +267,10 @@ def report(zone_h, zone_rows, solver_rows, curves):
         *findings,
         "* The fixed point's contraction factor grows roughly in proportion to c_tau (and to m_t times the "
         "penetration to the power m_t - 1): the outer map is a contraction only while the bound varies slowly "
-        "with u_n compared with the stiffness of the body.  Beyond that it stalls (changes stop decreasing), or "
-        "a warm-started inner reduced-law solve cycles because the frozen bound jumps between outer iterations.  "
-        "Times are wall-clock on two cores; the factorisation counts are the robust measure (the coupled "
-        "Newton factorises nonsymmetric matrices with UMFPACK, the fixed point's inner solves symmetric ones with "
-        "Cholesky).", ""])
+        "with u_n compared with the stiffness of the body.  Beyond that it stalls (its changes stop decreasing).  "
+        "Times are wall-clock on two cores; the factorisation counts are the robust measure: the coupled Newton "
+        "factorises once (the condensation onto Gamma_C), the fixed point once per outer iteration (each inner "
+        "solve condenses its own frozen-bound problem).", ""])
 
 
 if __name__ == "__main__":
