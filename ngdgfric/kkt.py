@@ -6,7 +6,7 @@ import numpy as np
 from .contact import compliance, evaluate_on_contact, normal_tangent, penetration
 from .forms import strain, stress
 
-__all__ = ["contact_state", "kkt_residuals"]
+__all__ = ["contact_state", "kkt_residuals", "rounding_residual"]
 
 
 def contact_state(sol):
@@ -56,3 +56,13 @@ def kkt_residuals(sol):
                                         initial=0.0) / scale),
         "equilibrium": float(np.linalg.norm(r.FV().NumPy()) / f_norm),
     }
+
+
+def rounding_residual(sol):
+    """The equilibrium residual of :func:`kkt_residuals` for u rounded once more, u (1 +- eps) with
+    fixed random signs: what round-off in u alone leaves, the floor to compare ``equilibrium`` with."""
+    disc, u = sol.discretization, ngs.GridFunction(sol.u.space)
+    signs = np.random.default_rng(0).choice([-1.0, 1.0], size=len(u.vec))
+    u.vec.FV().NumPy()[:] = sol.u.vec.FV().NumPy() * (1 + np.finfo(float).eps * signs)
+    r = disc.residual(u, sol.lam_tau).FV().NumPy()
+    return float(np.linalg.norm(r) / max(np.linalg.norm(disc.F.FV().NumPy()), 1e-300))

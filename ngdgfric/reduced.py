@@ -302,16 +302,11 @@ class ReducedContact:
     def _merit_step(self, s, d, recent):
         psi = self.merit(s)
         reference = max(recent[-5:] + [psi])
-
-        def accepted(trial, alpha):
-            return self.merit(self.evaluate(trial)) <= reference - SIGMA * alpha * 2 * psi
-
-        if accepted(s.f + d, 1.0):
-            return s.f + d, "newton"
-        alpha = 0.5
-        for _ in range(8):
-            if accepted(s.f + alpha * d, alpha):
-                return s.f + alpha * d, f"newton x{alpha:g}"
+        alpha = 1.0
+        for _ in range(9):
+            trial = s.f + alpha * d
+            if self.merit(self.evaluate(trial)) <= reference - SIGMA * alpha * 2 * psi:
+                return trial, "newton" if alpha == 1 else f"newton x{alpha:g}"
             alpha *= 0.5
         # Levenberg-Marquardt on the Gauss-Newton model of Psi
         J = self._jacobian(s)
@@ -343,9 +338,13 @@ class ReducedContact:
     def _fixed_point_step(self, s):
         """The solution of the problem with the friction bound frozen at its value at f (m_t = 0, a
         spatially varying c_tau = beta / omega), by this solver's own globalised Newton method."""
-        frozen = ReducedContact(self.W, self.w0, self.omega, self.g_a, self.c_n, s.beta / self.omega, self.m_n, 0.0,
-                                self.energy_symmetric, self.regularization > 0)
-        return frozen.solve(s.f, tol=1e-13, maxit=200)[0]
+        return self._variant(c_tau=s.beta / self.omega, m_t=0.0).solve(s.f, tol=1e-13, maxit=200)[0]
+
+    def _variant(self, W=None, c_tau=None, m_t=None, symmetric=None):
+        """This problem with some of W, c_tau, m_t and the symmetry replaced."""
+        return ReducedContact(self.W if W is None else W, self.w0, self.omega, self.g_a, self.c_n,
+                              self.c_tau if c_tau is None else c_tau, self.m_n, self.m_t if m_t is None else m_t,
+                              self.energy_symmetric if symmetric is None else symmetric, self.regularization > 0)
 
     def _jacobian(self, s):
         """The full generalised Jacobian J (2M x 2M)."""
@@ -410,11 +409,9 @@ class ReducedContact:
         """The problem at continuation parameter s in [0, 1] (s = 1: this one): for m_t > 0 c_tau scaled
         by s; otherwise (NIPG) W = sym(W) + s skew(W), symmetric at s = 0."""
         if self.m_t > 0:
-            return ReducedContact(self.W, self.w0, self.omega, self.g_a, self.c_n, s * self.c_tau, self.m_n, self.m_t,
-                                  self.energy_symmetric, self.regularization > 0)
+            return self._variant(c_tau=s * self.c_tau)
         symmetric_part = 0.5 * (self.W + self.W.T)
-        return ReducedContact(symmetric_part + s * (self.W - symmetric_part), self.w0, self.omega, self.g_a, self.c_n,
-                              self.c_tau, self.m_n, self.m_t, s == 0, self.regularization > 0)
+        return self._variant(W=symmetric_part + s * (self.W - symmetric_part), symmetric=s == 0)
 
     def _continuation(self, tol, maxit, progress, error):
         """After a failure without energy: follow the solution from an easy problem to this one

@@ -8,7 +8,7 @@ the discrete KKT system (3.3)-(3.4) of Lemma 3.1 at round-off (``ndf.kkt_residua
     equilibrium <= 10 max(rounding, 1e-14),
 
 where ``rounding`` is the equilibrium residual of u rounded once more, u (1 +- eps) (what
-round-off alone leaves; as ``rounding_residual`` in tests/test_newton.py), and, for m_t = 0 and
+round-off alone leaves; ``ngdgfric.kkt.rounding_residual``), and, for m_t = 0 and
 at most ``UZAWA_MAX_NDOF`` unknowns, where the paper's Uzawa iteration (Section 6; the full sparse
 system, an independent solver) converges with tol = 1e-11, the two solutions agree:
 max|u_newton - u_uzawa| / max|u_uzawa| <= 1e-7.  Uzawa failing (slow convergence; stopped after
@@ -51,6 +51,7 @@ from common import RESULTS, command_line, markdown_table, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
+from ngdgfric.kkt import rounding_residual
 from ngdgfric.manufactured import contact_manufactured, friction_manufactured
 from ngdgfric.reduced import ReducedContact
 
@@ -301,16 +302,6 @@ def build_mesh(spec, problem):
 
 
 # ============================================================================ ONE CASE
-def rounding_residual(sol):
-    """The equilibrium residual of u rounded once more (u (1 +- eps)): what round-off alone leaves
-    (copied from tests/test_newton.py)."""
-    disc, u = sol.discretization, ngs.GridFunction(sol.u.space)
-    signs = np.random.default_rng(0).choice([-1.0, 1.0], size=len(u.vec))
-    u.vec.FV().NumPy()[:] = sol.u.vec.FV().NumPy() * (1 + np.finfo(float).eps * signs)
-    r = disc.residual(u, sol.lam_tau).FV().NumPy()
-    return np.linalg.norm(r) / np.linalg.norm(disc.F.FV().NumPy())
-
-
 def existence_search(problem, mesh, method, order, starts=EXISTENCE_STARTS):
     """After the solver raised: look for a solution of the condensed problem (the same W, w0 and laws)
     by plain semismooth Newton (no globalisation, at most 40 steps) from ``starts`` random forces of
@@ -382,7 +373,7 @@ def run_case(spec, uzawa_seconds=UZAWA_SECONDS):
                        penetrating=sol.info["penetrating"], stick=sol.info["stick"],
                        steps=", ".join(f"{k}: {n}" for k, n in collections.Counter(sol.info["steps"]).items()))
             row.update(ndf.kkt_residuals(sol))
-            row["rounding"] = float(rounding_residual(sol))
+            row["rounding"] = rounding_residual(sol)
             row["equilibrium_ratio"] = row["equilibrium"] / max(row["rounding"], ROUNDING_FLOOR)
         except Exception as error:  # noqa: BLE001 -- every error is a result of the study
             row["message"] = _message(error)

@@ -9,20 +9,12 @@ from manufactured import contact_manufactured
 
 import ngdgfric as ndf
 from ngdgfric import pardiso
+from ngdgfric.kkt import rounding_residual
 
 
 def max_rel_diff(a, b):
     a, b = a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy()
     return np.max(np.abs(a - b)) / np.max(np.abs(b))
-
-
-def rounding_residual(sol):
-    """The equilibrium residual of u rounded once more (u (1 +- eps)): what round-off alone leaves."""
-    disc, u = sol.discretization, ngs.GridFunction(sol.u.space)
-    signs = np.random.default_rng(0).choice([-1.0, 1.0], size=len(u.vec))
-    u.vec.FV().NumPy()[:] = sol.u.vec.FV().NumPy() * (1 + np.finfo(float).eps * signs)
-    r = disc.residual(u, sol.lam_tau).FV().NumPy()
-    return np.linalg.norm(r) / np.linalg.norm(disc.F.FV().NumPy())
 
 
 def assert_kkt_at_roundoff(sol):
