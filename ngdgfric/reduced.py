@@ -249,16 +249,23 @@ class ReducedContact:
         scaling = self._gradient_scaling(s)
         p = self.project(s.f - grad / scaling) - s.f
         delta = max(float(-grad @ p), 0.0)
+        residual = self.residual(s)
+
+        def lowers(trial):
+            # a change within round-off must at least halve the KKT residual instead (else two states
+            # whose Theta differ by less than the round-off bound can alternate for ever)
+            change, roundoff = self.energy_change(s, trial)
+            return change <= -SIGMA * delta or (change <= -SIGMA * delta + roundoff
+                                                and self.residual(self.evaluate(trial)) <= 0.5 * residual)
+
         trial = self.project(s.f + d)
-        change, roundoff = self.energy_change(s, trial)
-        if change <= -SIGMA * delta + roundoff:
+        if lowers(trial):
             return trial, "newton"
         # watchdog (Chamberlain, Powell, Lemarechal & Pedersen, Math. Prog. Study 16, 1982): near the
         # solution a Newton step with a few wrong sets may raise Theta and the next one repair it
-        if self.residual(s) <= WATCHDOG:
+        if residual <= WATCHDOG:
             second = self.project(trial + self.newton_direction(self.evaluate(trial)))
-            change, roundoff = self.energy_change(s, second)
-            if change <= -SIGMA * delta + roundoff:
+            if lowers(second):
                 return second, "newton (watchdog)"
         return self._projected_newton_step(s, grad, scaling, p)
 
