@@ -15,6 +15,7 @@ from .forms import stress
 from .problem import ContactProblem, Polygon
 
 __all__ = ["strain_of", "body_force_and_traction", "elasticity_manufactured", "contact_manufactured",
+           "incompressible_contact_manufactured",
            "friction_manufactured"]
 
 
@@ -160,5 +161,50 @@ def friction_manufactured(m_t=1, E=1000.0, nu=0.3, c_n=10.0, c_tau=100.0, K=50.0
     beta = phi + (-c_n * penetration - lam * dpsi) / (2 * mu + lam)
     u = ngs.CF(((1 - y) * psi + y * (1 - y) * alpha, (1 - y) * phi + y * (1 - y) * beta))
     problem = dataclasses.replace(base, g_a=-phi - penetration + fourth(q))
+    f, g = body_force_and_traction(problem, u)
+    return dataclasses.replace(problem, f=f, g=g), u
+
+
+def incompressible_contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=16.0):
+    """(problem, u_exact) of a contact problem (m_t = 0) with a divergence-free solution.
+
+    Same domain and boundary parts as :func:`contact_manufactured` (Gamma_C = bottom, n = (0, -1),
+    t = (1, 0); Gamma_D = top).  u is the curl of the stream function psi = phi(y) T(x),
+
+        u = (phi'(y) T(x), -phi(y) T'(x)),   phi(y) = -(1 - y)^2 e^y,
+
+    so div u = 0 for every nu: sigma(u) = 2 mu eps(u) does not depend on lam, and neither do the
+    data f, g, c_tau, g_a.  This is the physically meaningful nearly incompressible limit (stresses
+    stay bounded as nu -> 1/2), unlike :func:`contact_manufactured`, whose stresses grow with lam.
+    phi(0) = -1, phi'(0) = phi''(0) = 1 give at y = 0
+
+        u_tau = T,  u_n = -T',  sigma_n = sigma_22 = -2 mu T',  sigma_tau = -sigma_12 = -mu (T + T'').
+
+    With s = x - 1/2, r = 1/4 - x: T = e^x s_+^4 for x > 1/2, T = -K e^x r_+^4 for x < 1/4, 0
+    between.  Then T' > 0 in both outer zones (contact, sigma_n < 0); u_tau > 0 and T + T'' > 0 on
+    the right, u_tau < 0 and T + T'' < 0 on the left (slip: sigma_tau = -c_tau sign(u_tau) with
+    c_tau = mu |T + T''|); in 1/4 < x < 1/2 u = 0 on Gamma_C (stick, no contact).  Compliance with
+    constant c_n: g_a = u_n - 2 mu T' / c_n + G with a gap bump G > 0 only in the middle zone;
+    c_tau = mu |T + T''| + mu B with a bump B > 0 only in the stick zone.  f = -div sigma(u),
+    g = sigma(u) n on Gamma_F.  Every function is C^3 and not a polynomial (no p gives u exactly).
+    """
+    x, y = ngs.x, ngs.y
+    geometry = Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="traction", top="dirichlet",
+                                 left="traction")
+    base = ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=0.0, c_tau=0.0,
+                          geometry=geometry)
+    mu = base.mu
+    fourth = lambda z: z * z * z * z  # products: Diff of a power of IfPos gives NaN at 0  # noqa: E731
+    s, r = positive_part(x - 0.5), positive_part(0.25 - x)
+    ex = ngs.exp(x)
+    T = ex * (fourth(s) - K * fourth(r))
+    dT = ex * (fourth(s) + 4 * s * s * s + K * r * r * r * (4 - r))
+    d2T = ex * (fourth(s) + 8 * s * s * s + 12 * s * s + K * r * r * (-r * r + 8 * r - 12))
+    phi = -(1 - y) * (1 - y) * ngs.exp(y)
+    u = ngs.CF((phi.Diff(y) * T, -phi * dT))
+    middle = positive_part(x - 0.25) * positive_part(0.5 - x)
+    slip = T + d2T
+    c_tau = mu * (ngs.IfPos(slip, slip, -slip) + 256 * middle * middle)
+    problem = dataclasses.replace(base, g_a=-dT - 2 * mu * dT / c_n + 4096 * fourth(middle), c_tau=c_tau)
     f, g = body_force_and_traction(problem, u)
     return dataclasses.replace(problem, f=f, g=g), u

@@ -5,5 +5,6 @@ from ngdgfric.manufactured import (  # noqa: F401
     contact_manufactured,
     elasticity_manufactured,
     friction_manufactured,
+    incompressible_contact_manufactured,
     strain_of,
 )
