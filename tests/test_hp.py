@@ -99,7 +99,7 @@ def test_smoothness_rates_a_polynomial_smooth_and_a_corner_singularity_not(order
 def test_hp_adapt_raises_orders_where_smooth_and_bisects_the_corners(tmp_path):
     problem = ndf.example_6_1()
     records = ndf.adapt(problem, order=2, hp=True, max_order=5, max_levels=14, progress=None,
-                        csv_path=tmp_path / "hp.csv")
+                        csv_path=tmp_path / "hp.csv").levels
     assert records[-1]["p_max"] > records[-1]["p_min"]
     assert records[-1]["eta"] < 0.25 * records[0]["eta"]
     with pytest.raises(ValueError, match="max_order"):
@@ -118,3 +118,22 @@ def test_reference_round_trip_and_true_error(elasticity, tmp_path):
         assert energy_error(sol, reference) == pytest.approx(ndf.energy_norm(sol, u_exact), rel=0.01)
     with pytest.raises(FileNotFoundError, match="reference.py"):
         load_reference(tmp_path / "missing.npz", problem)
+
+
+def test_reference_errors_agree_with_differences_computed_on_the_mesh(contact_problem):
+    # P2 against P4 on one mesh: reference_errors finds the P4 solution by point search at its Gauss
+    # points (exact here: the rule of degree 2 p + 4 integrates the P3 gradients' squares exactly),
+    # difference_norms interpolates P2 into P4 (exact); the volume parts must agree to round-off
+    from ngdgfric.norms import energy_norm_squared_parts
+    from ngdgfric.reference import reference_errors
+    from ngdgfric.studies import difference_norms
+
+    problem, _ = contact_problem
+    mesh = ndf.uniform_mesh(problem, 1 / 8)
+    coarse, fine = (ndf.solve(problem, mesh, order=p) for p in (2, 4))
+    ours, theirs = reference_errors(coarse, fine), difference_norms(coarse, fine)
+    for name in ("h1", "l2", "energy_volume"):
+        assert ours[name] == pytest.approx(theirs[name], rel=1e-9), name
+    assert ours["energy"] == pytest.approx(energy_error(coarse, fine), rel=1e-14)
+    volume, _ = energy_norm_squared_parts(problem, fine.mesh, fine.u)
+    assert ours["relative"] == pytest.approx(ours["energy"] / volume**0.5, rel=1e-9)
