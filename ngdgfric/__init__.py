@@ -10,7 +10,7 @@ cores (:func:`ngdgfric.linalg.limit_blas_threads`).
 
 import os
 
-from .adaptivity import adapt, dorfler_mark, minimum_angle, refine
+from .adaptivity import Adaptation, adapt, dorfler_mark, minimum_angle, refine
 from .discretization import Discretization
 from .errors import SolverError
 from .estimator import Estimate, estimate
@@ -30,6 +30,6 @@ limit_blas_threads(int(os.environ.get("NGDGFRIC_BLAS_THREADS", "1")))
 
 __all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_mesh", "netgen_mesh",
            "check_mesh", "Discretization", "solve", "Solution", "SolverError", "energy_norm", "METHODS",
-           "contact_state", "kkt_residuals", "estimate", "Estimate", "dorfler_mark", "refine", "adapt",
+           "contact_state", "kkt_residuals", "estimate", "Estimate", "dorfler_mark", "refine", "adapt", "Adaptation",
            "minimum_angle", "HPState", "hp_refine", "Reference", "energy_error", "load_reference",
            "save_reference", "load_problem", "example_file"]

@@ -12,19 +12,20 @@ import csv
 import gc
 import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from types import SimpleNamespace
 
 import ngsolve as ngs
 import numpy as np
 
-from .estimator import estimate
+from .estimator import WEIGHTS, estimate
 from .hp import HPState, hp_refine
 from .meshes import element_diameters, netgen_mesh, uniform_mesh
 from .solution import solve
 from .transfer import multiplier_snapshot
 
-__all__ = ["dorfler_mark", "refine", "adapt", "minimum_angle"]
+__all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle"]
 
 
 def dorfler_mark(element_indicators, theta=0.3):
@@ -76,24 +77,49 @@ FIELDS = ["level", "ndof", "elements", "eta", "eta1", "eta2", "eta3", "eta4", "e
           "p_min", "p_max"]
 
 
-def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, max_ndof=10**5, tol=None,
-          solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=False, max_order=6,
-          **options):
-    """The adaptive loop of Section 6; returns the list of level records (dicts).
+@dataclass
+class Adaptation:
+    """What :func:`adapt` returns.
+
+    ``levels``: one record (dict with the keys of ``FIELDS``) per solved level; ``solution``: the
+    :class:`~ngdgfric.solution.Solution` of the last level (its mesh is the final mesh, not refined
+    after it); ``estimate``: its :class:`~ngdgfric.estimator.Estimate`; ``stopped``: why the loop
+    ended ("tol", "max_levels" or "max_ndof").
+    """
+
+    levels: list
+    solution: object
+    estimate: object
+    stopped: str
+
+
+def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100, max_ndof=10**6, tol=None,
+          solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
+          weights="energy", **options):
+    """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
+
+    Stops as soon as eta_h <= ``tol`` (with the default ``weights="energy"`` eta_h estimates the
+    energy error |||u - u_h|||_h, :func:`ngdgfric.estimate`), after ``max_levels`` solves, or when
+    the next refined mesh would exceed ``max_ndof`` degrees of freedom (tried on a copy of the mesh,
+    so the returned solution's mesh is never refined after its solve).  Defaults: hp-adaptive
+    (:func:`ngdgfric.hp.hp_refine`) SIPG from p = ``order`` = 2 up to ``max_order`` = 8, Doerfler
+    theta = 0.3; the paper's loop is ``hp=False, order=1, weights="paper"``.
 
     mesh: initial mesh (default: uniform h = 1/2 on a rectangle, Netgen maxh = 1/2 otherwise);
-    it is refined in place.  Stops after ``max_levels`` solves, before a solve that would exceed
-    ``max_ndof`` degrees of freedom, or as soon as eta_h <= ``tol``.  Every level after the first
-    starts from the previous solution transferred to the refined mesh.  ``progress``: callable
-    receiving one line per level (None for silence); ``csv_path``: each finished level is
-    appended to this CSV at once (the header is written first), so an interrupted run keeps every
-    finished level.  ``keep``: callable(level, solution, estimate) called at every level, e.g. to
-    save a picture.  ``hp``: refine marked elements in h or p by :func:`ngdgfric.hp.hp_refine`
-    (starting from ``order`` everywhere, up to ``max_order``).  Further options go to
+    it is refined in place.  Every level after the first starts from the previous solution
+    transferred to the refined mesh.  ``progress``: callable receiving one line per level (None
+    for silence); ``csv_path``: each finished level is appended to this CSV at once (the header is
+    written first), so an interrupted run keeps every finished level.  ``keep``: callable(level,
+    solution, estimate) called at every level, e.g. to save a picture.  Further options go to
     :func:`ngdgfric.solve`.
     """
     if hp and not (isinstance(max_order, int) and max_order >= order):
         raise ValueError(f"max_order must be an integer >= order = {order}, got {max_order!r}")
+    if weights not in WEIGHTS:
+        raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
+    for name, value in (("max_levels", max_levels), ("max_ndof", max_ndof)):
+        if not (isinstance(value, (int, np.integer)) and value >= 1):
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
     if mesh is None:
         mesh = uniform_mesh(problem, 0.5) if problem.geometry.is_rectangle else netgen_mesh(problem, 0.5)
     if tol is not None and not (tol > 0):
@@ -114,38 +140,56 @@ def adapt(problem, mesh=None, method="sipg", order=1, theta=0.3, max_levels=30, 
         sol = solve(problem, mesh, method=method, order=state.orders if hp else order, eta=eta, solver=solver,
                     initial=previous, **options)
         solved = time.perf_counter()
-        est = estimate(sol)
+        est = estimate(sol, weights)
         estimated = time.perf_counter()
         record = dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta=est.total,
                       **{k: math.sqrt(v) for k, v in est.parts.items()}, iterations=sol.iterations,
                       solve_seconds=solved - start, estimate_seconds=estimated - solved,
                       h_min=float(element_diameters(mesh).min()), min_angle=minimum_angle(mesh),
-                      p_min=int(state.orders.min()), p_max=int(state.orders.max()))
+                      p_min=int(state.orders.min()), p_max=int(state.orders.max()), mark_refine_seconds=0.0)
         if keep is not None:
             keep(level, sol, est)
-        done = (tol is not None and est.total <= tol) or level == max_levels - 1
-        if not done:
+        stopped = "tol" if tol is not None and est.total <= tol else "max_levels" if level == max_levels - 1 else None
+        if stopped is None:
             refine_start = time.perf_counter()
             marked = dorfler_mark(est.element, theta)
-            carrier.Set(sol.u)  # exact: element-wise L2 projection into a superspace
-            previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
-            indicators = est.element
-            sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
-            gc.collect()  # reference cycles may keep them alive (seen in dask workers)
-            if hp:
-                state = hp_refine(mesh, state, indicators, marked, max_order)
+            refinement = dict(indicators=est.element, marked=marked, hp=hp, max_order=max_order, order=order)
+            if _refined_ndof(mesh, state, max_ndof, **refinement) > max_ndof:
+                stopped = "max_ndof"
             else:
-                refine(mesh, marked)
-                state = HPState.uniform(mesh, order)
+                carrier.Set(sol.u)  # exact: element-wise L2 projection into a superspace
+                previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
+                sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
+                gc.collect()  # reference cycles may keep them alive (seen in dask workers)
+                state = _refine(mesh, state, **refinement)
             record["mark_refine_seconds"] = time.perf_counter() - refine_start
-            done = state.ndof > max_ndof  # dim V_h on the refined mesh
-        else:
-            record["mark_refine_seconds"] = 0.0
         records.append(record)
         _report(record, csv_path, progress, solver)
-        if done:
-            break
-    return records
+        if stopped is not None:
+            return Adaptation(records, sol, est, stopped)
+
+
+def _refine(mesh, state, indicators, marked, hp, max_order, order):
+    """Refine ``mesh`` in place (h: bisection; hp: :func:`hp_refine`); returns the new HPState."""
+    if hp:
+        return hp_refine(mesh, state, indicators, marked, max_order)
+    refine(mesh, marked)
+    return HPState.uniform(mesh, order)
+
+
+def _refined_ndof(mesh, state, max_ndof, **refinement):
+    """dim V_h after the refinement, or an upper bound of it when that is <= max_ndof.
+
+    One pass of bisection with closure gives an element at most 4 children (hp_refine makes two
+    passes) and raising p_T to p_T + 1 at most doubles its (p_T + 1)(p_T + 2) DOFs; near the budget
+    the refinement is done on a copy of the mesh (Netgen's copy keeps the bisection data, so the
+    copy refines exactly as the mesh would).
+    """
+    bound = state.ndof * (32 if refinement["hp"] else 4)
+    if bound <= max_ndof:
+        return bound
+    copy = ngs.Mesh(mesh.ngmesh.Copy())
+    return _refine(copy, state, **refinement).ndof
 
 
 def _report(record, csv_path, progress, solver):

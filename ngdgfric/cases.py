@@ -94,7 +94,7 @@ def _contact_summary(sol):
 
 
 def compliance_case(case):
-    """case: example, c_n, solver, h.  Iterations, penetration, eta_h, and the condition number of
+    """case: example, c_n, solver, h.  Iterations, penetration, eta_h (the paper's weights), and the condition number of
     A + c_n (u.n, v.n)_{Gamma_C}, the Jacobian with the whole of Gamma_C in contact (m_n = 1)."""
     from .estimator import estimate
 
@@ -110,7 +110,7 @@ def compliance_case(case):
     condition = float(np.linalg.cond(disc.A.ToDense().NumPy() + stiff.mat.ToDense().NumPy()))
     out = dict(case, status=status, seconds=seconds, condition=condition)
     if sol is not None:
-        out.update(iterations=sol.iterations, eta=estimate(sol).total, **_contact_summary(sol))
+        out.update(iterations=sol.iterations, eta=estimate(sol, weights="paper").total, **_contact_summary(sol))
     return out
 
 
@@ -141,13 +141,14 @@ def rho_case(case):
 
 def precision_case(case):
     """case: example, method, order, strategy, solver, max_ndof, reference.  The records of
-    :func:`ngdgfric.studies.strategy_run` (DOFs, eta_h, true error, seconds per level)."""
+    :func:`ngdgfric.studies.strategy_run` (DOFs, eta_h with the paper's weights, true error, seconds per
+    level)."""
     problem = EXAMPLES[case["example"]]()
     reference = load_reference(case["reference"], problem)
     try:
         records = strategy_run(problem, case["strategy"], method=case["method"], order=case["order"],
                                solver=case["solver"], reference=reference, max_ndof=case["max_ndof"],
-                               max_order=case.get("max_order", 8))
+                               max_order=case.get("max_order", 8), weights="paper")
         status = "converged"
     except SolverError as error:
         records, status = [], f"failed: {str(error).splitlines()[0][:120]}"

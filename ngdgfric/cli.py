@@ -126,7 +126,11 @@ def build_parser():
     sub.add_argument("--levels", type=_number(int), default=10, help="maximal number of solves (default: 10)")
     sub.add_argument("--max-ndof", type=_number(int), default=10**5,
                      help="stop before a solve with more DOFs (default: 1e5)")
-    sub.add_argument("--tol", type=_number(float), default=None, help="stop when eta_h <= TOL")
+    sub.add_argument("--tol", type=_number(float), default=None,
+                     help="stop when eta_h <= TOL (an estimate of the energy error |||u - u_h|||_h)")
+    sub.add_argument("--weights", choices=["energy", "paper"], default="energy",
+                     help="estimator: 'energy' (default, in the units of the energy norm) or 'paper' "
+                          "(Section 4 as printed)")
     sub.add_argument("--hp", action="store_true", help="hp refinement (ngdgfric.hp.hp_refine)")
     sub.add_argument("--max-order", type=_number(int), default=6, help="largest degree with --hp (default: 6)")
     return parser
@@ -288,7 +292,8 @@ def cmd_adaptive(args, problem, tag):
 
     records = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta, max_levels=args.levels,
                     max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
-                    csv_path=Path(f"{stem}.csv"), progress=say, keep=keep, hp=args.hp, max_order=args.max_order)
+                    csv_path=Path(f"{stem}.csv"), progress=say, keep=keep, hp=args.hp, max_order=args.max_order,
+                    weights=args.weights).levels
     _plot_adaptive(problem, args, records, final["mesh"], Path(f"{stem}.png"))
     say(f"wrote {stem}.csv, {stem}.png")
     return records

@@ -7,6 +7,10 @@
     eta_5^2 = sum_{e in E_h^F} (h_e/p) ||sigma_h(u_h) n - g||_e^2
     eta_6^2 = sum_{e in E_h^C} (h_e/p) ||sigma_h,n(u_h) + c_n (u_hn - g_a)_+^{m_n}||_e^2
 
+These are the terms of ``estimate(sol, weights="paper")``; the default (``weights="energy"``) divides
+the residual terms by 2 mu and replaces the pressure part of sigma_h(u_h) by a continuous average
+(:func:`estimate`), so that eta_h estimates |||u - u_h|||_h in its units.
+
 For p = 1 and m_t = 0 these are exactly the terms of Section 4 (div sigma_h(u_h) = 0 for piecewise
 linear u_h, so eta_1 involves f only); for m_t > 0, eta_4 carries the friction bound at u_h, as
 the friction force of (1.9) does; for p > 1 they carry the usual hp weights h/p and the element
@@ -42,13 +46,15 @@ class Estimate:
     element_parts: dict
 
 
-def div_stress(problem, u):
-    """div sigma(u) = 2 mu div eps(u) + lam grad div u, from the Hessian of u (elementwise)."""
+def div_stress(problem, u, lam=None):
+    """div sigma(u) = 2 mu div eps(u) + lam grad div u, from the Hessian of u (elementwise; ``lam``
+    defaults to the problem's, ``lam=0`` gives the deviatoric part)."""
+    lam = problem.lam if lam is None else lam
     H = u.Operator("hesse")  # H[4 c + 2 a + b] = d_a d_b u_c
     hess = lambda c, a, b: H[4 * c + 2 * a + b]  # noqa: E731
     div_eps = [0.5 * sum(hess(i, j, j) + hess(j, i, j) for j in range(2)) for i in range(2)]
     grad_div = [sum(hess(j, i, j) for j in range(2)) for i in range(2)]
-    return ngs.CF(tuple(2 * problem.mu * div_eps[i] + problem.lam * grad_div[i] for i in range(2)))
+    return ngs.CF(tuple(2 * problem.mu * div_eps[i] + lam * grad_div[i] for i in range(2)))
 
 
 def element_integrals(mesh, integrals):
@@ -76,15 +82,55 @@ def _vector(value):
     return value if isinstance(value, ngs.CoefficientFunction) else ngs.CF(tuple(value))
 
 
-def estimate(sol):
-    """Element indicators and the six terms of eta_h for a Solution (see module docstring)."""
+WEIGHTS = ("energy", "paper")
+
+
+def averaged_pressure(problem, u, order):
+    """p~_h: the pressure p_h = lam div_h u_h made continuous (NGSolve's ``Set`` into H^1 of degree
+    ``order``: local projections, averaged at shared vertices and edges, an Oswald-type average)."""
+    pressure = ngs.GridFunction(ngs.H1(u.space.mesh, order=int(order)))
+    pressure.Set(problem.lam * (ngs.Grad(u)[0, 0] + ngs.Grad(u)[1, 1]))
+    return pressure
+
+
+def estimate(sol, weights="energy"):
+    """Element indicators and the six terms of eta_h for a Solution (see module docstring).
+
+    ``weights="paper"``: the terms of Section 4 as printed (module docstring).
+
+    ``weights="energy"`` (default): an estimate of |||u - u_h|||_h in its own units, robust in the
+    scale of E and, for the methods that do not lock, in nu -> 1/2.  Write the discrete stress as
+    sigma_h = 2 mu eps_h(u_h) + p_h I with p_h = lam div_h u_h, let p~_h be the continuous average of
+    p_h (:func:`averaged_pressure`) and sigma~_h = 2 mu eps_h(u_h) + p~_h I.  For v in H^1 vanishing on
+    Gamma_D the residual splits as
+
+        R(v) = l(v) - (sigma~_h, eps(v)) - contact(v)  -  (p_h - p~_h, div v),
+
+    the first part a residual of sigma~_h, bounded by the usual terms (Clement interpolation,
+    ||v - I v||_T <~ h_T / p |v|_{1, w_T}, Korn) times |v|_1 <~ |||v||| / sqrt(2 mu); the second by
+    ||p_h - p~_h|| ||div v|| <= ||p_h - p~_h|| sqrt(2) ||eps(v)|| <= ||p_h - p~_h|| |||v||| / sqrt(mu).
+    Hence every residual term carries the weight 1 / (2 mu) and no constant depends on lam, as in
+    the lam-robust bounds of Houston, Schoetzau & Wihler (CMAME 195, 2006, the pressure a separate
+    unknown weighted by 1/mu) and Wihler (Math. Comp. 75, 2006); the averaging is the Oswald
+    interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using p~_h
+    instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an oscillating
+    discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
+    error (results/effectivity.md: NIPG, P3, nu = 0.4999, effectivity 12.5 with p_h, 5.5 with p~_h).
+    The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies):
+
+        eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma~_h||_T^2 + ||p_h - p~_h||_T^2
+        eta_2^2 = sum_{e in E_h^i} (h_e/p) ||[sigma~_h n]||_e^2   (= [2 mu eps_h(u_h) n]: p~_h is continuous)
+        eta_4, eta_5, eta_6 with sigma~_h n in place of sigma_h(u_h) n;  eta_3 as printed (a penalty:
+        already in energy units).
+    """
+    if weights not in WEIGHTS:
+        raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
     disc = sol.discretization
     problem, mesh, u, p = sol.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
     h_e = disc.h_e
     h_T = ngs.GridFunction(ngs.L2(mesh, order=0))
     h_T.vec.FV().NumPy()[:] = element_diameters(mesh)
-    sigma_n = stress(problem, strain(u)) * n
     jump_u = u - u.Other()
     penalty = jump_penalty(problem, disc.method, disc.eta, edge_order(p), h_e)
     boundary_penalty = jump_penalty(problem, disc.method, disc.eta, p, h_e)
@@ -96,12 +142,25 @@ def estimate(sol):
     jump_measure = ngs.dx(element_boundary=True, bonus_intorder=max(q - 5, 0))
     on = {name: facet_indicator(mesh, name) for name in problem.boundary_names()}
 
-    residual = _vector(problem.f) + (div_stress(problem, u) if disc.order > 1 else ngs.CF((0, 0)))
-    jump_sigma = sigma_n - stress(problem, strain(u)).Other() * n
+    if weights == "paper":
+        sigma = stress(problem, strain(u))
+        neighbour = stress(problem, strain(u)).Other()
+        residual = _vector(problem.f) + (div_stress(problem, u) if disc.order > 1 else ngs.CF((0, 0)))
+        volume = (h_T / p) ** 2 * residual * residual * ngs.dx(bonus_intorder=q)
+    else:
+        pressure = averaged_pressure(problem, u, disc.order)
+        sigma = 2 * problem.mu * strain(u) + pressure * ngs.Id(2)
+        neighbour = 2 * problem.mu * strain(u).Other() + pressure * ngs.Id(2)
+        div_deviatoric = div_stress(problem, u, lam=0) if disc.order > 1 else ngs.CF((0, 0))
+        residual = _vector(problem.f) + div_deviatoric + ngs.Grad(pressure)
+        difference = problem.lam * (ngs.Grad(u)[0, 0] + ngs.Grad(u)[1, 1]) - pressure
+        volume = ((h_T / p) ** 2 * residual * residual + difference * difference) * ngs.dx(bonus_intorder=q)
+    sigma_n = sigma * n
+    jump_sigma = sigma_n - neighbour * n
     contact = on[problem.contact]
     traction_residual = sigma_n - _vector(problem.g)
     parts = element_integrals(mesh, {
-        "eta1": (h_T / p) ** 2 * residual * residual * ngs.dx(bonus_intorder=q),
+        "eta1": volume,
         "eta3": on[problem.dirichlet] * boundary_penalty * jump_inner(u, u, n) * boundary,
         "eta4": contact * h_e / p * (sigma_n * t + disc.bound(u) * sol.lam_tau) ** 2 * boundary,
         "eta5": on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual) * boundary,
@@ -113,6 +172,18 @@ def estimate(sol):
                             ("eta3", 0.5 * penalty * jump_inner(jump_u, jump_u, n))):
         parts[name] = parts.get(name, 0) + ngs.Integrate(integrand * jump_measure, mesh, element_wise=True).NumPy()
     parts = {name: parts[name] for name in sorted(parts)}
+    if weights == "energy":
+        parts = {name: value if name == "eta3" else value * _inverse_stiffness(problem, mesh)
+                 for name, value in parts.items()}
     element = sum(parts.values())
     return Estimate(element=element, parts={k: float(v.sum()) for k, v in parts.items()},
                     total=float(np.sqrt(element.sum())), element_parts=parts)
+
+
+def _inverse_stiffness(problem, mesh):
+    """1 / (2 mu) per element (mu may vary: its element average)."""
+    mu = problem.mu
+    if not isinstance(mu, ngs.CoefficientFunction):
+        return 1.0 / (2.0 * mu)
+    area = ngs.Integrate(ngs.CF(1) * ngs.dx, mesh, element_wise=True).NumPy()
+    return area / (2.0 * ngs.Integrate(mu * ngs.dx, mesh, element_wise=True).NumPy())

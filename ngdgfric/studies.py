@@ -81,7 +81,7 @@ def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), so
 
 
 def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", reference=None, max_ndof=10**5,
-                 max_levels=60, tol=None, max_order=6, progress=None, keep=None, **options):
+                 max_levels=60, tol=None, max_order=6, progress=None, keep=None, weights="energy", **options):
     """Records (ndof, eta, error, seconds, iterations per level) of one refinement strategy.
 
     ``strategy``: "uniform" (uniform meshes h = 2^-1, 2^-2, ... up to ``max_ndof``; ``seconds`` is
@@ -90,7 +90,7 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
     up to ``max_order``); for both adaptive strategies ``seconds`` is the cumulative time of
     solve + estimate + mark + refine up to that level.  ``error``: |||u_ref - u_h|||_h against a
     :class:`ngdgfric.Reference` (None without one); its evaluation is not timed.  ``keep``: as in
-    :func:`ngdgfric.adapt` (adaptive strategies).
+    :func:`ngdgfric.adapt` (adaptive strategies); ``weights``: the estimator's (:func:`ngdgfric.estimate`).
     """
     if strategy not in STRATEGIES:
         raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
@@ -109,7 +109,7 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
             start = time.perf_counter()
             sol = solve(problem, mesh, method=method, order=order, solver=solver, **options)
             seconds = time.perf_counter() - start
-            records.append(dict(level=k, seconds=seconds, **measure(sol, estimate(sol))))
+            records.append(dict(level=k, seconds=seconds, **measure(sol, estimate(sol, weights))))
             _say(progress, strategy, records[-1])
             if tol is not None and records[-1]["eta"] <= tol:
                 break
@@ -124,7 +124,7 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
 
     levels = adapt(problem, method=method, order=order, solver=solver, max_levels=max_levels, max_ndof=max_ndof,
                    tol=tol, hp=strategy == "hp", max_order=max_order, progress=progress, keep=measure_and_keep,
-                   **options)
+                   weights=weights, **options).levels
     elapsed = 0.0
     for record in levels:
         elapsed += record["solve_seconds"] + record["estimate_seconds"] + record["mark_refine_seconds"]

@@ -43,7 +43,7 @@ def make_reference(problem, path, tol, max_ndof, max_order, max_levels=80):
 
         start = time.perf_counter()
         records = ndf.adapt(problem, method="sipg", order=2, hp=True, max_order=max_order, tol=tol,
-                            max_ndof=max_ndof, max_levels=max_levels, keep=keep, progress=say)
+                            max_ndof=max_ndof, max_levels=max_levels, weights="paper", keep=keep, progress=say).levels
         seconds = time.perf_counter() - start
         path.write_bytes(files[-1].read_bytes())
         reference = ndf.load_reference(path, problem)

@@ -3,7 +3,8 @@
 For each example: the true error |||u_ref - u_h|||_h (results/reference_<example>.npz) against wall
 time and against DOFs for the five methods, P1-P3, uniform / h-adaptive / hp-adaptive refinement
 (:func:`ngdgfric.studies.strategy_run`) and Newton / Uzawa; the Pareto front (no other run is both
-faster and more accurate) marked.  What each eta_h tolerance of ``adapt(tol=...)`` costs per strategy.
+faster and more accurate) marked.  What each tolerance on the paper's eta_h (``weights="paper"``) costs
+per strategy.
 Cases run through dask.distributed with a cache (:mod:`ngdgfric.runner`).  Writes
 results/work_precision_<example>.png / _dofs.png / .csv and results/work_precision.md.
 
@@ -131,7 +132,8 @@ def summary(example, runs):
             best = cheapest(mine, "eta", tol)
             tol_rows.append([strategy, f"{tol:g}"] + (["-", "-", "-"] if best is None else
                                                       [best[0], best[2], f"{best[3]:.2f}"]))
-    lines += ["What `adapt(tol=...)` (or a uniform mesh fine enough) costs for eta_h <= tol, Newton, cheapest method "
+    lines += ["What `adapt(tol=..., weights=\"paper\")` (or a uniform mesh fine enough) costs for eta_h <= tol "
+              "(the paper's estimator), Newton, cheapest method "
               "and order per strategy:", "",
               markdown_table(["strategy", "eta_h tol", "run", "DOFs", "s"], tol_rows), ""]
     return lines, rows

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
+import pytest
 
 import ngdgfric as ndf
 
@@ -28,7 +29,7 @@ def test_refinement_keeps_labels_and_shape_regularity():
 
 def test_adapt_reduces_eta_and_stops_at_tol(tmp_path):
     p = ndf.example_6_2()
-    records = ndf.adapt(p, max_levels=6, csv_path=tmp_path / "levels.csv", progress=None)
+    records = ndf.adapt(p, order=1, hp=False, max_levels=6, csv_path=tmp_path / "levels.csv", progress=None).levels
     assert len(records) == 6
     etas = [r["eta"] for r in records]
     assert etas[-1] < etas[0]
@@ -39,20 +40,20 @@ def test_adapt_reduces_eta_and_stops_at_tol(tmp_path):
     assert [int(r["level"]) for r in rows] == list(range(6))
     tol = 0.999 * min(etas[:3])
     first = next(i for i, e in enumerate(etas) if e <= tol)  # the runs are deterministic
-    stopped = ndf.adapt(p, max_levels=20, tol=tol, progress=None)
-    assert stopped[-1]["eta"] <= tol and len(stopped) == first + 1
+    stopped = ndf.adapt(p, order=1, hp=False, max_levels=20, tol=tol, progress=None)
+    assert stopped.levels[-1]["eta"] <= tol and len(stopped.levels) == first + 1 and stopped.stopped == "tol"
 
 
 def test_adapt_stops_before_exceeding_max_ndof():
-    records = ndf.adapt(ndf.example_6_1(), max_levels=50, max_ndof=2000, progress=None)
-    assert records[-1]["ndof"] <= 2000
-    assert len(records) < 50
+    run = ndf.adapt(ndf.example_6_1(), order=1, hp=False, max_levels=50, max_ndof=2000, progress=None)
+    assert run.levels[-1]["ndof"] <= 2000 and run.stopped == "max_ndof"
+    assert len(run.levels) < 50
 
 
 def test_interrupted_run_keeps_finished_levels(tmp_path):
     path = tmp_path / "levels.csv"
     code = ("import ngdgfric as ndf; "
-            f"ndf.adapt(ndf.example_6_1(), max_levels=200, max_ndof=10**8, csv_path=r'{path}')")
+            f"ndf.adapt(ndf.example_6_1(), order=1, hp=False, max_levels=200, max_ndof=10**8, csv_path=r'{path}')")
     proc = subprocess.Popen([sys.executable, "-c", code], cwd=ROOT, stdout=subprocess.DEVNULL)
     try:
         deadline = time.time() + 120
@@ -69,3 +70,32 @@ def test_interrupted_run_keeps_finished_levels(tmp_path):
     assert len(rows) >= 2
     assert [int(r["level"]) for r in rows[:2]] == [0, 1]
     assert float(rows[1]["eta"]) > 0
+
+
+def test_adapt_returns_the_final_solution_on_its_own_mesh():
+    for stop in (dict(max_levels=3), dict(max_ndof=1500), dict(tol=None, max_levels=2)):
+        run = ndf.adapt(ndf.example_6_2(), order=1, hp=False, progress=None, **stop)
+        last = run.levels[-1]
+        # not refined after its solve: the solution lives on the mesh it was solved on
+        assert run.solution.ndof == last["ndof"] == run.solution.mesh.ne * 6
+        assert run.estimate.total == pytest.approx(last["eta"], rel=1e-12)
+        assert ndf.estimate(run.solution).total == pytest.approx(last["eta"], rel=1e-10)
+        assert ndf.kkt_residuals(run.solution)["equilibrium"] < 1e-9
+    assert run.stopped == "max_levels"
+
+
+def test_adapt_tol_bounds_the_true_energy_error():
+    # eta_h <= tol in energy units: the true error of the returned solution is below tol, and not far below
+    from manufactured import incompressible_contact_manufactured
+
+    problem, u = incompressible_contact_manufactured()
+    for tol in (3.0, 0.3):
+        run = ndf.adapt(problem, tol=tol, progress=None)
+        error = ndf.energy_norm(run.solution, u)
+        assert run.stopped == "tol" and tol / 10 <= error <= tol, (tol, error)
+
+
+def test_adapt_rejects_bad_budgets():
+    for bad in (dict(max_levels=0), dict(max_ndof=-1), dict(weights="none")):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            ndf.adapt(ndf.example_6_2(), progress=None, **bad)

@@ -28,12 +28,25 @@ def test_eta3_equals_penalty_times_the_jump_part_of_the_energy_norm(solution):
     assert ndf.estimate(solution).parts["eta3"] == pytest.approx(solution.eta * jumps, rel=1e-10)
 
 
-def test_eta1_vanishes_without_body_force(solution):
-    assert ndf.estimate(solution).parts["eta1"] == 0.0
+def test_eta1_of_the_paper_vanishes_without_body_force(solution):
+    assert ndf.estimate(solution, weights="paper").parts["eta1"] == 0.0
     p = dataclasses.replace(ndf.example_6_1(), f=(1.0, 2.0))
-    est = ndf.estimate(ndf.solve(p, ndf.uniform_mesh(p, 1 / 4)))
+    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4))
     # eta_1^2 = sum_T h_T^2 |f|^2 |T| = (sqrt(2)/4)^2 * 5 * 1 for h = 1/4 on the unit-area domain
-    assert est.parts["eta1"] == pytest.approx(2 / 16 * 5, rel=1e-12)
+    assert ndf.estimate(sol, weights="paper").parts["eta1"] == pytest.approx(2 / 16 * 5, rel=1e-12)
+
+
+def test_energy_weights_divide_by_2_mu_when_the_pressure_is_continuous():
+    # u linear: the stress is constant, p_h = lam div u is its own continuous average, so the energy
+    # terms are the paper's divided by 2 mu = E / (1 + nu) (eta_3, a penalty, unchanged)
+    p = dataclasses.replace(ndf.example_6_1(), f=(1.0, 2.0))
+    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), order=2)
+    sol.u.Set(ngs.CF((1e-3 * (ngs.x - 1) + 2e-3 * ngs.y, -1e-3 * ngs.x + 5e-4 * (ngs.y - 0.05))))
+    paper, energy = ndf.estimate(sol, weights="paper").parts, ndf.estimate(sol).parts
+    assert paper["eta1"] == pytest.approx(2 / 16 * 5 / 4, rel=1e-10)  # (h/p)^2 |f|^2, p = 2
+    for name in paper:
+        factor = 1.0 if name == "eta3" else 1.4 / 2000
+        assert energy[name] == pytest.approx(factor * paper[name], rel=1e-9, abs=1e-20), name
 
 
 def test_eta3_vanishes_for_a_continuous_function_zero_on_gamma_d():
@@ -97,3 +110,35 @@ def test_element_integrals_equal_integrate_element_wise():
     for name, integral in integrals(3).items():
         alone = ngs.Integrate(integral, mesh, element_wise=True).NumPy()
         assert np.allclose(together[name], alone, rtol=1e-12, atol=1e-14 * np.max(np.abs(alone)))
+
+
+def _effectivity(problem, u, method="sipg", order=1, h=1 / 8, weights="energy"):
+    sol = ndf.solve(problem, ndf.uniform_mesh(problem, h), method=method, order=order)
+    return ndf.estimate(sol, weights=weights).total / ndf.energy_norm(sol, u)
+
+
+def test_energy_weights_make_the_effectivity_independent_of_the_units_of_E():
+    # the same displacement with E = 1 and E = 1e6 (data scaled): u_h is the same, the energy error
+    # scales like sqrt(E) but for its unweighted jump part h^-1 ||[u_h]||^2
+    from manufactured import incompressible_contact_manufactured
+
+    soft, stiff = (incompressible_contact_manufactured(E=E, c_n=10.0 * E / 1e3) for E in (1.0, 1e6))
+    for weights, (low, high) in (("energy", (0.97, 1.03)), ("paper", (500, 2000))):
+        ratio = _effectivity(*stiff, weights=weights) / _effectivity(*soft, weights=weights)
+        assert low < ratio < high, (weights, ratio)
+
+
+@pytest.mark.parametrize("method", ["nipg", "brezzi"])
+def test_effectivity_is_robust_as_nu_tends_to_one_half(method):
+    # div u = 0: the data do not depend on nu; NIPG and Brezzi et al. do not lock
+    from manufactured import incompressible_contact_manufactured
+
+    for order in (1, 2):
+        values = [_effectivity(*incompressible_contact_manufactured(nu=nu), method=method, order=order)
+                  for nu in (0.3, 0.4999)]
+        assert all(1 < v < 8 for v in values) and max(values) / min(values) < 1.5, (order, values)
+
+
+def test_unknown_weights_raise(solution):
+    with pytest.raises(ValueError, match="weights"):
+        ndf.estimate(solution, weights="energie")

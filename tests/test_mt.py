@@ -141,7 +141,7 @@ def test_manufactured_m_t_1_converges_at_the_optimal_rate(order, levels):
 
 def test_adaptive_loop_with_m_t_2():
     p = dataclasses.replace(ndf.example_6_1(), m_t=2.0)
-    records = ndf.adapt(p, max_levels=4, progress=None)
+    records = ndf.adapt(p, order=1, hp=False, max_levels=4, progress=None).levels
     assert [r["level"] for r in records] == [0, 1, 2, 3]
     assert records[-1]["eta"] < records[0]["eta"]
 
