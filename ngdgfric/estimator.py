@@ -115,7 +115,8 @@ def estimate(sol, weights="energy"):
     interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using p~_h
     instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an oscillating
     discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
-    error (results/effectivity.md: NIPG, P3, nu = 0.4999, effectivity 12.5 with p_h, 5.5 with p~_h).
+    error (measured on :func:`ngdgfric.manufactured.incompressible_contact_manufactured`, NIPG, P3,
+    nu = 0.4999, h = 1/16: effectivity 12.5 with p_h, 5.5 with p~_h; results/effectivity.md).
     The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies):
 
         eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma~_h||_T^2 + ||p_h - p~_h||_T^2
