@@ -264,10 +264,31 @@ class ReducedContact:
         # watchdog (Chamberlain, Powell, Lemarechal & Pedersen, Math. Prog. Study 16, 1982): near the
         # solution a Newton step with a few wrong sets may raise Theta and the next one repair it
         if residual <= WATCHDOG:
-            second = self.project(trial + self.newton_direction(self.evaluate(trial)))
+            after = self.evaluate(trial)
+            second = self.project(trial + self.newton_direction(after))
             if lowers(second):
                 return second, "newton (watchdog)"
+            # degenerate points (z = +-beta: stick and slip both hold at the solution) flip between
+            # Newton iterates; hold the ones that flip at their bound (slip) and step once more
+            flips = (s.stick != after.stick) & (np.abs(s.f[self.M:]) >= self.beta_fixed * (1 - 1e-8))
+            if flips.any():
+                held = self._held_at_bound(s, flips)
+                third = self.project(s.f + self.newton_direction(held))
+                if lowers(third):
+                    return third, "newton (degenerate points held)"
         return self._projected_newton_step(s, grad, scaling, p)
+
+    def _held_at_bound(self, s, points):
+        """A copy of state s in which the friction variables ``points`` (at their bound) count as slip."""
+        held = _State()
+        for name in _State.__slots__:
+            setattr(held, name, getattr(s, name))
+        M = self.M
+        held.stick = s.stick & ~points
+        held.sign = np.where(points, np.sign(s.f[M:]), s.sign)
+        held.G = s.G.copy()
+        held.G[M:][points] = s.f[M:][points] - held.sign[points] * s.beta[points]
+        return held
 
     def _projected_newton_step(self, s, grad, scaling, projected_gradient):
         """Bertsekas' projected Newton step (SIAM J. Control Optim. 20, 1982): variables within epsilon of

@@ -128,3 +128,17 @@ def test_plain_semismooth_newton_cycles_where_the_globalised_one_converges(nearl
     f, info = reduced.solve(tol=1e-12)
     assert info["iterations"] <= 30 and law_violation(reduced, f)[0] <= 1e-12
     assert any(step.startswith("projected newton") for step in info["steps"])
+
+
+@pytest.mark.parametrize("E, nu, h, method", [(1e3, 0.49, 1 / 8, "brezzi"), (1e3, 0.3, 1 / 16, "sipg"),
+                                               (1e6, 0.3, 1 / 16, "brezzi")])
+def test_degenerate_stick_slip_transitions_converge(E, nu, h, method):
+    # the divergence-free manufactured solution has c_tau = |sigma_tau| in its slip zones, down to 0 at their
+    # ends: points with |z| = beta where stick and slip both hold.  Newton steps alternated between two
+    # states (Theta equal to round-off) or between two sets until these points were handled (P4)
+    from manufactured import incompressible_contact_manufactured
+
+    problem, _ = incompressible_contact_manufactured(E=E, nu=nu, c_n=10.0 * E / 1e3)
+    sol = ndf.solve(problem, ndf.uniform_mesh(problem, h), method=method, order=4)
+    kkt = ndf.kkt_residuals(sol)
+    assert kkt["lam_excess"] <= 1e-12 and kkt["complementarity"] <= 1e-12 and kkt["equilibrium"] <= 1e-9
