@@ -116,7 +116,7 @@ def estimate(sol, weights="energy"):
     instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an oscillating
     discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
     error (measured on :func:`ngdgfric.manufactured.incompressible_contact_manufactured`, NIPG, P3,
-    nu = 0.4999, h = 1/16: effectivity 12.5 with p_h, 5.5 with p~_h; results/effectivity.md).
+    nu = 0.4999, h = 1/16, before the calibration below: effectivity 12.5 with p_h, 5.5 with p~_h).
     Calibrated constant: every element indicator is multiplied by p_T^(-1/2).  The hp weights h/p
     make residual estimators reliable with a constant independent of p but efficient only up to
     powers of p (Melenk & Wohlmuth, Adv. Comput. Math. 15, 2001), and eta_h / |||u - u_h|||_h grew
