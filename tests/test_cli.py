@@ -119,6 +119,11 @@ def test_uniform_and_adaptive_commands(tmp_path, capsys):
         levels = list(csv.DictReader(handle))
     assert [int(r["level"]) for r in levels] == [0, 1, 2]
     assert (tmp_path / "6_1_adaptive_sipg_p1.png").stat().st_size > 0
+    # --weights paper: the same loop with the estimator of Section 4 as printed (larger: E = 2000)
+    assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path)]) == 0
+    with open(tmp_path / "6_1_adaptive_sipg_p1.csv") as handle:
+        paper = list(csv.DictReader(handle))
+    assert float(paper[0]["eta"]) > 20 * float(levels[0]["eta"])
 
 
 L_SHAPE = """

@@ -15,6 +15,9 @@ def test_uniform_convergence(tmp_path):
     rows = results["sipg"]
     assert [r["k"] for r in rows] == [1, 2]
     assert rows[0]["paper_error"] == pytest.approx(4.7518e-1)
+    # ours/paper compares the true relative error (against the hp reference) with the paper's number
+    assert 0.3 < rows[0]["true_relative"] < 1
+    assert rows[0]["ratio"] == pytest.approx(rows[0]["true_relative"] / 4.7518e-1)
     text = (tmp_path / "table_6_1.md").read_text()
     assert "ours/paper" in text and "Regenerate" in text
     assert (tmp_path / "table_6_1.csv").exists()
@@ -31,6 +34,7 @@ def test_adaptive(tmp_path):
 def test_table_variants(tmp_path):
     rows = run("table_variants", tmp_path)
     assert {r["example"] for r in rows} == {"6.1", "6.2"}
+    assert {"consecutive", "hp reference"} <= {r["comparison"] for r in rows}
     assert "Findings" in (tmp_path / "table_investigation.md").read_text()
 
 
@@ -79,3 +83,16 @@ def test_work_precision(tmp_path):
     assert "fastest run" in (tmp_path / "work_precision.md").read_text()
     for name in ("work_precision_6_2.png", "work_precision_6_2_dofs.png", "work_precision_6_2.csv"):
         assert (tmp_path / name).stat().st_size > 0
+
+
+def test_effectivity(tmp_path):
+    rows = run("effectivity", tmp_path, "--workers", "1")
+    assert {r["family"] for r in rows} == {"divergence-free", "6.2"}
+    assert all(1 < r["effectivity"] < 10 for r in rows)
+    assert "max/min" in (tmp_path / "effectivity.md").read_text() and (tmp_path / "effectivity.png").exists()
+
+
+def test_tolerance(tmp_path):
+    rows = run("tolerance", tmp_path)
+    assert rows[0]["stopped"] == "tol" and rows[0]["error"] <= rows[0]["tol"]
+    assert "true error / t" in (tmp_path / "tolerance.md").read_text()
