@@ -150,7 +150,8 @@ def main(argv=None):
         lines += [f"## Example {example}", "",
                   f"![estimator and error](hp_{example.replace('.', '_')}.png)", "",
                   markdown_table(["run", "levels", "final DOFs", "final eta_h", "final error", "seconds"], table), "",
-                  f"- The h-adaptive P1 run (Figure 6.{1 if example == '6.1' else 3}) ends with error "
+                  f"- The h-adaptive P1 run (the loop of Figure 6.{1 if example == '6.1' else 3}, default estimator) "
+                  f"ends with error "
                   f"{target['error']:.3e} at {target['ndof']} DOFs; hp reaches that error with "
                   + (f"{needed:.0f} DOFs: **{factor:.0f} times fewer** (goal: 10)." if needed else
                      "- (not reached within its DOF budget)."),
