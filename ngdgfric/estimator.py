@@ -85,11 +85,16 @@ def _vector(value):
 WEIGHTS = ("energy", "paper")
 
 
+def discrete_pressure(problem, u):
+    """p_h = lam div_h u_h = lam tr eps_h(u_h), element by element."""
+    return problem.lam * ngs.Trace(strain(u))
+
+
 def averaged_pressure(problem, u, order):
-    """p~_h: the pressure p_h = lam div_h u_h made continuous (NGSolve's ``Set`` into H^1 of degree
-    ``order``: local projections, averaged at shared vertices and edges, an Oswald-type average)."""
+    """p~_h: p_h made continuous (NGSolve's ``Set`` into H^1 of degree ``order``: local projections,
+    averaged at shared vertices and edges, an Oswald-type average)."""
     pressure = ngs.GridFunction(ngs.H1(u.space.mesh, order=int(order)))
-    pressure.Set(problem.lam * (ngs.Grad(u)[0, 0] + ngs.Grad(u)[1, 1]))
+    pressure.Set(discrete_pressure(problem, u))
     return pressure
 
 
@@ -162,7 +167,7 @@ def estimate(sol, weights="energy"):
         neighbour = 2 * problem.mu * strain(u).Other() + pressure * ngs.Id(2)
         div_deviatoric = div_stress(problem, u, lam=0) if disc.order > 1 else ngs.CF((0, 0))
         residual = _vector(problem.f) + div_deviatoric + ngs.Grad(pressure)
-        difference = problem.lam * (ngs.Grad(u)[0, 0] + ngs.Grad(u)[1, 1]) - pressure
+        difference = discrete_pressure(problem, u) - pressure
         volume = ((h_T / p) ** 2 * residual * residual + difference * difference) * ngs.dx(bonus_intorder=q)
     sigma_n = sigma * n
     jump_sigma = sigma_n - neighbour * n
@@ -183,8 +188,8 @@ def estimate(sol, weights="energy"):
     parts = {name: parts[name] for name in sorted(parts)}
     if weights == "energy":
         calibration = 1.0 / np.asarray(disc.orders, dtype=float)  # (p_T^(-1/2))^2, see the docstring
-        parts = {name: calibration * (value if name == "eta3" else value * _inverse_stiffness(problem, mesh))
-                 for name, value in parts.items()}
+        residual_weight = calibration * _inverse_stiffness(problem, mesh)
+        parts = {name: value * (calibration if name == "eta3" else residual_weight) for name, value in parts.items()}
     element = sum(parts.values())
     return Estimate(element=element, parts={k: float(v.sum()) for k, v in parts.items()},
                     total=float(np.sqrt(element.sum())), element_parts=parts)
