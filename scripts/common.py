@@ -1,8 +1,10 @@
 """Helpers shared by the scripts: examples by name, results folder, Markdown/CSV writers."""
 
 import csv
+import multiprocessing
 import os
 import sys
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import ngdgfric as ndf
@@ -59,3 +61,19 @@ def save_figure(fig, path, dpi=120):
     fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
+
+
+def in_processes(function, items, workers):
+    """(index, function(item)) for every item as it finishes: in this process (workers = 1) or in a
+    pool of ``workers`` spawned processes (cancelled on an exception or when the caller stops)."""
+    if workers == 1:
+        for index, item in enumerate(items):
+            yield index, function(item)
+        return
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        futures = {pool.submit(function, item): index for index, item in enumerate(items)}
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+    finally:
+        pool.shutdown(wait=False, cancel_futures=True)

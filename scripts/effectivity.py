@@ -21,12 +21,10 @@ A method "locks" at (nu, p) when its error on the finest uniform divergence-free
 
 import argparse
 import math
-import multiprocessing
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, in_processes, markdown_table, save_figure, say, write_csv
 
 METHODS = ("sipg", "nipg", "bassi", "brezzi", "ldg")
 ORDERS = (1, 2, 3, 4)
@@ -123,19 +121,6 @@ def run_task(task):
     for row in rows:
         row.pop("levels")
     return rows
-
-
-def results(work, workers):
-    if workers == 1:
-        for task in work:
-            yield run_task(task)
-        return
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
-    try:
-        for future in as_completed([pool.submit(run_task, task) for task in work]):
-            yield future.result()
-    finally:
-        pool.shutdown(wait=False, cancel_futures=True)
 
 
 def locking(rows):
@@ -255,7 +240,7 @@ def main(argv=None):
     rows, start = [], time.perf_counter()
     csv_path, md_path = args.out / "effectivity.csv", args.out / "effectivity.md"
     try:
-        for done, task_rows in enumerate(results(work, min(args.workers, len(work))), 1):
+        for done, (_, task_rows) in enumerate(in_processes(run_task, work, min(args.workers, len(work))), 1):
             rows += task_rows
             last = task_rows[-1]
             say(f"[{done}/{len(work)}] {last['family']} E={last['E']} nu={last['nu']} {last['method']} "

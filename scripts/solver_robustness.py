@@ -39,15 +39,13 @@ import collections
 import dataclasses
 import functools
 import math
-import multiprocessing
 import time
 import warnings
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, in_processes, markdown_table, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
@@ -621,21 +619,6 @@ def progress_line(index, total, row):
 
 
 # ============================================================================ MAIN
-def results(cases, workers, budget):
-    """(index, row) of every case as it finishes: in this process (workers = 1) or in a pool of processes."""
-    if workers == 1:
-        for index, spec in enumerate(cases):
-            yield index, run_case(spec, budget)
-        return
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
-    try:
-        futures = {pool.submit(run_case, spec, budget): index for index, spec in enumerate(cases)}
-        for future in as_completed(futures):
-            yield futures[future], future.result()
-    finally:
-        pool.shutdown(wait=False, cancel_futures=True)
-
-
 def main(argv=None):
     args = parse(argv)
     args.out.mkdir(parents=True, exist_ok=True)
@@ -648,7 +631,7 @@ def main(argv=None):
     csv_path, md_path = args.out / "solver_robustness.csv", args.out / "solver_robustness.md"
     budget = QUICK_UZAWA_SECONDS if args.quick else UZAWA_SECONDS
     done, start = {}, time.perf_counter()
-    finished = results(cases, min(args.workers, len(cases)), budget)
+    finished = in_processes(functools.partial(run_case, uzawa_seconds=budget), cases, min(args.workers, len(cases)))
     try:
         for index, row in finished:
             done[index] = row

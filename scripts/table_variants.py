@@ -24,7 +24,7 @@ from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_c
 import ngdgfric as ndf
 from ngdgfric.paper import TABLES
 from ngdgfric.reference import reference_errors
-from ngdgfric.studies import consecutive_differences, rates
+from ngdgfric.studies import rates, uniform_study
 
 NORMS = ("energy", "relative", "h1", "l2")
 METHODS = ("sipg", "nipg")
@@ -57,15 +57,12 @@ def variants(example, quick):
     return out
 
 
-def solve_levels(problem, levels, diagonal="sw-ne", **options):
-    return [ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k, diagonal=diagonal), **options) for k in levels]
-
-
-def variant_rows(example, name, method, solutions, reference, levels):
+def variant_rows(example, name, method, study, reference):
+    """Rows of every comparison and norm from ``study`` = (rows, solutions) of :func:`uniform_study`."""
+    consecutive, solutions = study
     paper = TABLES[example][method]
-    hs = [2.0**-k for k in levels[:-1]]
-    diffs = {"consecutive": consecutive_differences(solutions),
-             "hp reference": [reference_errors(s, reference) for s in solutions[:-1]]}
+    hs = [row["h"] for row in consecutive]
+    diffs = {"consecutive": consecutive, "hp reference": [reference_errors(s, reference) for s in solutions[:-1]]}
     rows = []
     for comparison, values in diffs.items():
         for norm in NORMS:
@@ -101,12 +98,12 @@ def main(argv=None):
             for method in METHODS[:1] if args.quick else METHODS:
                 say(f"Example {example}, {method.upper()}: {name}")
                 try:
-                    solutions = solve_levels(problem, levels, method=method, **options)
+                    study = uniform_study(problem, method, 1, levels, **options)
                 except ndf.SolverError as err:
                     say(f"  failed: {err}")
                     rows += failed_rows(example, method, name, err)
                     continue
-                rows += variant_rows(example, name, method, solutions, reference, levels)
+                rows += variant_rows(example, name, method, study, reference)
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "table_investigation.csv", rows)
     (args.out / "table_investigation.md").write_text(report(rows))
