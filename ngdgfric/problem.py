@@ -7,10 +7,13 @@ from it.  Validation runs in ``__post_init__``, so ``dataclasses.replace``
 checks the new values too.
 """
 
+import math
 from dataclasses import dataclass, field
 from numbers import Real
 
 import ngsolve as ngs
+
+from .geometry import check_polygon
 
 __all__ = ["ContactProblem", "Polygon"]
 
@@ -19,9 +22,22 @@ def _is_number(value):
     return isinstance(value, Real) and not isinstance(value, bool)
 
 
+def _finite(name, value):
+    """``value`` as a float, ValueError unless it is a finite real number."""
+    try:
+        number = float(value)
+    except OverflowError:
+        number = float("inf")
+    if not math.isfinite(number):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    return number
+
+
 def _check_scalar(name, value):
-    """A datum is a real number or a scalar CoefficientFunction."""
+    """A datum is a finite real number or a scalar CoefficientFunction (checked pointwise by
+    :func:`ngdgfric.checks.check_data` on a mesh)."""
     if _is_number(value):
+        _finite(name, value)
         return
     if isinstance(value, ngs.CoefficientFunction) and value.dim == 1:
         return
@@ -42,11 +58,10 @@ def _check_vector(name, value):
 
 
 def _check_number(name, value, low=None, high=None, low_open=False, high_open=True):
-    """A number in [low, high) (or with the given open/closed ends); CFs are checked later, pointwise."""
+    """A finite number in [low, high) (or with the given open/closed ends); CFs are checked later, pointwise."""
     if not _is_number(value):
         return
-    if value != value:  # NaN
-        raise ValueError(f"{name} must be a number, got {value!r}")
+    _finite(name, value)
     if low is not None and (value < low or (low_open and value == low)):
         bound = f"> {low}" if low_open else f">= {low}"
         raise ValueError(f"{name} must be {bound}, got {value!r}")
@@ -55,9 +70,21 @@ def _check_number(name, value, low=None, high=None, low_open=False, high_open=Tr
         raise ValueError(f"{name} must be {bound}, got {value!r}")
 
 
+def _point(k, vertex):
+    """vertices[k] as a pair of floats (ValueError naming it otherwise)."""
+    try:
+        x, y = vertex
+        return float(x), float(y)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"vertices[{k}] must be a pair of numbers (x, y), got {vertex!r}") from None
+
+
 @dataclass(frozen=True)
 class Polygon:
     """A polygonal domain Omega, vertices counter-clockwise.
+
+    Validated on construction (:func:`ngdgfric.geometry.check_polygon`): finite, at least 3
+    vertices, no (near-)duplicates, a simple polygon, counter-clockwise.
 
     ``labels[i]`` names the side from ``vertices[i]`` to ``vertices[i+1]`` (cyclic);
     each label is one of the problem's boundary names.
@@ -67,12 +94,11 @@ class Polygon:
     labels: tuple
 
     def __post_init__(self):
-        vertices = tuple((float(x), float(y)) for x, y in self.vertices)
+        vertices = tuple(_point(k, vertex) for k, vertex in enumerate(self.vertices))
         labels = tuple(str(label) for label in self.labels)
         object.__setattr__(self, "vertices", vertices)
         object.__setattr__(self, "labels", labels)
-        if len(vertices) < 3:
-            raise ValueError(f"a polygon needs at least 3 vertices, got {len(vertices)}")
+        check_polygon(vertices)
         if len(labels) != len(vertices):
             raise ValueError(f"a polygon needs one label per side: {len(vertices)} sides, {len(labels)} labels")
         if self.signed_area <= 0:
@@ -152,13 +178,11 @@ class ContactProblem:
         if not _is_number(self.m_n):
             raise ValueError(f"m_n must be a number, got {self.m_n!r}")
         _check_number("m_n", self.m_n, low=1, high=None)
-        if self.m_n == float("inf"):
-            raise ValueError(f"m_n must be finite, got {self.m_n!r}")
         _check_scalar("g_a", self.g_a)
         _check_scalar("c_tau", self.c_tau)
         _check_number("c_tau", self.c_tau, low=0, high=None)
-        if not _is_number(self.m_t) or self.m_t == float("inf"):
-            raise ValueError(f"m_t must be a finite number, got {self.m_t!r}")
+        if not _is_number(self.m_t):
+            raise ValueError(f"m_t must be a number, got {self.m_t!r}")
         _check_number("m_t", self.m_t, low=0, high=None)
         if not isinstance(self.geometry, Polygon):
             raise ValueError(f"geometry must be a Polygon, got {self.geometry!r}")

@@ -1,0 +1,81 @@
+"""Plane geometry of the problem's polygon: is it simple, and does a mesh fill it.
+
+Netgen is given only polygons that pass :func:`check_polygon` (a NaN vertex or a duplicate one
+crashed it with a segmentation fault, a self-intersecting one made it loop for minutes without
+reacting to Ctrl-C, and vertices closer than about 1e-8 of the polygon's size made meshing fail).
+"""
+
+import numpy as np
+
+__all__ = ["check_polygon", "RESOLUTION", "distances_to_sides"]
+
+# vertices (and a vertex and a side) closer than RESOLUTION times the polygon's diameter are refused:
+# Netgen meshed a gap of 1e-7 of the size and failed at 1e-8
+RESOLUTION = 1e-6
+
+
+def check_polygon(vertices):
+    """ValueError naming the defect unless ``vertices`` (n, 2) are those of a simple polygon.
+
+    Checked: finite coordinates; at least 3 vertices; no vertex within RESOLUTION x diameter of
+    another vertex or of a side it does not bound; no two sides crossing or overlapping.
+    """
+    v = np.asarray(vertices, dtype=float)
+    bad = np.flatnonzero(~np.all(np.isfinite(v), axis=1))
+    if bad.size:
+        k = int(bad[0])
+        raise ValueError(f"vertices[{k}] = {_show(v[k])} is not a finite point")
+    n = len(v)
+    if n < 3:
+        raise ValueError(f"a polygon needs at least 3 vertices, got {n}")
+    diameter = float(np.max(np.ptp(v, axis=0)))
+    if diameter == 0:
+        raise ValueError("all vertices of the polygon coincide")
+    tol = RESOLUTION * diameter
+    for i in range(n):
+        gaps = np.linalg.norm(v[i + 1:] - v[i], axis=1)
+        close = np.flatnonzero(gaps <= tol)
+        if close.size:
+            j = i + 1 + int(close[0])
+            raise ValueError(f"vertices[{i}] = {_show(v[i])} and vertices[{j}] = {_show(v[j])} coincide "
+                             f"(distance {gaps[close[0]]:.3g}, less than {RESOLUTION:g} of the polygon's size)")
+    starts, ends = v, np.roll(v, -1, axis=0)
+    for i in range(n):
+        near = distances_to_sides(v[i:i + 1], starts, ends)[0]
+        near[[i, (i - 1) % n]] = np.inf  # the two sides that end at vertex i
+        j = int(np.argmin(near))
+        if near[j] <= tol:
+            raise ValueError(f"vertices[{i}] = {_show(v[i])} lies on side {j} (from vertices[{j}] to "
+                             f"vertices[{(j + 1) % n}]): the polygon touches or crosses itself")
+    for i in range(n):
+        crossing = _crossings(starts[i], ends[i], starts, ends)
+        crossing[[(i - 1) % n, i, (i + 1) % n]] = False
+        if np.any(crossing):
+            j = int(np.flatnonzero(crossing)[0])
+            raise ValueError(f"sides {i} and {j} of the polygon cross: it is not simple")
+        back = (i + 1) % n  # a side turning back onto the one before (a spike of zero width)
+        a, b = ends[i] - starts[i], ends[back] - starts[back]
+        if abs(a[0] * b[1] - a[1] * b[0]) <= tol * np.linalg.norm(a) and a @ b < 0:
+            raise ValueError(f"sides {i} and {back} of the polygon overlap (the boundary turns back at "
+                             f"vertices[{back}])")
+
+
+def distances_to_sides(points, starts, ends):
+    """(m, k) distances from ``points`` (m, 2) to the segments from ``starts`` to ``ends`` (k, 2)."""
+    points = np.asarray(points, dtype=float)[:, None, :]
+    d = ends - starts
+    length2 = np.maximum(np.sum(d * d, axis=1), np.finfo(float).tiny)
+    t = np.clip(np.sum((points - starts) * d, axis=2) / length2, 0.0, 1.0)
+    return np.linalg.norm(points - (starts + t[..., None] * d), axis=2)
+
+
+def _crossings(p, q, starts, ends):
+    """Which segments (starts, ends) the segment p-q crosses at a point inside both (proper crossings)."""
+    def side(a, b, c):
+        return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+
+    return (side(p, q, starts) * side(p, q, ends) < 0) & (side(starts, ends, p) * side(starts, ends, q) < 0)
+
+
+def _show(point):
+    return f"({float(point[0])!r}, {float(point[1])!r})"
