@@ -8,6 +8,7 @@ from numbers import Integral, Real
 import ngsolve as ngs
 import numpy as np
 
+from .checks import check_data, check_size
 from .contact import (
     ContactGauss,
     compliance,
@@ -83,14 +84,19 @@ class Discretization:
     of Q), ``h_e``, ``timings``; ``orders`` (p_T per element), ``order`` (the largest, which sets
     the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as a number
     or GridFunction, for the penalty and the estimator weights).
+
+    Before assembly: the mesh must fit the problem (:func:`ngdgfric.meshes.check_mesh`), the DOFs
+    the size limit ``max_ndof`` and the data be valid pointwise (:mod:`ngdgfric.checks`).
     """
 
-    def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn"):
+    def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn", max_ndof=None):
         check_mesh(problem, mesh)
         self.problem, self.mesh = problem, mesh
         self.method = get_method(method)
         order = check_order(order, mesh)
         self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
+        check_size(self.orders, max_ndof)
+        check_data(problem, mesh, int(self.orders.max()))
         self.order = int(self.orders.max())
         self.p = self.order if np.ndim(order) == 0 or np.all(order == self.order) else order_function(mesh, order)
         lowest = int(self.orders.min())  # the lowest order has the highest SIPG threshold
@@ -127,7 +133,6 @@ class Discretization:
         self.compliance = ngs.BilinearForm(self.V)
         self.compliance += self.compliance_form(u, v)
         self._contact_forms = {}
-        self._check_contact_data()
         self.timings["setup"] = time.perf_counter() - start
 
     @property
@@ -229,22 +234,3 @@ class Discretization:
                 dofs += list(extra(el))
             groups.append(dofs)
         return groups
-
-    def _check_contact_data(self):
-        """Spatially varying g_a must be finite and c_n, c_tau finite and >= 0 on Gamma_C (checked at the
-        Gauss points, where the contact laws are evaluated)."""
-        points = self.contact_points()
-        if isinstance(self.problem.g_a, ngs.CoefficientFunction):
-            values = np.asarray(self.problem.g_a(points)).ravel()
-            if not np.all(np.isfinite(values)):
-                k = int(np.flatnonzero(~np.isfinite(values))[0])
-                x, y = float(ngs.x(points[k])), float(ngs.y(points[k]))
-                raise ValueError(f"g_a must be finite on Gamma_C, got {values[k]!r} at the contact point "
-                                 f"({x:.6g}, {y:.6g})")
-        for name in ("c_n", "c_tau"):
-            value = getattr(self.problem, name)
-            if isinstance(value, ngs.CoefficientFunction):
-                values = np.asarray(value(points)).ravel()
-                if np.any(values < 0) or not np.all(np.isfinite(values)):
-                    k = int(np.argmin(np.where(np.isfinite(values), values, -np.inf)))
-                    raise ValueError(f"{name} must be >= 0 on Gamma_C, got {values[k]!r} at a contact point")

@@ -29,7 +29,8 @@ def _finite(name, value):
     except OverflowError:
         number = float("inf")
     if not math.isfinite(number):
-        raise ValueError(f"{name} must be a finite number, got {value!r}")
+        shown = repr(value) if len(repr(value)) <= 40 else f"{repr(value)[:20]}... ({len(repr(value))} digits)"
+        raise ValueError(f"{name} must be a finite number, got {shown}")
     return number
 
 

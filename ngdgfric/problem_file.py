@@ -172,11 +172,17 @@ def _evaluate(node):
 def load_problem(path):
     """The :class:`ContactProblem` of a TOML problem file (format in the module docstring)."""
     path = Path(path)
-    with open(path, "rb") as handle:
-        try:
+    try:
+        with open(path, "rb") as handle:
             data = tomllib.load(handle)
-        except tomllib.TOMLDecodeError as exc:
-            raise ValueError(f"{path}: invalid TOML: {exc}") from exc
+    except FileNotFoundError:
+        raise
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot read the problem file: {exc.strerror or exc}") from exc
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a UTF-8 text file (byte {exc.start}: {exc.reason})") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: invalid TOML: {exc}") from exc
     return problem_from_dict(data, source=str(path), default_name=path.stem)
 
 
@@ -204,6 +210,8 @@ def problem_from_dict(data, source="<dict>", default_name="contact problem"):
         for key, value in table.items():
             try:
                 values[key] = _convert(keys[key], value)
+            except OverflowError:
+                fail(f"{section}.{key}", "number too large (not a finite float)")
             except ValueError as exc:
                 fail(f"{section}.{key}", str(exc))
     vertices, labels = values.pop("vertices"), values.pop("labels")

@@ -45,7 +45,7 @@ class Solution:
 
 
 def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=None, initial=None,
-          penalty_check="warn", **options):
+          penalty_check="warn", max_ndof=None, **options):
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
     problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
@@ -63,6 +63,9 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     threshold (:func:`ngdgfric.forms.check_penalty`).
     initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
     same domain: see :func:`ngdgfric.transfer.initial_guess`).
+    max_ndof: refuse (ValueError, before assembly) above this many DOFs; None: above an estimated
+    8 GB (:func:`ngdgfric.checks.check_size`).  Data given as CoefficientFunctions are checked
+    pointwise first (:func:`ngdgfric.checks.check_data`).
     options: passed to the solver (``maxit``, ``progress``; ``linear_solver`` for Newton; ``rho``
     for Uzawa; ``inner`` and the inner solver's options for the fixed point); unknown names and
     bad values raise ValueError before anything is assembled.
@@ -73,7 +76,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     tol = DEFAULT_TOL[solver] if tol is None else tol
     validate(spec, solver, tol=tol, **options)
     start = time.perf_counter()
-    disc = Discretization(problem, mesh, method, order, eta, penalty_check)
+    disc = Discretization(problem, mesh, method, order, eta, penalty_check, max_ndof)
     start_guess = None if initial is None else initial_guess(initial, disc)
     u, lam, info = function(disc, tol=tol, initial=start_guess, **options)
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],

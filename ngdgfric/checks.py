@@ -1,0 +1,94 @@
+"""Checks of a problem on a mesh before anything is assembled: the data pointwise, and the size.
+
+:class:`ngdgfric.problem.ContactProblem` checks numbers when it is made; data given as
+CoefficientFunctions can only be checked where they are used.  :func:`check_data` samples them
+at the points where the forms evaluate them (each triangle's Gauss points of degree 2p + 2, its
+edges' Gauss points and its vertices; the Gauss points and end points of the edges of Gamma_F and
+Gamma_C) and names the datum and a point where it fails: ``g_a = "sqrt(x - 2)"`` or ``E =
+"2000*(0.5 - x)"`` used to end in a no-contact answer or a complex energy norm.
+
+:func:`check_size` refuses a discretisation whose estimated memory is above a budget before it is
+assembled.
+"""
+
+import ngsolve as ngs
+import numpy as np
+
+__all__ = ["check_data", "check_size", "estimated_bytes", "MEMORY_BUDGET"]
+
+MEMORY_BUDGET = 8e9  # bytes; the default limit of check_size
+
+
+def _rule(order, shape):
+    """Sampling points on a reference element of ``shape`` (TRIG or SEGM): Gauss points and the boundary."""
+    degree = 2 * order + 2
+    gauss = [tuple(p) for p in ngs.IntegrationRule(ngs.SEGM, degree).points]
+    if shape == ngs.SEGM:
+        points = [(t[0],) for t in gauss] + [(0.0,), (1.0,)]
+    else:
+        points = [tuple(p)[:2] for p in ngs.IntegrationRule(ngs.TRIG, degree).points]
+        for (a, b), (c, d) in (((0, 0), (1, 0)), ((1, 0), (0, 1)), ((0, 1), (0, 0))):
+            points += [(a + t[0] * (c - a), b + t[0] * (d - b)) for t in gauss]
+        points += [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]
+    return {shape: ngs.IntegrationRule(points, [0.0] * len(points))}
+
+
+# datum: (lower bound or None, whether the bound itself is excluded)
+VOLUME = {"E": (0.0, True), "f": (None, False)}
+BOUNDARY = {"traction": {"g": (None, False)}, "contact": {"g_a": (None, False), "c_n": (0.0, False),
+                                                         "c_tau": (0.0, False)}}
+
+
+def check_data(problem, mesh, order):
+    """ValueError naming the datum and a point unless every CoefficientFunction datum is finite
+    (and E > 0, c_n >= 0, c_tau >= 0) at the points where the forms of order ``order`` use it."""
+    _check_on(problem, VOLUME, mesh.MapToAllElements(_rule(order, ngs.TRIG), ngs.VOL), "Omega")
+    for part, data in BOUNDARY.items():
+        name = getattr(problem, part)
+        region = mesh.Boundaries(name)
+        if any(el.mat == name for el in mesh.Elements(ngs.BND)):
+            _check_on(problem, data, mesh.MapToAllElements(_rule(order, ngs.SEGM), region), f"the boundary {name!r}")
+
+
+def _check_on(problem, data, points, where):
+    for name, (low, open_bound) in data.items():
+        value = getattr(problem, name)
+        if isinstance(value, ngs.CoefficientFunction):
+            values = np.asarray(value(points)).reshape(len(points), -1)
+        elif name in ("f", "g") and any(isinstance(c, ngs.CoefficientFunction) for c in value):
+            values = np.asarray(ngs.CF(tuple(value))(points)).reshape(len(points), -1)
+        else:
+            continue
+        bad = ~np.isfinite(values)
+        if low is not None:
+            bad |= (values <= low) if open_bound else (values < low)
+        rows = np.flatnonzero(np.any(bad, axis=1))
+        if rows.size:
+            k = int(rows[0])
+            x, y = float(ngs.x(points[k])), float(ngs.y(points[k]))
+            shown = float(values[k, 0]) if values.shape[1] == 1 else tuple(map(float, values[k]))
+            need = "finite" if low is None else f"finite and {'>' if open_bound else '>='} {low:g}"
+            raise ValueError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
+
+
+def estimated_bytes(orders):
+    """Peak memory of a solve with element orders ``orders``: sum over elements of
+    n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the peak resident memory
+    of Example 6.1 solves: P1 with 2e5 and 8e5 DOFs, P3 with 1.6e5 and 6.6e5, P6 with 1.1e5; 3-7 %)."""
+    n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
+    return float(np.sum(n * (1000 + 270 * n)))
+
+
+def check_size(orders, max_ndof=None):
+    """ValueError before assembly if the DOFs of elements of ``orders`` exceed ``max_ndof``, or, for
+    ``max_ndof=None``, if the estimated memory exceeds MEMORY_BUDGET."""
+    orders = np.asarray(orders)
+    ndof = int(np.sum((orders + 1) * (orders + 2)))
+    memory = estimated_bytes(orders)
+    if max_ndof is None:
+        if memory > MEMORY_BUDGET:
+            raise ValueError(f"{ndof} DOFs would need about {memory / 1e9:.3g} GB, more than the "
+                             f"{MEMORY_BUDGET / 1e9:g} GB allowed by default; pass max_ndof={ndof} "
+                             f"(CLI: --max-ndof) to allow it")
+    elif ndof > max_ndof:
+        raise ValueError(f"{ndof} DOFs (about {memory / 1e9:.3g} GB) is more than max_ndof = {max_ndof}")
