@@ -1,7 +1,8 @@
 """Reference solutions: a very accurate u_h stored in a small file, and true errors against it.
 
 A reference is one ``.npz`` file: the mesh (vertices, triangles, labelled boundary segments),
-the order of every element, the coefficient vector of u_h, and its estimator eta_h.  The error
+the order of every element, the coefficient vector of u_h, its estimator eta_h, and a fingerprint
+of its problem (:func:`fingerprint`) that :func:`load_reference` checks.  The error
 of another solution u_h (on any mesh of the same domain) is
 
     |||u_ref - u_h|||_h^2 = sum_T int_T C eps(u_ref - u_h) : eps(u_ref - u_h) dx
@@ -12,6 +13,8 @@ those points by point search in its mesh; the jump part is exact for the exact s
 is continuous and zero on Gamma_D, so [u - u_h] = -[u_h]) and so uses u_h alone.
 """
 
+import zipfile
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,11 +22,12 @@ import ngsolve as ngs
 import numpy as np
 
 from .discretization import dg_space
+from .files import atomic_path
 from .forms import strain
 from .meshes import mesh_arrays, mesh_from_arrays
 from .norms import energy_norm_squared_parts
 
-__all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors"]
+__all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint"]
 
 
 @dataclass
@@ -39,25 +43,151 @@ class Reference:
 
 
 def save_reference(sol, path, eta, description=""):
-    """Write Solution ``sol`` with its estimator value ``eta`` to ``path`` (.npz)."""
+    """Write Solution ``sol`` with its estimator value ``eta`` to ``path`` (.npz, written atomically),
+    with a fingerprint of its problem (:func:`fingerprint`)."""
     points, triangles, segments, labels = mesh_arrays(sol.mesh)
-    np.savez_compressed(Path(path), points=points, triangles=triangles, segments=segments, labels=labels,
-                        orders=sol.discretization.orders, u=sol.u.vec.FV().NumPy(), eta=eta,
-                        method=sol.method, description=description)
+    with atomic_path(path) as temporary:
+        with open(temporary, "wb") as handle:
+            np.savez_compressed(handle, points=points, triangles=triangles, segments=segments, labels=labels,
+                                orders=sol.discretization.orders, u=sol.u.vec.FV().NumPy(), eta=eta,
+                                method=sol.method, description=description,
+                                **fingerprint(sol.problem, sol.mesh, points, triangles, segments))
+
+
+# the data whose values at sample points of the reference's mesh identify the problem (8 columns)
+DATA = ("E", "f", "g", "g_a", "c_n", "c_tau")
+SAMPLES = 500  # sample triangles and boundary edges (each at most)
+
+
+def fingerprint(problem, mesh, points, triangles, segments):
+    """Arrays that identify ``problem``: its geometry, boundary names and numbers, and its data at
+    the centroids of up to SAMPLES triangles and the midpoints of up to SAMPLES boundary edges of
+    ``mesh`` (given by its :func:`mesh_arrays`)."""
+    def sample(cells):
+        return points[cells[np.unique(np.linspace(0, len(cells) - 1, min(len(cells), SAMPLES)).astype(int))]].mean(1)
+
+    where = np.concatenate([sample(triangles), sample(segments)])
+    return dict(fp_vertices=np.asarray(problem.geometry.vertices), fp_labels=np.asarray(problem.geometry.labels),
+                fp_names=np.asarray(problem.boundary_names()), fp_numbers=np.array([problem.nu, problem.m_n,
+                                                                                   problem.m_t]),
+                fp_points=where, fp_data=_data_at(problem, mesh, where))
+
+
+def _data_at(problem, mesh, where):
+    """(k, 8) values of E, f, g, g_a, c_n, c_tau at the points ``where`` (k, 2) of ``mesh``."""
+    at = mesh(where[:, 0], where[:, 1])
+    columns = []
+    for name in DATA:
+        value = getattr(problem, name)
+        for component in (value if isinstance(value, (tuple, list)) else (value,)):
+            if isinstance(component, ngs.CoefficientFunction):
+                columns.append(np.asarray(component(at)).reshape(len(where), -1))
+            else:
+                columns.append(np.full((len(where), 1), float(component)))
+    return np.hstack(columns)
 
 
 def load_reference(path, problem):
-    """The :class:`Reference` stored at ``path`` for ``problem`` (the same problem it was made for)."""
+    """The :class:`Reference` stored at ``path`` for ``problem``.
+
+    ValueError naming the file and the defect if the file is not a reference (unreadable, keys
+    missing, arrays of wrong shape or type, indices out of range, non-finite values) or was made
+    for another problem (its fingerprint: geometry, names, numbers, data at sample points).
+    """
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no reference solution at {path}: run scripts/reference.py to make it")
-    data = np.load(path)
-    mesh = mesh_from_arrays(problem, data["points"], data["triangles"], data["segments"], data["labels"])
+    data = _read(path)
+    _check_arrays(path, data)
+    _check_fingerprint(path, data, problem)
+    try:
+        mesh = mesh_from_arrays(problem, data["points"], data["triangles"], data["segments"], data["labels"])
+    except ValueError as exc:
+        raise ValueError(f"{path}: not a mesh of this problem: {exc}") from exc
+    found = _data_at(problem, mesh, data["fp_points"])
+    differ = np.abs(found - data["fp_data"]) > 1e-10 * (np.abs(data["fp_data"]) + np.abs(data["fp_data"]).max(0))
+    if np.any(differ):
+        row, column = map(int, np.argwhere(differ)[0])
+        name = [f"{n}{s}" for n in DATA for s in (("[0]", "[1]") if n in ("f", "g") else ("",))][column]
+        x, y = data["fp_points"][row]
+        raise ValueError(f"{path}: made for another problem: {name} = {data['fp_data'][row, column]:.10g} there, "
+                         f"{found[row, column]:.10g} here at ({x:.6g}, {y:.6g})")
     u = ngs.GridFunction(dg_space(mesh, data["orders"]))
     if u.space.ndof != data["u"].size:
         raise ValueError(f"{path}: {data['u'].size} coefficients for a space of dimension {u.space.ndof}")
     u.vec.FV().NumPy()[:] = data["u"]
     return Reference(problem, mesh, u, data["orders"], float(data["eta"]), str(data["description"]))
+
+
+KEYS = ("points", "triangles", "segments", "labels", "orders", "u", "eta", "description", "fp_vertices", "fp_labels",
+        "fp_names", "fp_numbers", "fp_points", "fp_data")
+
+
+def _read(path):
+    """The arrays of an .npz file, ValueError naming the file if it cannot be read."""
+    if not zipfile.is_zipfile(path):
+        raise ValueError(f"{path}: not a reference file: not an .npz (zip) archive, or a truncated one")
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            data = {key: archive[key] for key in archive.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, KeyError) as exc:
+        raise ValueError(f"{path}: not a readable reference file (.npz): {type(exc).__name__}: {exc}") from exc
+    missing = [key for key in KEYS if key not in data]
+    if missing:
+        raise ValueError(f"{path}: not a reference file of this version: no {', '.join(missing)} (regenerate it "
+                         f"with scripts/reference.py or save_reference)")
+    return data
+
+
+def _check_arrays(path, data):
+    """ValueError naming the file and the array unless shapes, types, index ranges and values are sane."""
+    def fail(message):
+        raise ValueError(f"{path}: {message}")
+
+    def need(key, ndim, columns=None, kind="f"):
+        array = data[key]
+        if array.ndim != ndim or (columns is not None and array.shape[-1] != columns) or array.dtype.kind not in kind:
+            fail(f"{key} has shape {array.shape} and type {array.dtype}, not as a reference stores it")
+        if kind == "f" and not np.all(np.isfinite(array)):
+            fail(f"{key} holds non-finite values")
+        return array
+
+    points = need("points", 2, 2)
+    for key in ("triangles", "segments"):
+        cells = need(key, 2, 3 if key == "triangles" else 2, kind="iu")
+        if cells.size and (cells.min() < 0 or cells.max() >= len(points)):
+            fail(f"{key} refer to vertices outside 0..{len(points) - 1} (range {cells.min()}..{cells.max()})")
+    if need("labels", 1, kind="U").shape[0] != len(data["segments"]):
+        fail(f"{len(data['labels'])} labels for {len(data['segments'])} boundary segments")
+    orders = need("orders", 1, kind="iu")
+    if orders.shape[0] != len(data["triangles"]) or (orders.size and not 1 <= orders.min() <= orders.max() <= 30):
+        fail(f"orders: {orders.shape[0]} orders in {orders.min(initial=0)}..{orders.max(initial=0)} for "
+             f"{len(data['triangles'])} triangles (need one in 1..30 each)")
+    need("u", 1)
+    if need("eta", 0).item() < 0:
+        fail(f"eta = {data['eta'].item()} is negative")
+    need("fp_points", 2, 2)
+    if need("fp_data", 2, 8).shape[0] != len(data["fp_points"]):
+        fail("fp_data does not match fp_points")
+
+
+def _check_fingerprint(path, data, problem):
+    """ValueError unless the reference was made for a problem with ``problem``'s geometry, names and numbers."""
+    geometry = problem.geometry
+    stored = data["fp_vertices"]
+    if stored.shape != (len(geometry.vertices), 2) or not np.allclose(stored, geometry.vertices, rtol=0,
+                                                                        atol=1e-12 * np.ptp(stored)):
+        raise ValueError(f"{path}: made for another problem: its polygon is {stored.tolist()}, this problem's "
+                         f"{list(geometry.vertices)}")
+    if data["fp_labels"].tolist() != list(geometry.labels) or data["fp_names"].tolist() != list(
+            problem.boundary_names()):
+        raise ValueError(f"{path}: made for another problem: side labels {data['fp_labels'].tolist()} and names "
+                         f"{data['fp_names'].tolist()}, here {list(geometry.labels)} and "
+                         f"{list(problem.boundary_names())}")
+    numbers = np.array([problem.nu, problem.m_n, problem.m_t])
+    if data["fp_numbers"].shape != (3,) or not np.allclose(data["fp_numbers"], numbers, rtol=1e-12, atol=0):
+        raise ValueError(f"{path}: made for another problem: (nu, m_n, m_t) = {tuple(data['fp_numbers'].tolist())} "
+                         f"there, {tuple(numbers.tolist())} here")
 
 
 def energy_error(sol, reference):

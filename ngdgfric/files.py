@@ -1,0 +1,60 @@
+"""Output files written atomically: a temporary file in the target's folder, then a rename.
+
+An interrupted or failed write leaves the previous file (or none) in place, never a truncated one.
+"""
+
+import contextlib
+import csv
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["atomic_path", "write_text", "write_csv", "check_writable"]
+
+
+@contextlib.contextmanager
+def atomic_path(path, suffix=None):
+    """Yield a temporary path beside ``path``; on success rename it to ``path``, else remove it.
+
+    ``suffix``: the temporary file's suffix (default ``path``'s, so writers that choose a format by
+    the suffix, such as matplotlib's ``savefig``, write the right one).  OSError naming ``path`` if
+    the writer produced no file or the rename fails.
+    """
+    path = Path(path)
+    handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix if suffix is None else suffix,
+                                    dir=path.parent)
+    os.close(handle)
+    temporary = Path(name)
+    try:
+        yield temporary
+        if not temporary.exists():
+            raise OSError(f"could not write {path}: the writer produced no file")
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+
+
+def write_text(path, text):
+    """Write ``text`` to ``path`` atomically."""
+    with atomic_path(path) as temporary:
+        temporary.write_text(text)
+
+
+def write_csv(path, rows):
+    """Write the dicts ``rows`` as CSV (columns: every key, in order of first appearance) atomically."""
+    fields = list(dict.fromkeys(k for row in rows for k in row))
+    with atomic_path(path) as temporary, open(temporary, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def check_writable(folder):
+    """Create ``folder`` if needed and check that a file can be written in it (OSError naming it if not)."""
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise OSError(f"cannot write to the output folder {str(folder)!r}: {exc.strerror or exc}") from exc
