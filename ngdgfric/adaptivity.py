@@ -8,7 +8,6 @@ conforming again (netgen ``bisect.cpp``: ``BTSortEdges``, ``BTDefineMarkedTri``,
 ``BTBisectTri``).  Each marked triangle is bisected once, plus the closure.
 """
 
-import csv
 import gc
 import math
 import time
@@ -20,6 +19,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .estimator import WEIGHTS, estimate
+from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
 from .meshes import element_diameters, netgen_mesh, uniform_mesh
 from .solution import solve
@@ -108,8 +108,9 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100,
     mesh: initial mesh (default: uniform h = 1/2 on a rectangle, Netgen maxh = 1/2 otherwise);
     it is refined in place.  Every level after the first starts from the previous solution
     transferred to the refined mesh.  ``progress``: callable receiving one line per level (None
-    for silence); ``csv_path``: each finished level is appended to this CSV at once (the header is
-    written first), so an interrupted run keeps every finished level.  ``keep``: callable(level,
+    for silence); ``csv_path``: the CSV of the finished levels is rewritten (atomically) after every
+    level, so an interrupted run keeps every finished level and an earlier file is replaced only
+    once the first level is done.  ``keep``: callable(level,
     solution, estimate) called at every level, e.g. to save a picture.  Further options go to
     :func:`ngdgfric.solve`.
     """
@@ -126,9 +127,7 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100,
         raise ValueError(f"tol must be positive, got {tol!r}")
     if csv_path is not None:
         csv_path = Path(csv_path)
-        csv_path.parent.mkdir(parents=True, exist_ok=True)
-        with open(csv_path, "w", newline="") as handle:
-            csv.DictWriter(handle, fieldnames=FIELDS).writeheader()
+        check_writable(csv_path.parent)
     records, previous = [], None
     # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
     # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
@@ -164,7 +163,7 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100,
                 state = _refine(mesh, state, **refinement)
             record["mark_refine_seconds"] = time.perf_counter() - refine_start
         records.append(record)
-        _report(record, csv_path, progress, solver)
+        _report(records, csv_path, progress, solver)
         if stopped is not None:
             return Adaptation(records, sol, est, stopped)
 
@@ -192,10 +191,10 @@ def _refined_ndof(mesh, state, max_ndof, **refinement):
     return _refine(copy, state, **refinement).ndof
 
 
-def _report(record, csv_path, progress, solver):
+def _report(records, csv_path, progress, solver):
+    record = records[-1]
     if csv_path is not None:
-        with open(csv_path, "a", newline="") as handle:
-            csv.DictWriter(handle, fieldnames=FIELDS).writerow(record)
+        write_csv(csv_path, records, FIELDS)
     if progress is not None:
         orders = f"p {record['p_min']}..{record['p_max']}, " if record["p_max"] > record["p_min"] else ""
         progress(f"level {record['level']:3d}: {record['ndof']:7d} dofs, {orders}eta_h = {record['eta']:.4e}, "

@@ -14,9 +14,12 @@ assembled.
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["check_data", "check_size", "estimated_bytes", "MEMORY_BUDGET"]
+__all__ = ["check_data", "check_size", "MEMORY_BUDGET"]
 
-MEMORY_BUDGET = 8e9  # bytes; the default limit of check_size
+# bytes; the default limit of check_size, which estimates the peak memory of a solve as the sum over
+# elements of n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the peak resident
+# memory of Example 6.1 solves: P1 with 2e5 and 8e5 DOFs, P3 with 1.6e5 and 6.6e5, P6 with 1.1e5; 3-7 %)
+MEMORY_BUDGET = 8e9
 
 
 def _rule(order, shape):
@@ -71,24 +74,17 @@ def _check_on(problem, data, points, where):
             raise ValueError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
 
 
-def estimated_bytes(orders):
-    """Peak memory of a solve with element orders ``orders``: sum over elements of
-    n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the peak resident memory
-    of Example 6.1 solves: P1 with 2e5 and 8e5 DOFs, P3 with 1.6e5 and 6.6e5, P6 with 1.1e5; 3-7 %)."""
-    n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
-    return float(np.sum(n * (1000 + 270 * n)))
-
-
-def check_size(orders, max_ndof=None):
+def check_size(orders, max_ndof=None, elements=None):
     """ValueError before assembly if the DOFs of elements of ``orders`` exceed ``max_ndof``, or, for
-    ``max_ndof=None``, if the estimated memory exceeds MEMORY_BUDGET."""
-    orders = np.asarray(orders)
-    ndof = int(np.sum((orders + 1) * (orders + 2)))
-    memory = estimated_bytes(orders)
+    ``max_ndof=None``, if the estimated memory exceeds MEMORY_BUDGET.  With ``elements``,
+    ``orders`` is one order p for that many elements (an estimate before meshing)."""
+    n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
+    count = 1 if elements is None else float(elements)
+    ndof, memory = float(np.sum(n)) * count, float(np.sum(n * (1000 + 270 * n))) * count
     if max_ndof is None:
         if memory > MEMORY_BUDGET:
-            raise ValueError(f"{ndof} DOFs would need about {memory / 1e9:.3g} GB, more than the "
-                             f"{MEMORY_BUDGET / 1e9:g} GB allowed by default; pass max_ndof={ndof} "
+            raise ValueError(f"{ndof:.4g} DOFs would need about {memory / 1e9:.3g} GB, more than the "
+                             f"{MEMORY_BUDGET / 1e9:g} GB allowed by default; pass max_ndof={ndof:.0f} "
                              f"(CLI: --max-ndof) to allow it")
     elif ndof > max_ndof:
-        raise ValueError(f"{ndof} DOFs (about {memory / 1e9:.3g} GB) is more than max_ndof = {max_ndof}")
+        raise ValueError(f"{ndof:.4g} DOFs (about {memory / 1e9:.3g} GB) is more than max_ndof = {max_ndof}")

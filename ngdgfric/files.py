@@ -21,15 +21,22 @@ def atomic_path(path, suffix=None):
     the writer produced no file or the rename fails.
     """
     path = Path(path)
-    handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix if suffix is None else suffix,
-                                    dir=path.parent)
+    try:
+        handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix if suffix is None else suffix,
+                                        dir=path.parent)
+    except OSError as exc:
+        raise OSError(f"cannot write {path}: {exc.strerror or exc}") from exc
     os.close(handle)
     temporary = Path(name)
+    temporary.unlink()  # the name is reserved; the writer must create the file (a writer failing silently is seen)
     try:
         yield temporary
         if not temporary.exists():
             raise OSError(f"could not write {path}: the writer produced no file")
-        os.replace(temporary, path)
+        try:
+            os.replace(temporary, path)
+        except OSError as exc:
+            raise OSError(f"cannot write {path}: {exc.strerror or exc}") from exc
     finally:
         temporary.unlink(missing_ok=True)
 
@@ -40,11 +47,12 @@ def write_text(path, text):
         temporary.write_text(text)
 
 
-def write_csv(path, rows):
-    """Write the dicts ``rows`` as CSV (columns: every key, in order of first appearance) atomically."""
-    fields = list(dict.fromkeys(k for row in rows for k in row))
+def write_csv(path, rows, fields=None):
+    """Write the dicts ``rows`` as CSV atomically; columns ``fields`` (default: every key, in order of
+    first appearance; keys not in ``fields`` are left out)."""
+    fields = list(dict.fromkeys(k for row in rows for k in row)) if fields is None else fields
     with atomic_path(path) as temporary, open(temporary, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=fields)
+        writer = csv.DictWriter(handle, fieldnames=fields, extrasaction="ignore")
         writer.writeheader()
         writer.writerows(rows)
 

@@ -7,8 +7,9 @@ import time
 import ngsolve as ngs
 
 from .adaptivity import adapt
+from .checks import check_size
 from .estimator import estimate
-from .meshes import uniform_mesh
+from .meshes import estimated_elements, uniform_mesh
 from .norms import energy_norm, energy_norm_squared_parts
 from .reference import energy_error
 from .solution import solve
@@ -58,12 +59,15 @@ def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), so
 
     Returns (rows, solutions): one row per level but the last, with h, ndof, iterations,
     seconds, the norms of :func:`consecutive_differences` and the observed ``rate`` of the
-    energy error.  ``progress``: callable(str) for one line per solved level.
+    energy error.  ``progress``: callable(str) for one line per solved level.  The finest mesh's
+    size is checked before the first solve (:func:`ngdgfric.checks.check_size`, ``max_ndof`` in
+    ``options``).
     """
+    check_size(order, options.get("max_ndof"), elements=estimated_elements(problem, h=2.0**-max(levels)))
     solutions, seconds = [], []
     for k in levels:
         h = 2.0**-k
-        mesh = uniform_mesh(problem, h, diagonal=diagonal)
+        mesh = uniform_mesh(problem, h, diagonal=diagonal, max_elements=None)
         start = time.perf_counter()
         initial = solutions[-1] if (warm_start and solutions) else None
         sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, initial=initial, **options)

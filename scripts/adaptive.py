@@ -19,6 +19,7 @@ import numpy as np
 from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS
 from ngdgfric.meshes import mesh_arrays
 
@@ -109,7 +110,7 @@ def main(argv=None):
                          near_corner=corner, near_contact=contact, near_either=either))
     plot_curves(args, adaptive, uniform, args.out / curve_png)
     plot_meshes(args, problem, meshes, mesh_level, args.out / mesh_png)
-    (args.out / f"adaptivity_{tag}.md").write_text(report(args, rows, curve_png, mesh_png, mesh_level))
+    write_text(args.out / f"adaptivity_{tag}.md", report(args, rows, curve_png, mesh_png, mesh_level))
     say(f"wrote {args.out / f'adaptivity_{tag}.md'}")
     return rows
 

@@ -15,6 +15,7 @@ from pathlib import Path
 from common import RESULTS, command_line, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
 
 
@@ -70,7 +71,7 @@ def main(argv=None):
         f"{repeat} runs; then one sparse direct factorisation + solve of the linear system (sparsecholesky for the",
         "symmetric methods, umfpack for NIPG).  Target: lifting methods <= 2x SIPG at ~1e5 DOFs.",
         "", table, "", f"Regenerate: `{command_line()}`", ""])
-    (args.out / "assembly_benchmark.md").write_text(text)
+    write_text(args.out / "assembly_benchmark.md", text)
     say(text)
 
 

@@ -31,6 +31,7 @@ from common import RESULTS, command_line, markdown_table, say, write_csv
 import ngdgfric as ndf
 from ngdgfric import pardiso
 from ngdgfric.condensation import augmented_matrix
+from ngdgfric.files import write_text
 from ngdgfric.linalg import threads
 
 CASES = [("sipg", 1, 7), ("sipg", 2, 7), ("nipg", 1, 7), ("nipg", 2, 6)]
@@ -208,7 +209,7 @@ def main(argv=None):
     packages = {name: installed(name) for name in PACKAGES}
     imports = {"scipy": importable("scipy"), "pypardiso": importable("pypardiso"), "mumps (python-mumps)":
                importable("mumps"), "mumpspy": importable("mumpspy")}
-    (args.out / "linear_solvers.md").write_text(report(rows, packages, imports))
+    write_text(args.out / "linear_solvers.md", report(rows, packages, imports))
     return rows
 
 

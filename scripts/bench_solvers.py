@@ -29,6 +29,7 @@ import numpy as np
 from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
 from ngdgfric.transfer import multiplier_snapshot
 
@@ -163,7 +164,7 @@ def main(argv=None):
                       "cold_its", "warm", "warm_its", "warm_difference", "linear", "linear_its", "floor", "ratio",
                       "warm_ratio", "floor_ratio", "assemble", "condense", "newton", "recover"])
     plot(rows, args.out / "solver_benchmark.png")
-    (args.out / "solver_benchmark.md").write_text(report(rows))
+    write_text(args.out / "solver_benchmark.md", report(rows))
     return rows
 
 

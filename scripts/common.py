@@ -1,6 +1,5 @@
 """Helpers shared by the scripts: examples by name, results folder, Markdown/CSV writers."""
 
-import csv
 import multiprocessing
 import os
 import sys
@@ -8,6 +7,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import ngdgfric as ndf
+from ngdgfric import files
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
 EXAMPLES = {"6.1": ndf.example_6_1, "6.2": ndf.example_6_2}
@@ -30,11 +30,8 @@ def command_line():
 
 
 def write_csv(path, rows, fields=None):
-    fields = fields or list(rows[0])
-    with open(path, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=fields, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows(rows)
+    """Rows as CSV, written atomically (columns ``fields``, default the first row's keys)."""
+    files.write_csv(path, rows, fields or list(rows[0]))
 
 
 def markdown_table(header, rows):
@@ -59,7 +56,8 @@ def save_figure(fig, path, dpi=120):
     import matplotlib.pyplot as plt
 
     fig.tight_layout()
-    fig.savefig(path, dpi=dpi)
+    with files.atomic_path(path) as temporary:
+        fig.savefig(temporary, dpi=dpi)
     plt.close(fig)
 
 

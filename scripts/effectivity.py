@@ -26,6 +26,8 @@ from pathlib import Path
 
 from common import RESULTS, command_line, in_processes, markdown_table, save_figure, say, write_csv
 
+from ngdgfric.files import write_text
+
 METHODS = ("sipg", "nipg", "bassi", "brezzi", "ldg")
 ORDERS = (1, 2, 3, 4)
 YOUNG = (1.0, 1e3, 1e6)
@@ -251,7 +253,7 @@ def main(argv=None):
             rows.sort(key=lambda r: tuple(str(r[k]) for k in ("family", "E", "nu", "method", "order", "mode"))
                       + (r["level"],))
             write_csv(csv_path, rows, FIELDS)
-            md_path.write_text(report(rows, time.perf_counter() - start))
+            write_text(md_path, report(rows, time.perf_counter() - start))
             plot(rows, args.out / "effectivity.png")
             say(f"wrote {md_path} ({len(rows)} levels)")
     return rows

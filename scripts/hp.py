@@ -18,6 +18,7 @@ import numpy as np
 from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 from ngdgfric.meshes import mesh_arrays
 from ngdgfric.studies import strategy_run
 
@@ -164,7 +165,7 @@ def main(argv=None):
                   f"![exponential convergence](hp_exponential_{example.replace('.', '_')}.png)", "",
                   f"![final hp mesh](hp_mesh_{example.replace('.', '_')}.png)", ""]
     lines += [f"Regenerate: `{command_line()}` (after `python scripts/reference.py`)", ""]
-    (args.out / "hp.md").write_text("\n".join(lines))
+    write_text(args.out / "hp.md", "\n".join(lines))
     say("\n".join(lines))
 
 

@@ -26,6 +26,7 @@ import numpy as np
 from common import RESULTS, command_line, markdown_table, save_figure, say
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -199,7 +200,7 @@ def main(argv=None):
     solver_rows = solver_study(cases)
     curves = adaptive_study(levels, max_ndof)
     plot(states, curves, args.out / "mt.png")
-    (args.out / "mt.md").write_text(report(zone_h, zone_rows, solver_rows, curves))
+    write_text(args.out / "mt.md", report(zone_h, zone_rows, solver_rows, curves))
     say(f"wrote {args.out / 'mt.md'}")
     return dict(zones=zone_rows, solvers=solver_rows, adaptive=curves)
 

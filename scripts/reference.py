@@ -10,6 +10,7 @@ last of them times their last ratio.
 """
 
 import argparse
+import shutil
 import tempfile
 import time
 from pathlib import Path
@@ -17,6 +18,7 @@ from pathlib import Path
 from common import EXAMPLES, RESULTS, command_line, markdown_table, say
 
 import ngdgfric as ndf
+from ngdgfric.files import atomic_path, write_text
 
 
 def parse(argv=None):
@@ -45,7 +47,8 @@ def make_reference(problem, path, tol, max_ndof, max_order, max_levels=80):
         records = ndf.adapt(problem, method="sipg", order=2, hp=True, max_order=max_order, tol=tol,
                             max_ndof=max_ndof, max_levels=max_levels, weights="paper", keep=keep, progress=say).levels
         seconds = time.perf_counter() - start
-        path.write_bytes(files[-1].read_bytes())
+        with atomic_path(path) as temporary:
+            shutil.copyfile(files[-1], temporary)
         reference = ndf.load_reference(path, problem)
         for record, file in zip(records[:-1], files[:-1], strict=True):
             if record["ndof"] >= records[-1]["ndof"] / 8:
@@ -77,7 +80,7 @@ def main(argv=None):
                                  [[r["level"], r["ndof"], f"{r['eta']:.3e}", f"{r['distance']:.3e}"]
                                   for r in records if "distance" in r]), ""]
     lines += [f"Regenerate: `{command_line()}`", ""]
-    (args.out / "reference.md").write_text("\n".join(lines))
+    write_text(args.out / "reference.md", "\n".join(lines))
     say("\n".join(lines))
 
 

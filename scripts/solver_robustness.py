@@ -49,6 +49,7 @@ from common import RESULTS, command_line, in_processes, markdown_table, say, wri
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
+from ngdgfric.files import write_text
 from ngdgfric.kkt import rounding_residual
 from ngdgfric.manufactured import contact_manufactured, friction_manufactured
 from ngdgfric.reduced import ReducedContact
@@ -642,11 +643,11 @@ def main(argv=None):
         if done:
             rows = [done[i] for i in sorted(done)]
             write_csv(csv_path, rows, FIELDS)
-            md_path.write_text(report(rows, len(cases), time.perf_counter() - start, True, budget))
+            write_text(md_path, report(rows, len(cases), time.perf_counter() - start, True, budget))
             say(f"interrupted: wrote {len(rows)} of {len(cases)} cases to {csv_path} and {md_path}")
         raise
     rows = [done[i] for i in sorted(done)]
-    md_path.write_text(report(rows, len(cases), time.perf_counter() - start, False, budget))
+    write_text(md_path, report(rows, len(cases), time.perf_counter() - start, False, budget))
     say(f"{sum(r['passed'] for r in rows)} of {len(rows)} cases passed; wrote {md_path}")
     return rows
 

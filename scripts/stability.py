@@ -20,6 +20,7 @@ import numpy as np
 from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 from ngdgfric import cases
+from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS, SIPG_THRESHOLD
 from ngdgfric.runner import run_cases
 
@@ -231,7 +232,7 @@ def main(argv=None):
         with open(args.out / "stability_speedup.csv") as handle:
             speedup = {int(r["workers"]): float(r["seconds"]) for r in csv.DictReader(handle)}
     plot(results, args.out / "stability.png")
-    (args.out / "stability.md").write_text(report(results, speedup))
+    write_text(args.out / "stability.md", report(results, speedup))
     say(f"wrote {args.out / 'stability.md'}")
     return results
 

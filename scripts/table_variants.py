@@ -22,6 +22,7 @@ import ngsolve as ngs
 from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 from ngdgfric.paper import TABLES
 from ngdgfric.reference import reference_errors
 from ngdgfric.studies import rates, uniform_study
@@ -106,7 +107,7 @@ def main(argv=None):
                 rows += variant_rows(example, name, method, study, reference)
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "table_investigation.csv", rows)
-    (args.out / "table_investigation.md").write_text(report(rows))
+    write_text(args.out / "table_investigation.md", report(rows))
     say(f"wrote {args.out / 'table_investigation.md'}")
     return rows
 

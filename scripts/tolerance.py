@@ -15,6 +15,7 @@ from pathlib import Path
 from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 
 TOLERANCES = (1e-1, 1e-2, 1e-3)
 
@@ -41,7 +42,7 @@ def main(argv=None):
         say(f"Example {example}, tol {tol:g}: {run.stopped} after {len(run.levels)} levels, {last['ndof']} DOFs, "
             f"eta_h {run.estimate.total:.3e}, true error {error:.3e} = {error / tol:.2f} tol, {seconds:.1f} s")
     write_csv(args.out / "tolerance.csv", rows)
-    (args.out / "tolerance.md").write_text(report(rows))
+    write_text(args.out / "tolerance.md", report(rows))
     say(f"wrote {args.out / 'tolerance.md'}")
     return rows
 

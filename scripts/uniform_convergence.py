@@ -18,6 +18,7 @@ from pathlib import Path
 from common import EXAMPLES, RESULTS, command_line, fmt, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS
 from ngdgfric.paper import TABLES
 from ngdgfric.reference import reference_errors
@@ -89,7 +90,7 @@ def main(argv=None):
         csv_rows += rows
     write_csv(args.out / f"table_{tag}.csv", csv_rows, fields=list(dict.fromkeys(k for r in csv_rows for k in r)))
     text = report(args, results)
-    (args.out / f"table_{tag}.md").write_text(text)
+    write_text(args.out / f"table_{tag}.md", text)
     say("\n" + text)
     say(f"wrote {args.out / f'table_{tag}.md'}")
     return results

@@ -19,6 +19,7 @@ import numpy as np
 from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 from ngdgfric.cases import precision_case
+from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS
 from ngdgfric.runner import run_cases
 
@@ -160,7 +161,7 @@ def main(argv=None):
         section, _ = summary(example, runs)
         lines += section + ([f"Failed runs: {'; '.join(failed)}", ""] if failed else [])
     lines += [f"Regenerate: `{command_line()}`", ""]
-    (args.out / "work_precision.md").write_text("\n".join(lines))
+    write_text(args.out / "work_precision.md", "\n".join(lines))
     say("\n".join(lines))
 
 
