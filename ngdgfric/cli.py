@@ -6,12 +6,16 @@ PROBLEM is ``6.1`` or ``6.2`` (the examples of Section 6) or a TOML problem file
 Tables 6.1/6.2 (|||u_h - u_{h/2}|||_h on h = 2^-1, 2^-2, ...) and writes CSV and Markdown;
 ``adaptive`` runs the SOLVE-ESTIMATE-MARK-REFINE loop of Section 6 and writes CSV and a PNG of
 eta_h against the number of DOFs.  Bad input ends with one line ``ngdgfric: error: ...`` on
-stderr and exit code 2; a solver failure with exit code 1.
+stderr and exit code 2 before anything is computed where it can be known then (arguments, problem
+file and data, mesh size, output folder, outputs of an earlier run without ``--overwrite``); a
+solver failure with exit code 1.  Every file is written atomically, each as soon as it is
+finished, so an interrupted run keeps what it completed.
 """
 
 import argparse
-import csv
+import importlib.metadata
 import math
+import os
 import sys
 import time
 import warnings
@@ -21,11 +25,13 @@ import ngsolve as ngs
 import numpy as np
 
 from .adaptivity import adapt
+from .checks import check_size
 from .errors import SolverError
 from .estimator import estimate
 from .examples import example_6_1, example_6_2
+from .files import atomic_path, check_writable, write_csv, write_text
 from .forms import METHODS, strain, stress
-from .meshes import mesh_arrays, netgen_mesh, uniform_mesh
+from .meshes import estimated_elements, mesh_arrays, netgen_mesh, uniform_mesh
 from .norms import energy_norm
 from .problem_file import load_problem
 from .solution import SOLVERS, solve
@@ -71,6 +77,7 @@ def build_parser():
     parser = _Parser(prog="ngdgfric", description="DG methods for 2D frictional contact with normal compliance "
                                                   "(Porwal & Tanvi): solve, uniform and adaptive studies.",
                      epilog="Run 'ngdgfric COMMAND --help' for the options of a command.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     def common(sub, several_methods=False, solver_tol=True):
@@ -92,6 +99,12 @@ def build_parser():
                              help="tolerance of the nonlinear solver (default: 1e-13 on the KKT residual for "
                                   "newton, 1e-8 on the relative change for uzawa as in Section 6)")
         sub.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out/)")
+        sub.add_argument("--overwrite", action="store_true",
+                         help="replace the output files of an earlier run (default: refuse to)")
+
+    def size_limit(sub):
+        sub.add_argument("--max-ndof", type=_number(int), default=None,
+                         help="refuse meshes with more DOFs (default: refuse above an estimated 8 GB of memory)")
 
     def meshes(sub, default):
         group = sub.add_mutually_exclusive_group()
@@ -105,6 +118,7 @@ def build_parser():
                                           "and a PNG of the deformed mesh.")
     common(sub)
     meshes(sub, f"h = {DEFAULT_H}, or Netgen maxh = {DEFAULT_H} for other polygons")
+    size_limit(sub)
     sub.add_argument("--scale", type=_number(float), default=None,
                      help="displacement magnification in the PNG (default: largest displacement = 10%% of the "
                           "domain size)")
@@ -113,6 +127,7 @@ def build_parser():
                               description="Solve on uniform meshes h = 2^-1 ... 2^-LEVELS (rectangles only) and "
                                           "report |||u_h - u_{h/2}|||_h, its observed rate and eta_h (Section 6).")
     common(sub, several_methods=True)
+    size_limit(sub)
     sub.add_argument("--levels", type=_number(int, low=1, what="at least 2"), default=5,
                      help="number of meshes, h = 2^-1 ... 2^-LEVELS (default: 5)")
 
@@ -136,6 +151,13 @@ def build_parser():
     return parser
 
 
+def _version():
+    try:
+        return importlib.metadata.version("ngdgfric")
+    except importlib.metadata.PackageNotFoundError:
+        return "(not installed)"
+
+
 def load(spec):
     """(problem, tag) for PROBLEM: an example name or the path of a TOML problem file."""
     if spec in EXAMPLES:
@@ -146,18 +168,20 @@ def load(spec):
     return load_problem(path), path.stem
 
 
-def _mesh(problem, h, maxh, default):
-    """(mesh, description) from --h / --maxh."""
+def _mesh(problem, h, maxh, default, order, max_ndof):
+    """(mesh, description) from --h / --maxh; the size is checked before meshing (``max_ndof``)."""
     rectangle = problem.geometry.is_rectangle
-    if h is not None and not rectangle:
-        raise ValueError("--h needs a rectangle geometry; use --maxh for a general polygon")
     if maxh is None and h is None:
         if default is None:
             return None, "h = 1/2" if rectangle else "Netgen maxh = 1/2"
         h, maxh = (default, None) if rectangle else (None, default)
+    try:
+        check_size(order, max_ndof, elements=estimated_elements(problem, h=h, maxh=maxh))
+    except ValueError as exc:
+        raise ValueError(f"{'--maxh' if maxh is not None else '--h'} {maxh or h:g}: {exc}") from None
     if maxh is not None:
-        return netgen_mesh(problem, maxh), f"Netgen maxh = {maxh:g}"
-    return uniform_mesh(problem, h), f"uniform h = {h:g}"
+        return netgen_mesh(problem, maxh, max_elements=None), f"Netgen maxh = {maxh:g}"
+    return uniform_mesh(problem, h, max_elements=None), f"uniform h = {h:g}"
 
 
 def von_mises(problem, u):
@@ -170,14 +194,6 @@ def von_mises(problem, u):
 
 def say(message):
     print(message, flush=True)
-
-
-def _write_csv(path, rows):
-    fields = list(dict.fromkeys(k for row in rows for k in row))
-    with open(path, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=fields)
-        writer.writeheader()
-        writer.writerows(rows)
 
 
 def _figure(*size):
@@ -195,11 +211,12 @@ def _uzawa_progress(k, change):
 
 
 def cmd_solve(args, problem, tag):
-    mesh, described = _mesh(problem, args.h, args.maxh, DEFAULT_H)
+    mesh, described = _mesh(problem, args.h, args.maxh, DEFAULT_H, args.order, args.max_ndof)
     say(f"{problem.name}: {described}, {mesh.ne} elements; {args.method} P{args.order}, {args.solver}")
     start = time.perf_counter()
     sol = solve(problem, mesh, method=args.method, order=args.order, eta=args.eta, solver=args.solver,
-                tol=args.solver_tol, progress=_uzawa_progress if args.solver == "uzawa" else None)
+                tol=args.solver_tol, max_ndof=args.max_ndof,
+                progress=_uzawa_progress if args.solver == "uzawa" else None)
     solved = time.perf_counter()
     est = estimate(sol)
     estimated = time.perf_counter()
@@ -212,14 +229,26 @@ def cmd_solve(args, problem, tag):
     say(f"  |||u_h|||_h      {record['energy_norm']:.10e}")
     say(f"  eta_h            {record['eta_h']:.10e}")
     say(f"  time             {record['solve_seconds']:.2f} s solve, {record['estimate_seconds']:.2f} s estimate")
-    stem = args.out / f"{tag}_{sol.method}_p{sol.order}"
-    _write_csv(Path(f"{stem}.csv"), [record])
+    csv_path, vtu_path, png_path = outputs(args, tag)
+    write_csv(csv_path, [record])
     stress_cf = von_mises(problem, sol.u)
-    ngs.VTKOutput(mesh, coefs=[sol.u, stress_cf], names=["displacement", "von_mises"], filename=str(stem),
-                  subdivision=max(sol.order - 1, 0)).Do()
-    _plot_deformed(problem, sol, stress_cf, args.scale, Path(f"{stem}.png"))
-    say(f"wrote {stem}.csv, {stem}.vtu, {stem}.png")
+    with atomic_path(vtu_path) as temporary:  # VTKOutput appends .vtu to the name it is given
+        ngs.VTKOutput(mesh, coefs=[sol.u, stress_cf], names=["displacement", "von_mises"],
+                      filename=str(temporary.with_suffix("")), subdivision=max(sol.order - 1, 0)).Do()
+    _plot_deformed(problem, sol, stress_cf, args.scale, png_path)
+    say(f"wrote {csv_path}, {vtu_path}, {png_path}")
     return [record]
+
+
+def outputs(args, tag):
+    """The files a command writes (checked before computing: see :func:`run`)."""
+    if args.command == "solve":
+        stem = args.out / f"{tag}_{args.method}_p{args.order}"
+        return [Path(f"{stem}.{suffix}") for suffix in ("csv", "vtu", "png")]
+    if args.command == "uniform":
+        return [args.out / f"{tag}_uniform.{suffix}" for suffix in ("csv", "md")]
+    stem = args.out / f"{tag}_adaptive_{args.method}_p{args.order}{'_hp' if args.hp else ''}"
+    return [Path(f"{stem}.{suffix}") for suffix in ("csv", "png")]
 
 
 def _plot_deformed(problem, sol, stress_cf, scale, path):
@@ -250,24 +279,31 @@ def _plot_deformed(problem, sol, stress_cf, scale, path):
                  fontsize=9)
     ax.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
+    with atomic_path(path) as temporary:
+        fig.savefig(temporary, dpi=130)
 
 
 def cmd_uniform(args, problem, tag):
     levels = tuple(range(1, args.levels + 1))
+    csv_path, md_path = outputs(args, tag)
     rows = []
     for method in args.method:
         say(f"{problem.name}: {method} P{args.order}, {args.solver}, uniform h = 2^-1 ... 2^-{levels[-1]}")
         study, solutions = uniform_study(problem, method, args.order, levels, solver=args.solver, eta=args.eta,
-                                         progress=say, tol=args.solver_tol)
+                                         progress=say, tol=args.solver_tol, max_ndof=args.max_ndof)
         for row, sol in zip(study, solutions, strict=False):
             row = dict(method=method, order=args.order, **row, eta_h=estimate(sol).total)
             rate = "-" if row["rate"] is None else f"{row['rate']:.3f}"
             say(f"  h = 2^-{row['k']}: |||u_h - u_h/2|||_h = {row['energy']:.4e}, rate {rate}, "
                 f"eta_h = {row['eta_h']:.4e}")
             rows.append(row)
-    csv_path, md_path = args.out / f"{tag}_uniform.csv", args.out / f"{tag}_uniform.md"
-    _write_csv(csv_path, rows)
+        write_csv(csv_path, rows)  # each finished study at once: an interrupted run keeps it
+        write_text(md_path, _uniform_markdown(problem, args, rows))
+        say(f"wrote {csv_path}, {md_path}")
+    return rows
+
+
+def _uniform_markdown(problem, args, rows):
     header = ["method", "h", "DOFs", "|||u_h - u_{h/2}|||_h", "rate", "eta_h", "iterations", "seconds"]
     lines = [f"# {problem.name}: uniform meshes, P{args.order}, {args.solver}", "",
              "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
@@ -275,16 +311,14 @@ def cmd_uniform(args, problem, tag):
         rate = "-" if r["rate"] is None else f"{r['rate']:.3f}"
         lines.append(f"| {r['method']} | 2^-{r['k']} | {r['ndof']} | {r['energy']:.4e} | {rate} | {r['eta_h']:.4e} "
                      f"| {r['iterations']} | {r['seconds']:.2f} |")
-    md_path.write_text("\n".join(lines) + "\n")
-    say(f"wrote {csv_path}, {md_path}")
-    return rows
+    return "\n".join(lines) + "\n"
 
 
 def cmd_adaptive(args, problem, tag):
-    mesh, described = _mesh(problem, args.h, args.maxh, None)
+    mesh, described = _mesh(problem, args.h, args.maxh, None, args.order, args.max_ndof)
     kind = "hp" if args.hp else "h"
     say(f"{problem.name}: {args.method} P{args.order}, {kind}-adaptive from {described}, theta = {args.theta:g}")
-    stem = args.out / f"{tag}_adaptive_{args.method}_p{args.order}{'_hp' if args.hp else ''}"
+    csv_path, png_path = outputs(args, tag)
     final = {}
 
     def keep(level, sol, est):
@@ -292,10 +326,10 @@ def cmd_adaptive(args, problem, tag):
 
     records = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta, max_levels=args.levels,
                     max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
-                    csv_path=Path(f"{stem}.csv"), progress=say, keep=keep, hp=args.hp, max_order=args.max_order,
+                    csv_path=csv_path, progress=say, keep=keep, hp=args.hp, max_order=args.max_order,
                     weights=args.weights).levels
-    _plot_adaptive(problem, args, records, final["mesh"], Path(f"{stem}.png"))
-    say(f"wrote {stem}.csv, {stem}.png")
+    _plot_adaptive(problem, args, records, final["mesh"], png_path)
+    say(f"wrote {csv_path}, {png_path}")
     return records
 
 
@@ -318,7 +352,8 @@ def _plot_adaptive(problem, args, records, final_mesh, path):
     mesh_ax.set_title(f"level {records[-1]['level']}: {len(triangles)} elements", fontsize=9)
     fig.suptitle(f"{problem.name}: theta = {args.theta:g}")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    with atomic_path(path) as temporary:
+        fig.savefig(temporary, dpi=120)
 
 
 COMMANDS = {"solve": cmd_solve, "uniform": cmd_uniform, "adaptive": cmd_adaptive}
@@ -328,10 +363,15 @@ def run(argv=None):
     """Run a command; returns its records (raises on bad input, see :func:`main`)."""
     args = build_parser().parse_args(argv)
     problem, tag = load(args.problem)
-    try:
-        args.out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise OSError(f"cannot create the output folder {str(args.out)!r}: {exc.strerror}") from exc
+    if getattr(args, "h", None) is not None and not problem.geometry.is_rectangle:
+        raise ValueError("--h needs a rectangle geometry; use --maxh for a general polygon")
+    check_writable(args.out)
+    for path in outputs(args, tag):
+        if path.is_dir():
+            raise ValueError(f"cannot write {path}: it is a folder")
+        if path.exists() and not args.overwrite:
+            raise ValueError(f"{path} exists (an earlier run's output); pass --overwrite to replace it, or choose "
+                             f"another --out")
     with warnings.catch_warnings():
         warnings.showwarning = lambda message, *_, **__: print(f"ngdgfric: warning: {message}", file=sys.stderr)
         return COMMANDS[args.command](args, problem, tag)
@@ -340,19 +380,27 @@ def run(argv=None):
 def main(argv=None):
     """Entry point of ``ngdgfric`` and ``python -m ngdgfric``; returns the exit code.
 
-    0: success; 2: bad input (arguments, problem file, problem data), reported in one line
-    ``ngdgfric: error: ...`` on stderr; 1: the nonlinear solver failed; 130: interrupted.
+    0: success; 2: bad input (arguments, problem file, problem data, sizes, output files), or not
+    enough memory, reported in one line ``ngdgfric: error: ...`` on stderr; 1: the nonlinear solver
+    failed; 3: an internal error (one line; the traceback with NGDGFRIC_TRACEBACK=1); 130: interrupted.
     """
     try:
         run(argv)
-    except SystemExit as exc:  # --help
+    except SystemExit as exc:  # --help, --version
         return exc.code if isinstance(exc.code, int) else 0
     except (UsageError, ValueError, OSError) as exc:  # tomllib.TOMLDecodeError is a ValueError
         return _fail(exc, 2)
+    except MemoryError:
+        return _fail("not enough memory: use a coarser mesh, a lower --order or --max-ndof", 2)
     except SolverError as exc:
         return _fail(exc, 1)
     except KeyboardInterrupt:
         return _fail("interrupted", 130)
+    except Exception as exc:  # a bug: one line, not a traceback, unless asked for
+        if os.environ.get("NGDGFRIC_TRACEBACK"):
+            raise
+        return _fail(f"internal error: {type(exc).__name__}: {exc} (NGDGFRIC_TRACEBACK=1 shows the traceback; "
+                     f"please report it)", 3)
     return 0
 
 

@@ -25,7 +25,8 @@ FIT = 1e-8  # a mesh fits the polygon when its boundary lies on it within FIT x 
 def estimated_elements(problem, h=None, maxh=None):
     """Number of triangles of ``uniform_mesh(problem, h)`` (exact) or ``netgen_mesh(problem, maxh)``
     (2.31 area / maxh^2 + perimeter / maxh: equilateral triangles of side maxh and one layer along
-    the boundary; within 30 % of Netgen's count for maxh <= 0.2 on Example 6.1)."""
+    the boundary; on Example 6.1 1.50, 1.18, 1.07, 1.03 times Netgen's count for maxh = 0.2, 0.1,
+    0.05, 0.02)."""
     geometry = problem.geometry
     if h is not None:
         x0, y0, x1, y1 = geometry.bounds

@@ -119,8 +119,14 @@ def test_uniform_and_adaptive_commands(tmp_path, capsys):
         levels = list(csv.DictReader(handle))
     assert [int(r["level"]) for r in levels] == [0, 1, 2]
     assert (tmp_path / "6_1_adaptive_sipg_p1.png").stat().st_size > 0
+    # a re-run with other options does not touch an earlier run's output unless asked to
+    before = (tmp_path / "6_1_adaptive_sipg_p1.csv").read_bytes()
+    assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path)]) == 2
+    assert "--overwrite" in capsys.readouterr().err
+    assert (tmp_path / "6_1_adaptive_sipg_p1.csv").read_bytes() == before
     # --weights paper: the same loop with the estimator of Section 4 as printed (larger: E = 2000)
-    assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path)]) == 0
+    assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path),
+                 "--overwrite"]) == 0
     with open(tmp_path / "6_1_adaptive_sipg_p1.csv") as handle:
         paper = list(csv.DictReader(handle))
     assert float(paper[0]["eta"]) > 20 * float(levels[0]["eta"])
@@ -177,6 +183,11 @@ BAD_ARGUMENTS = {
     "unknown command": (["bogus", "6.1"], "bogus"),
     "missing file": (["solve", "missing.toml"], "missing.toml"),
     "bad theta": (["adaptive", "6.1", "--theta", "1.5"], "--theta"),
+    # the size is estimated before meshing (h = 1e-5 asked for 74 GiB; maxh = 1e-9 ran away in Netgen)
+    "tiny h": (["solve", "6.1", "--h", "1e-5"], "--h 1e-05"),
+    "tiny maxh": (["solve", "6.1", "--maxh", "1e-9"], "--maxh 1e-09"),
+    "too many uniform levels": (["uniform", "6.2", "--levels", "14"], "GB"),
+    "above --max-ndof": (["solve", "6.1", "--h", "0.125", "--max-ndof", "100"], "max_ndof = 100"),
 }
 
 BAD_FILES = {  # (old text, new text, expected in the message)
@@ -187,6 +198,25 @@ BAD_FILES = {  # (old text, new text, expected in the message)
     "missing key": ("nu = 0.4", "", "material.nu: missing"),
     "wrong type": ("E = 2000.0", "E = true", "material.E"),
     "vector of wrong length": ("f = [0.0, 0.0]", "f = [0.0]", "loads.f"),
+    # found by trying bad input as a new user would (each crashed, hung or answered silently before)
+    "number too large": ("E = 2000.0", "E = 1" + "0" * 400, "material.E: number too large"),
+    "NaN gap": ("g_a = 0.05 ", "g_a = nan ", "contact.g_a must be a finite number"),
+    "infinite friction": ("c_tau = 450.0", "c_tau = inf", "contact.c_tau must be a finite number"),
+    "duplicate vertex": ("[1.0, 1.05], [0.0, 1.05]]", "[1.0, 1.05], [1.0, 1.05], [0.0, 1.05]]",
+                         "geometry.vertices[2]"),
+    "near-duplicate vertex": ("[1.0, 1.05], [0.0, 1.05]]", "[1.0, 1.05], [1.0, 1.0500000001], [0.0, 1.05]]",
+                              "coincide"),
+    "NaN vertex": ("[1.0, 1.05], [0.0, 1.05]]", "[1.0, nan], [0.0, 1.05]]", "not a finite point"),
+    "self-intersecting polygon": ("[1.0, 1.05], [0.0, 1.05]]", "[0.0, 1.05], [1.0, 1.05]]", "cross"),
+}
+
+POINTWISE = {  # valid numbers, but data that are not finite or positive somewhere: found when solving
+    "gap NaN on the domain": ("g_a = 0.05 ", 'g_a = "sqrt(x - 2)" ', "g_a must be finite on the boundary"),
+    "gap -inf on the domain": ("g_a = 0.05 ", 'g_a = "log(x)" ', "got -inf at (0, 0.05)"),
+    "E negative somewhere": ("E = 2000.0", 'E = "2000*(0.5 - x)"', "E must be finite and > 0 on Omega"),
+    "E constant negative expression": ("E = 2000.0", 'E = "-2000 + 0*x"', "E must be finite and > 0"),
+    "load infinite": ("f = [0.0, 0.0]", 'f = [0.0, "1/(x - x)"]', "f must be finite on Omega"),
+    "traction overflow": ('g = ["200*(5 - y)", -190.0]', 'g = ["exp(1000*x)", -190.0]', "g must be finite"),
 }
 
 
@@ -213,3 +243,13 @@ def test_bad_problem_files(case, tmp_path, capsys):
     check_one_line_error(main(["solve", str(path), "--out", str(tmp_path)]), capsys, expected)
     with pytest.raises(ValueError, match="bad.toml"):
         load_problem(path)
+
+
+@pytest.mark.parametrize("case", sorted(POINTWISE))
+def test_data_checked_pointwise(case, tmp_path, capsys):
+    old, new, expected = POINTWISE[case]
+    path = variant(tmp_path, old, new, name="bad.toml")
+    check_one_line_error(main(["solve", str(path), "--out", str(tmp_path)]), capsys, expected)
+    problem = load_problem(path)
+    with pytest.raises(ValueError, match=expected.split(" on ")[0].split(" at ")[0]):
+        ndf.solve(problem, ndf.uniform_mesh(problem, 0.25))

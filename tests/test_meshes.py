@@ -1,3 +1,5 @@
+import dataclasses
+
 import ngsolve as ngs
 import pytest
 
@@ -44,3 +46,41 @@ def test_mesh_without_the_problem_names_is_rejected():
     mesh = ngs.Mesh(ngs.unit_square.GenerateMesh(maxh=0.5))
     with pytest.raises(ValueError, match="no boundary named"):
         ndf.solve(ndf.example_6_2(), mesh)
+
+
+def test_mesh_of_another_geometry_with_the_same_names_is_rejected():
+    # Example 6.2's unit square has the boundary names of Example 6.1 but not its polygon
+    p, other = ndf.example_6_1(), ndf.example_6_2()
+    with pytest.raises(ValueError, match="does not fit the problem's polygon"):
+        ndf.solve(p, ndf.uniform_mesh(other, 0.25))
+    shifted = ndf.Polygon(tuple((x, y + 1e-6) for x, y in p.geometry.vertices), p.geometry.labels)
+    with pytest.raises(ValueError, match="does not fit"):
+        ndf.check_mesh(p, ndf.netgen_mesh(dataclasses.replace(p, geometry=shifted), 0.5))
+    ndf.check_mesh(p, ndf.netgen_mesh(p, 0.3))  # its own meshes fit, also after refinement
+    mesh = ndf.uniform_mesh(p, 0.25)
+    ndf.refine(mesh, [True] * mesh.ne)
+    ndf.check_mesh(p, mesh)
+
+
+@pytest.mark.parametrize("make, size", [(ndf.uniform_mesh, 1e-5), (ndf.netgen_mesh, 1e-9)])
+def test_size_is_checked_before_meshing(make, size):
+    # uniform h = 1e-5 tried to allocate 74 GiB; Netgen with maxh = 1e-9 grew past 2 GB
+    with pytest.raises(ValueError, match="would make about .* elements"):
+        make(ndf.example_6_1(), size)
+    with pytest.raises(ValueError, match="more than max_elements = 100"):
+        make(ndf.example_6_1(), 0.05, max_elements=100)
+
+
+def test_estimated_elements_against_the_meshers():
+    p = ndf.example_6_1()
+    assert ndf.meshes.estimated_elements(p, h=1 / 8) == ndf.uniform_mesh(p, 1 / 8).ne
+    for maxh in (0.2, 0.1, 0.05):
+        assert 1.0 <= ndf.meshes.estimated_elements(p, maxh=maxh) / ndf.netgen_mesh(p, maxh).ne < 1.55
+
+
+def test_solve_refuses_above_the_size_limit_before_assembling():
+    p = ndf.example_6_1()
+    with pytest.raises(ValueError, match="more than max_ndof = 1000"):
+        ndf.solve(p, ndf.uniform_mesh(p, 1 / 16), max_ndof=1000)
+    with pytest.raises(ValueError, match="GB, more than the 8 GB allowed by default"):
+        ndf.solve(p, ndf.uniform_mesh(p, 1 / 64), order=20)

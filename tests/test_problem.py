@@ -52,3 +52,43 @@ def test_negative_spatially_varying_friction_bound_is_rejected_when_solving():
     p = dataclasses.replace(ndf.example_6_1(), c_tau=450 * (ngs.x - 0.5))
     with pytest.raises(ValueError, match="c_tau"):
         ndf.solve(p, ndf.uniform_mesh(p, 0.5))
+
+
+NAN, INF = float("nan"), float("inf")
+
+
+@pytest.mark.parametrize("field, value", [
+    ("g_a", NAN), ("g_a", INF), ("c_n", INF), ("c_tau", -INF), ("E", INF), ("E", 10**400), ("m_t", INF),
+    ("f", (0.0, NAN)), ("g", (INF, 0.0)),
+])
+def test_non_finite_numbers_raise_naming_the_field(field, value):
+    # g_a = nan gave the no-contact solution with exit 0; the others ended as "did not converge"
+    with pytest.raises(ValueError, match=rf"{field}(\[\d\])? must be a finite number"):
+        dataclasses.replace(ndf.example_6_1(), **{field: value})
+
+
+LABELS = ("contact", "dirichlet", "traction", "traction")
+SQUARE = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))
+
+
+@pytest.mark.parametrize("vertices, message", [
+    (((0, 0), (1, 0), (1, 0), (0, 1)), r"vertices\[1\] .* and vertices\[2\] .* coincide"),  # crashed Netgen
+    (((0, 0), (1, 0), (1, 1), (1 - 1e-9, 1)), "coincide"),  # made Netgen fail
+    (((0, 0), (NAN, 0), (1, 1), (0, 1)), r"vertices\[1\] = \(nan, 0.0\) is not a finite point"),
+    (((0, 0), (INF, 0), (1, 1), (0, 1)), "not a finite point"),
+    (((0, 0), (1, 0), (0, 1), (1, 1)), "sides 1 and 3 of the polygon cross"),  # Netgen looped for minutes
+    (((0, 0), (2, 0), (1, 0), (1, 1)), "lies on side 0"),  # a spike back along a side
+    (((0, 0), (1, 0), (0.5, 0.5 + 1e-9), (1, 1)), "lies on side|cross"),
+    (((0, 0), (1, 0), "ab", (0, 1)), r"vertices\[2\] must be a pair of numbers"),
+    (((0, 0), (0, 1), (1, 1), (1, 0)), "counter-clockwise"),
+    (((0, 0), (1, 0)), "at least 3 vertices"),
+])
+def test_bad_polygons_raise_naming_the_defect(vertices, message):
+    with pytest.raises(ValueError, match=message):
+        ndf.Polygon(vertices, LABELS[:len(vertices)] + ("traction",) * (len(vertices) - 4))
+
+
+def test_polygon_checks_accept_straight_angles_and_small_but_resolved_features():
+    ndf.Polygon(((0, 0), (0.5, 0), (1, 0), (1, 1), (0, 1)), ("contact", "contact", "dirichlet", "traction",
+                                                              "traction"))
+    ndf.Polygon(((0, 0), (1, 0), (1, 1), (1 - 1e-5, 1), (0, 1)), LABELS + ("traction",))
