@@ -253,3 +253,44 @@ def test_data_checked_pointwise(case, tmp_path, capsys):
     problem = load_problem(path)
     with pytest.raises(ValueError, match=expected.split(" on ")[0].split(" at ")[0]):
         ndf.solve(problem, ndf.uniform_mesh(problem, 0.25))
+
+
+def test_version(capsys):
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.startswith("ngdgfric ")
+
+
+@pytest.mark.parametrize("command", ["solve", "uniform", "adaptive"])
+def test_unwritable_output_folder_is_refused_before_computing(command, tmp_path, capsys, monkeypatch):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    monkeypatch.setattr("ngdgfric.cli.solve", None)  # nothing may be computed
+    monkeypatch.setattr("ngdgfric.cli.uniform_study", None)
+    monkeypatch.setattr("ngdgfric.cli.adapt", None)
+    check_one_line_error(main([command, "6.2", "--out", str(blocker / "out")]), capsys, "cannot write to the output")
+
+
+def test_unwritable_output_file_is_an_error(tmp_path, capsys):
+    (tmp_path / "6_2_sipg_p1.vtu").mkdir()  # reported as "wrote ...vtu" with exit 0 before
+    check_one_line_error(main(["solve", "6.2", "--h", "0.5", "--out", str(tmp_path)]), capsys, "is a folder")
+    check_one_line_error(main(["solve", "6.2", "--h", "0.5", "--out", str(tmp_path), "--overwrite"]), capsys,
+                         "is a folder")
+
+
+def test_interrupted_uniform_run_keeps_its_finished_studies(tmp_path, capsys, monkeypatch):
+    from ngdgfric import cli
+
+    original, calls = cli.uniform_study, []
+
+    def study_then_interrupt(*args, **kwargs):  # Ctrl-C during the second study
+        calls.append(args[1])
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(cli, "uniform_study", study_then_interrupt)
+    assert main(["uniform", "6.2", "--levels", "2", "--method", "sipg", "nipg", "--out", str(tmp_path)]) == 130
+    with open(tmp_path / "6_2_uniform.csv") as handle:
+        assert {r["method"] for r in csv.DictReader(handle)} == {"sipg"}
+    assert "| sipg | 2^-1 |" in (tmp_path / "6_2_uniform.md").read_text()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary files left

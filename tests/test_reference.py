@@ -1,0 +1,81 @@
+"""Stored reference solutions: the file is validated and must belong to the problem (ngdgfric.reference)."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+
+
+@pytest.fixture(scope="module")
+def saved(tmp_path_factory):
+    """(folder, problem): a P1 reference of Example 6.1 on h = 1/2 saved as a.npz, one of 6.2 as other.npz."""
+    folder = tmp_path_factory.mktemp("references")
+    for name, problem in (("a", ndf.example_6_1()), ("other", ndf.example_6_2())):
+        sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5))
+        ndf.save_reference(sol, folder / f"{name}.npz", eta=0.5)
+    return folder, ndf.example_6_1()
+
+
+def tampered(folder, change, name="bad.npz"):
+    with np.load(folder / "a.npz") as archive:
+        data = {key: archive[key] for key in archive.files}
+    change(data)
+    np.savez(folder / name, **data)
+    return folder / name
+
+
+def test_round_trip_keeps_everything(saved):
+    folder, problem = saved
+    reference = ndf.load_reference(folder / "a.npz", problem)
+    assert reference.eta == 0.5 and reference.mesh.ne == 8
+    assert not list(folder.glob(".*"))  # no temporary file left by the atomic write
+
+
+def test_reference_of_another_problem_is_refused(saved):
+    folder, problem = saved
+    # Example 6.2's reference loaded for 6.1 failed later with "Meshpoint 0 not in mesh!"
+    with pytest.raises(ValueError, match="other.npz: made for another problem: its polygon"):
+        ndf.load_reference(folder / "other.npz", problem)
+    for change, message in (({"E": 2001.0}, "E = 2000 there, 2001 here"), ({"nu": 0.3}, r"\(nu, m_n, m_t\)"),
+                            ({"g": (0.0, -190.0)}, r"g\[0\]"), ({"c_tau": 450.0 + 1e-6 * ndf.example_6_1().g[0]},
+                                                               "c_tau")):
+        with pytest.raises(ValueError, match=f"a.npz: made for another problem: .*{message}"):
+            ndf.load_reference(folder / "a.npz", dataclasses.replace(problem, **change))
+
+
+def _drop_fingerprint(data):
+    del data["fp_data"]
+
+
+def _nan_coefficient(data):
+    data["u"][3] = np.nan
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d.update(triangles=d["triangles"] + 100), r"triangles refer to vertices outside 0\.\.8"),  # segfault
+    (lambda d: d.update(segments=-d["segments"]), "segments refer to vertices outside"),
+    (lambda d: d.update(points=d["points"][:, :1]), "points has shape"),
+    (lambda d: d.update(orders=d["orders"][:-1]), "orders: 7 orders"),
+    (lambda d: d.update(orders=0 * d["orders"]), "need one in 1..30"),
+    (lambda d: d.update(labels=d["labels"][:-1]), "labels for"),
+    (lambda d: d.update(u=d["u"][:-1]), "coefficients for a space of dimension"),
+    (lambda d: d.update(eta=np.array(-1.0)), "eta = -1.0 is negative"),
+    (_nan_coefficient, "u holds non-finite values"),
+    (_drop_fingerprint, "no fp_data"),
+])
+def test_defective_files_are_named(saved, change, message):
+    folder, problem = saved
+    with pytest.raises(ValueError, match=f"bad.npz: .*{message}"):
+        ndf.load_reference(tampered(folder, change), problem)
+
+
+@pytest.mark.parametrize("content", [b"hello" * 100, b"", None])
+def test_unreadable_files_are_named(saved, content):
+    folder, problem = saved
+    path = folder / "broken.npz"
+    whole = (folder / "a.npz").read_bytes()
+    path.write_bytes(whole[:len(whole) // 2] if content is None else content)  # None: truncated
+    with pytest.raises(ValueError, match="broken.npz: not a reference file"):
+        ndf.load_reference(path, problem)
