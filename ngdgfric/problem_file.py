@@ -38,6 +38,7 @@ Unknown, missing or mistyped keys and bad expressions raise ValueError naming th
 import ast
 import math
 import operator
+import warnings
 from dataclasses import fields
 from pathlib import Path
 
@@ -119,7 +120,9 @@ def parse_expression(text):
     if len(text) > MAX_LENGTH:
         raise ValueError(f"expression longer than {MAX_LENGTH} characters")
     try:
-        tree = ast.parse(text.strip(), mode="eval")
+        with warnings.catch_warnings():  # "invalid decimal literal" for 2x: the SyntaxError that follows says it
+            warnings.simplefilter("ignore", SyntaxWarning)
+            tree = ast.parse(text.strip(), mode="eval")
     except (SyntaxError, RecursionError, MemoryError) as exc:
         raise ValueError("not a valid expression") from exc
     try:

@@ -1,7 +1,10 @@
 import dataclasses
+import math
 
 import ngsolve as ngs
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import ngdgfric as ndf
 
@@ -92,3 +95,28 @@ def test_polygon_checks_accept_straight_angles_and_small_but_resolved_features()
     ndf.Polygon(((0, 0), (0.5, 0), (1, 0), (1, 1), (0, 1)), ("contact", "contact", "dirichlet", "traction",
                                                               "traction"))
     ndf.Polygon(((0, 0), (1, 0), (1, 1), (1 - 1e-5, 1), (0, 1)), LABELS + ("traction",))
+
+
+FIELDS = {"E": (0, None, True), "nu": (-1, 0.5, True), "c_n": (0, None, False), "m_n": (1, None, False),
+          "g_a": (None, None, False), "c_tau": (0, None, False), "m_t": (0, None, False)}
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.sampled_from(sorted(FIELDS)),
+       st.floats() | st.integers(-10**400, 10**400) | st.booleans() | st.text(max_size=3) | st.none())
+def test_any_number_is_accepted_exactly_when_valid(field, value):
+    """ContactProblem accepts a number for a field iff it is a finite real in the field's range (the
+    range written out here from Section 1 and the docstring), else a ValueError naming the field."""
+    low, high, low_open = FIELDS[field]
+    try:
+        number = float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+    except OverflowError:
+        number = None
+    valid = number is not None and math.isfinite(number) and (
+        low is None or number > low or (number == low and not low_open)) and (high is None or number < high)
+    try:
+        dataclasses.replace(ndf.example_6_1(), **{field: value})
+    except ValueError as exc:
+        assert not valid and str(exc).startswith(field)
+        return
+    assert valid
