@@ -45,23 +45,34 @@ BOUNDARY = {"traction": {"g": (None, False)}, "contact": {"g_a": (None, False), 
 def check_data(problem, mesh, order):
     """ValueError naming the datum and a point unless every CoefficientFunction datum is finite
     (and E > 0, c_n >= 0, c_tau >= 0) at the points where the forms of order ``order`` use it."""
-    _check_on(problem, VOLUME, mesh.MapToAllElements(_rule(order, ngs.TRIG), ngs.VOL), "Omega")
+    if _varying(problem, VOLUME):
+        _check_on(problem, VOLUME, mesh.MapToAllElements(_rule(order, ngs.TRIG), ngs.VOL), "Omega")
     for part, data in BOUNDARY.items():
         name = getattr(problem, part)
-        region = mesh.Boundaries(name)
-        if any(el.mat == name for el in mesh.Elements(ngs.BND)):
-            _check_on(problem, data, mesh.MapToAllElements(_rule(order, ngs.SEGM), region), f"the boundary {name!r}")
+        if _varying(problem, data) and any(el.mat == name for el in mesh.Elements(ngs.BND)):
+            points = mesh.MapToAllElements(_rule(order, ngs.SEGM), mesh.Boundaries(name))
+            _check_on(problem, data, points, f"the boundary {name!r}")
+
+
+def _as_cf(value):
+    """A datum as a CoefficientFunction, or None if it is made of numbers only (checked on creation)."""
+    if isinstance(value, ngs.CoefficientFunction):
+        return value
+    if isinstance(value, (tuple, list)) and any(isinstance(c, ngs.CoefficientFunction) for c in value):
+        return ngs.CF(tuple(value))
+    return None
+
+
+def _varying(problem, data):
+    return any(_as_cf(getattr(problem, name)) is not None for name in data)
 
 
 def _check_on(problem, data, points, where):
     for name, (low, open_bound) in data.items():
-        value = getattr(problem, name)
-        if isinstance(value, ngs.CoefficientFunction):
-            values = np.asarray(value(points)).reshape(len(points), -1)
-        elif name in ("f", "g") and any(isinstance(c, ngs.CoefficientFunction) for c in value):
-            values = np.asarray(ngs.CF(tuple(value))(points)).reshape(len(points), -1)
-        else:
+        cf = _as_cf(getattr(problem, name))
+        if cf is None:
             continue
+        values = np.asarray(cf(points)).reshape(len(points), -1)
         bad = ~np.isfinite(values)
         if low is not None:
             bad |= (values <= low) if open_bound else (values < low)
