@@ -22,6 +22,7 @@ from .forms import check_penalty, default_eta, dg_terms, edge_length, get_method
 from .liftings import lifting_stiffness
 from .linalg import sparse_sum, threads
 from .meshes import check_mesh
+from .problem import ContactProblem
 from .traces import ContactTraces
 
 __all__ = ["Discretization", "dg_space", "check_order", "order_function"]
@@ -90,6 +91,8 @@ class Discretization:
     """
 
     def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn", max_ndof=None):
+        if not isinstance(problem, ContactProblem):
+            raise ValueError(f"problem must be a ContactProblem, got {problem!r}")
         check_mesh(problem, mesh)
         self.problem, self.mesh = problem, mesh
         self.method = get_method(method)

@@ -7,30 +7,35 @@ reacting to Ctrl-C, and vertices closer than about 1e-8 of the polygon's size ma
 
 import numpy as np
 
-__all__ = ["check_polygon", "RESOLUTION", "distances_to_sides"]
+__all__ = ["check_polygon", "RESOLUTION", "COORDINATE_LIMIT", "distances_to_sides"]
 
 # vertices (and a vertex and a side) closer than RESOLUTION times the polygon's diameter are refused:
 # Netgen meshed a gap of 1e-7 of the size and failed at 1e-8
 RESOLUTION = 1e-6
+# coordinates within +-COORDINATE_LIMIT and a size above its inverse: areas and squared lengths stay finite and
+# nonzero in floating point (a square of side 1e300 overflowed)
+COORDINATE_LIMIT = 1e100
 
 
 def check_polygon(vertices):
     """ValueError naming the defect unless ``vertices`` (n, 2) are those of a simple polygon.
 
-    Checked: finite coordinates; at least 3 vertices; no vertex within RESOLUTION x diameter of
-    another vertex or of a side it does not bound; no two sides crossing or overlapping.
+    Checked: finite coordinates (within +-COORDINATE_LIMIT); at least 3 vertices; no vertex within
+    RESOLUTION x diameter of another vertex or of a side it does not bound; no two sides crossing
+    or overlapping.
     """
-    v = np.asarray(vertices, dtype=float)
-    bad = np.flatnonzero(~np.all(np.isfinite(v), axis=1))
+    v = np.asarray(vertices, dtype=float).reshape(-1, 2)
+    bad = np.flatnonzero(~np.all(np.abs(v) <= COORDINATE_LIMIT, axis=1))  # also NaN
     if bad.size:
         k = int(bad[0])
-        raise ValueError(f"vertices[{k}] = {_show(v[k])} is not a finite point")
+        raise ValueError(f"vertices[{k}] = {_show(v[k])} is not a finite point with coordinates within "
+                         f"+-{COORDINATE_LIMIT:g}")
     n = len(v)
     if n < 3:
         raise ValueError(f"a polygon needs at least 3 vertices, got {n}")
     diameter = float(np.max(np.ptp(v, axis=0)))
-    if diameter == 0:
-        raise ValueError("all vertices of the polygon coincide")
+    if diameter < 1 / COORDINATE_LIMIT:
+        raise ValueError(f"the polygon's vertices span only {diameter:g} (at least {1 / COORDINATE_LIMIT:g} needed)")
     tol = RESOLUTION * diameter
     for i in range(n):
         gaps = np.linalg.norm(v[i + 1:] - v[i], axis=1)

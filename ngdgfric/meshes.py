@@ -28,12 +28,17 @@ def estimated_elements(problem, h=None, maxh=None):
     the boundary; on Example 6.1 1.50, 1.18, 1.07, 1.03 times Netgen's count for maxh = 0.2, 0.1,
     0.05, 0.02)."""
     geometry = problem.geometry
-    if h is not None:
-        x0, y0, x1, y1 = geometry.bounds
-        return 2 * math.ceil((x1 - x0) / h) * math.ceil((y1 - y0) / h)
-    v = np.asarray(geometry.vertices)
-    perimeter = float(np.sum(np.linalg.norm(np.roll(v, -1, axis=0) - v, axis=1)))
-    return math.ceil(4 / math.sqrt(3) * geometry.signed_area / maxh**2 + perimeter / maxh)
+    with np.errstate(over="ignore"):  # a float, inf when it overflows (h = 1e-300)
+        if h is not None:
+            x0, y0, x1, y1 = geometry.bounds
+            return 2 * np.ceil(np.float64(x1 - x0) / h) * np.ceil(np.float64(y1 - y0) / h)
+        v = np.asarray(geometry.vertices)
+        perimeter = float(np.sum(np.linalg.norm(np.roll(v, -1, axis=0) - v, axis=1)))
+        return float(np.ceil(4 / math.sqrt(3) * geometry.signed_area / np.float64(maxh) ** 2 + perimeter / maxh))
+
+
+def _is_size(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0
 
 
 def _check_size(problem, max_elements, **size):
@@ -58,7 +63,7 @@ def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
         raise ValueError("uniform_mesh needs a rectangle geometry; use netgen_mesh for a general polygon")
     if diagonal not in DIAGONALS:
         raise ValueError(f"diagonal must be one of {DIAGONALS}, got {diagonal!r}")
-    if not (isinstance(h, (int, float)) and math.isfinite(h) and h > 0):
+    if not (_is_size(h)):
         raise ValueError(f"h must be a positive number, got {h!r}")
     _check_size(problem, max_elements, h=h)
     x0, y0, x1, y1 = geometry.bounds
@@ -133,7 +138,7 @@ def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS):
     ValueError above about ``max_elements`` triangles (:func:`estimated_elements`; None: no limit)
     or when Netgen fails (the polygon itself is checked by :class:`ngdgfric.problem.Polygon`).
     """
-    if not (isinstance(maxh, (int, float)) and math.isfinite(maxh) and maxh > 0):
+    if not _is_size(maxh):
         raise ValueError(f"maxh must be a positive number, got {maxh!r}")
     _check_size(problem, max_elements, maxh=maxh)
     geometry = problem.geometry
@@ -155,6 +160,8 @@ def check_mesh(problem, mesh):
     """Raise ValueError unless ``mesh`` is a mesh of the problem's polygon: its boundary names are
     the problem's (Gamma_D, Gamma_F, Gamma_C), every boundary edge lies on a side of the polygon
     with its name, and the mesh has the polygon's area and side lengths (to FIT relative)."""
+    if not isinstance(mesh, ngs.Mesh) or mesh.dim != 2:
+        raise ValueError(f"mesh must be a 2D NGSolve Mesh, got {mesh!r}")
     found = set(mesh.GetBoundaries())
     required = {problem.dirichlet, problem.contact}
     if problem.traction in problem.geometry.labels:

@@ -175,6 +175,8 @@ def _evaluate(node):
 def load_problem(path):
     """The :class:`ContactProblem` of a TOML problem file (format in the module docstring)."""
     path = Path(path)
+    if path.exists() and not path.is_file():  # a folder, or a pipe that would block the read for ever
+        raise ValueError(f"{path}: not a regular file")
     try:
         with open(path, "rb") as handle:
             data = tomllib.load(handle)
