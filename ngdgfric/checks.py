@@ -14,12 +14,16 @@ assembled.
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["check_data", "check_size", "MEMORY_BUDGET"]
+__all__ = ["check_data", "check_size", "DataError", "MEMORY_BUDGET"]
 
 # bytes; the default limit of check_size, which estimates the peak memory of a solve as the sum over
 # elements of n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the peak resident
 # memory of Example 6.1 solves: P1 with 2e5 and 8e5 DOFs, P3 with 1.6e5 and 6.6e5, P6 with 1.1e5; 3-7 %)
 MEMORY_BUDGET = 8e9
+
+
+class DataError(ValueError):
+    """A datum of the problem is invalid somewhere on the mesh; its message starts with the datum's name."""
 
 
 def _rule(order, shape):
@@ -82,7 +86,7 @@ def _check_on(problem, data, points, where):
             x, y = float(ngs.x(points[k])), float(ngs.y(points[k]))
             shown = float(values[k, 0]) if values.shape[1] == 1 else tuple(map(float, values[k]))
             need = "finite" if low is None else f"finite and {'>' if open_bound else '>='} {low:g}"
-            raise ValueError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
+            raise DataError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
 
 
 def check_size(orders, max_ndof=None, elements=None):

@@ -25,7 +25,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .adaptivity import adapt
-from .checks import check_size
+from .checks import DataError, check_size
 from .errors import SolverError
 from .estimator import estimate
 from .examples import example_6_1, example_6_2
@@ -33,7 +33,7 @@ from .files import atomic_path, check_writable, write_csv, write_text
 from .forms import METHODS, strain, stress
 from .meshes import estimated_elements, mesh_arrays, netgen_mesh, uniform_mesh
 from .norms import energy_norm
-from .problem_file import load_problem
+from .problem_file import in_file, load_problem
 from .solution import SOLVERS, solve
 from .studies import uniform_study
 
@@ -374,7 +374,10 @@ def run(argv=None):
                              f"another --out")
     with warnings.catch_warnings():
         warnings.showwarning = lambda message, *_, **__: print(f"ngdgfric: warning: {message}", file=sys.stderr)
-        return COMMANDS[args.command](args, problem, tag)
+        try:
+            return COMMANDS[args.command](args, problem, tag)
+        except DataError as exc:  # found on the mesh: name the key of the problem file
+            raise exc if args.problem in EXAMPLES else ValueError(in_file(args.problem, exc)) from exc
 
 
 def main(argv=None):

@@ -51,7 +51,7 @@ try:
 except ImportError:  # Python 3.10
     import tomli as tomllib
 
-__all__ = ["load_problem", "problem_from_dict", "parse_expression", "example_file", "EXAMPLES", "FUNCTIONS"]
+__all__ = ["load_problem", "problem_from_dict", "in_file", "parse_expression", "example_file", "EXAMPLES", "FUNCTIONS"]
 
 EXAMPLES = {"6.1": "example_6_1.toml", "6.2": "example_6_2.toml"}
 DATA = Path(__file__).resolve().parent / "data"
@@ -223,12 +223,18 @@ def problem_from_dict(data, source="<dict>", default_name="contact problem"):
     try:
         geometry = Polygon(vertices, labels)
         return ContactProblem(geometry=geometry, name=name, **values)
-    except ValueError as exc:  # name the key as in the file: "nu must be ..." -> "material.nu must be ..."
-        message = str(exc)
-        field = message.split(" ", 1)[0].split("[", 1)[0]
-        if field in KEYS:
-            message = f"{KEYS[field].rsplit('.', 1)[0]}.{message}"
-        raise ValueError(f"{source}: {message}") from exc
+    except ValueError as exc:
+        raise ValueError(in_file(source, exc)) from exc
+
+
+def in_file(source, error):
+    """The message of a problem's ValueError as the file says it: "nu must be ..." from ``source``
+    becomes "<source>: material.nu must be ..."."""
+    message = str(error)
+    field = message.split(" ", 1)[0].split("[", 1)[0]
+    if field in KEYS:
+        message = f"{KEYS[field].rsplit('.', 1)[0]}.{message}"
+    return f"{source}: {message}"
 
 
 def _scalar(value):

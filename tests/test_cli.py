@@ -211,12 +211,19 @@ BAD_FILES = {  # (old text, new text, expected in the message)
 }
 
 POINTWISE = {  # valid numbers, but data that are not finite or positive somewhere: found when solving
-    "gap NaN on the domain": ("g_a = 0.05 ", 'g_a = "sqrt(x - 2)" ', "g_a must be finite on the boundary"),
-    "gap -inf on the domain": ("g_a = 0.05 ", 'g_a = "log(x)" ', "got -inf at (0, 0.05)"),
-    "E negative somewhere": ("E = 2000.0", 'E = "2000*(0.5 - x)"', "E must be finite and > 0 on Omega"),
-    "E constant negative expression": ("E = 2000.0", 'E = "-2000 + 0*x"', "E must be finite and > 0"),
-    "load infinite": ("f = [0.0, 0.0]", 'f = [0.0, "1/(x - x)"]', "f must be finite on Omega"),
-    "traction overflow": ('g = ["200*(5 - y)", -190.0]', 'g = ["exp(1000*x)", -190.0]', "g must be finite"),
+    # (old text, new text, the CLI's message after "bad.toml: ", the API's message)
+    "gap NaN on the domain": ("g_a = 0.05 ", 'g_a = "sqrt(x - 2)" ', "contact.g_a must be finite on the boundary",
+                              "g_a must be finite on the boundary 'contact', got nan"),
+    "gap -inf on the domain": ("g_a = 0.05 ", 'g_a = "log(x)" ', "contact.g_a must be finite",
+                               r"g_a must be finite on the boundary 'contact', got -inf at \(0, 0.05\)"),
+    "E negative somewhere": ("E = 2000.0", 'E = "2000*(0.5 - x)"', "material.E must be finite and > 0 on Omega",
+                             r"E must be finite and > 0 on Omega, got 0.0 at \(0.5, "),
+    "E constant negative expression": ("E = 2000.0", 'E = "-2000 + 0*x"', "material.E must be finite and > 0",
+                                       "E must be finite and > 0 on Omega, got -2000.0"),
+    "load infinite": ("f = [0.0, 0.0]", 'f = [0.0, "1/(x - x)"]', "loads.f must be finite on Omega",
+                      r"f must be finite on Omega, got \(0.0, inf\)"),
+    "traction overflow": ('g = ["200*(5 - y)", -190.0]', 'g = ["exp(1000*x)", -190.0]', "loads.g must be finite",
+                          r"g must be finite on the boundary 'traction', got \(inf, -190.0\)"),
 }
 
 
@@ -247,11 +254,11 @@ def test_bad_problem_files(case, tmp_path, capsys):
 
 @pytest.mark.parametrize("case", sorted(POINTWISE))
 def test_data_checked_pointwise(case, tmp_path, capsys):
-    old, new, expected = POINTWISE[case]
+    old, new, in_cli, in_api = POINTWISE[case]
     path = variant(tmp_path, old, new, name="bad.toml")
-    check_one_line_error(main(["solve", str(path), "--out", str(tmp_path)]), capsys, expected)
+    check_one_line_error(main(["solve", str(path), "--out", str(tmp_path)]), capsys, f"bad.toml: {in_cli}")
     problem = load_problem(path)
-    with pytest.raises(ValueError, match=expected.split(" on ")[0].split(" at ")[0]):
+    with pytest.raises(ValueError, match=in_api):
         ndf.solve(problem, ndf.uniform_mesh(problem, 0.25))
 
 
