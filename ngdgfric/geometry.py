@@ -28,8 +28,7 @@ def check_polygon(vertices):
     bad = np.flatnonzero(~np.all(np.abs(v) <= COORDINATE_LIMIT, axis=1))  # also NaN
     if bad.size:
         k = int(bad[0])
-        raise ValueError(f"vertices[{k}] = {_show(v[k])} is not a finite point with coordinates within "
-                         f"+-{COORDINATE_LIMIT:g}")
+        raise ValueError(f"vertices[{k}] = {_show(v[k])}: coordinates must be finite, within +-{COORDINATE_LIMIT:g}")
     n = len(v)
     if n < 3:
         raise ValueError(f"a polygon needs at least 3 vertices, got {n}")

@@ -206,7 +206,7 @@ BAD_FILES = {  # (old text, new text, expected in the message)
                          "geometry.vertices[2]"),
     "near-duplicate vertex": ("[1.0, 1.05], [0.0, 1.05]]", "[1.0, 1.05], [1.0, 1.0500000001], [0.0, 1.05]]",
                               "coincide"),
-    "NaN vertex": ("[1.0, 1.05], [0.0, 1.05]]", "[1.0, nan], [0.0, 1.05]]", "not a finite point"),
+    "NaN vertex": ("[1.0, 1.05], [0.0, 1.05]]", "[1.0, nan], [0.0, 1.05]]", "coordinates must be finite"),
     "self-intersecting polygon": ("[1.0, 1.05], [0.0, 1.05]]", "[0.0, 1.05], [1.0, 1.05]]", "cross"),
 }
 
