@@ -301,3 +301,9 @@ def test_interrupted_uniform_run_keeps_its_finished_studies(tmp_path, capsys, mo
         assert {r["method"] for r in csv.DictReader(handle)} == {"sipg"}
     assert "| sipg | 2^-1 |" in (tmp_path / "6_2_uniform.md").read_text()
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary files left
+
+
+def test_problem_file_that_is_not_utf8_is_named(tmp_path, capsys):
+    path = tmp_path / "latin1.toml"
+    path.write_bytes(example_file("6.1").read_bytes().replace(b'"Example 6.1"', b'"Exemple \xe9"'))
+    check_one_line_error(main(["solve", str(path), "--out", str(tmp_path)]), capsys, "latin1.toml: not a UTF-8 text")
