@@ -10,9 +10,9 @@ import math
 import netgen.meshing as nm
 import ngsolve as ngs
 import numpy as np
-from netgen.geom2d import SplineGeometry
 
 from .geometry import distances_to_sides
+from .mesher import default_timeout, generate
 
 __all__ = ["uniform_mesh", "netgen_mesh", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
            "element_diameters", "estimated_elements", "MAX_ELEMENTS"]
@@ -47,7 +47,7 @@ def _check_size(problem, max_elements, **size):
     if max_elements is not None and estimate > max_elements:
         raise ValueError(f"{name} = {value:g} would make about {estimate:.3g} elements ({6 * estimate:.3g} DOFs "
                          f"at P1), more than max_elements = {max_elements:.3g}; pass a larger max_elements "
-                         f"(CLI: --max-ndof) to allow it")
+                         f"to allow it")
 
 
 def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
@@ -132,28 +132,37 @@ def mesh_arrays(mesh):
     return points, triangles, segments, labels
 
 
-def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS):
+def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
     """Unstructured Netgen triangulation of the problem's polygon with mesh size ``maxh``.
 
-    ValueError above about ``max_elements`` triangles (:func:`estimated_elements`; None: no limit)
-    or when Netgen fails (the polygon itself is checked by :class:`ngdgfric.problem.Polygon`).
+    ValueError above about ``max_elements`` triangles (:func:`estimated_elements`; None: no limit),
+    when Netgen fails, or when it has not finished after ``timeout`` seconds (default
+    :func:`ngdgfric.mesher.default_timeout` of the estimate); Netgen runs in a child process, so
+    Ctrl-C stops it (:mod:`ngdgfric.mesher`).  The polygon itself is checked by
+    :class:`ngdgfric.problem.Polygon`.
     """
     if not _is_size(maxh):
         raise ValueError(f"maxh must be a positive number, got {maxh!r}")
     _check_size(problem, max_elements, maxh=maxh)
     geometry = problem.geometry
-    spline = SplineGeometry()
-    points = [spline.AppendPoint(x, y) for x, y in geometry.vertices]
-    for k, label in enumerate(geometry.labels):
-        spline.Append(["line", points[k], points[(k + 1) % len(points)]], bc=label, leftdomain=1, rightdomain=0)
+    if timeout is None:
+        timeout = default_timeout(estimated_elements(problem, maxh=maxh))
     try:
-        mesh = ngs.Mesh(spline.GenerateMesh(maxh=maxh))
-    except Exception as exc:  # netgen.libngpy._meshing.NgException
-        raise ValueError(f"Netgen could not mesh the polygon {geometry.vertices} with maxh = {maxh:g}: {exc}") from exc
+        ngmesh = generate(geometry.vertices, geometry.labels, maxh, timeout)
+    except (RuntimeError, TimeoutError) as exc:
+        raise ValueError(f"Netgen could not mesh the polygon {_shown(geometry)} with maxh = {maxh:g}: {exc}") from None
+    mesh = ngs.Mesh(ngmesh)
     if mesh.ne == 0:
-        raise ValueError(f"Netgen made no elements for the polygon {geometry.vertices} with maxh = {maxh:g}")
+        raise ValueError(f"Netgen made no elements for the polygon {_shown(geometry)} with maxh = {maxh:g}")
     check_mesh(problem, mesh)
     return mesh
+
+
+def _shown(geometry, count=6):
+    """The polygon's first vertices for a message."""
+    vertices = [f"({x:g}, {y:g})" for x, y in geometry.vertices]
+    more = f", ... ({len(vertices)} vertices)" if len(vertices) > count else ""
+    return "[" + ", ".join(vertices[:count]) + more + "]"
 
 
 def check_mesh(problem, mesh):

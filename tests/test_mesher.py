@@ -1,0 +1,45 @@
+"""Netgen in a child process (ngdgfric.mesher): failures and time limits as ValueErrors, Ctrl-C at once."""
+
+import dataclasses
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import ngdgfric as ndf
+
+
+def strip(width):
+    """Example 6.1's data on the rectangle (0, 1) x (0, width): valid, but thin for Netgen."""
+    geometry = ndf.Polygon([(0, 0), (1, 0), (1, width), (0, width)], ("contact", "traction", "traction", "dirichlet"))
+    return dataclasses.replace(ndf.example_6_1(), geometry=geometry)
+
+
+def test_netgen_failure_is_a_value_error():
+    with pytest.raises(ValueError, match=r"Netgen could not mesh the polygon \[\(0, 0\), .* meshing failed"):
+        ndf.netgen_mesh(strip(5e-5), 1.0)
+
+
+def test_netgen_busy_beyond_the_time_limit_is_stopped():
+    # width 1e-5: Netgen ran for more than 6 minutes of CPU (maxh = 0.1) without reacting to Ctrl-C
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="did not finish within 2 s"):
+        ndf.netgen_mesh(strip(1e-5), 1.0, timeout=2)
+    assert time.perf_counter() - start < 10
+
+
+def test_ctrl_c_stops_meshing_at_once():
+    code = ("import sys; sys.path.insert(0, 'tests'); import test_mesher, ngdgfric as ndf\n"
+            "print('meshing', flush=True)\n"
+            "ndf.netgen_mesh(test_mesher.strip(1e-5), 1.0)\n")
+    process = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               cwd=Path(__file__).resolve().parent.parent)
+    assert process.stdout.readline() == "meshing\n"
+    time.sleep(1)
+    process.send_signal(signal.SIGINT)
+    start = time.perf_counter()
+    _, err = process.communicate(timeout=30)
+    assert "KeyboardInterrupt" in err and time.perf_counter() - start < 5
