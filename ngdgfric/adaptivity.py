@@ -18,6 +18,7 @@ from types import SimpleNamespace
 import ngsolve as ngs
 import numpy as np
 
+from .checks import MEMORY_BUDGET, estimated_bytes
 from .estimator import WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
@@ -84,7 +85,7 @@ class Adaptation:
     ``levels``: one record (dict with the keys of ``FIELDS``) per solved level; ``solution``: the
     :class:`~ngdgfric.solution.Solution` of the last level (its mesh is the final mesh, not refined
     after it); ``estimate``: its :class:`~ngdgfric.estimator.Estimate`; ``stopped``: why the loop
-    ended ("tol", "max_levels" or "max_ndof").
+    ended ("tol", "max_levels", "max_ndof" or "memory").
     """
 
     levels: list
@@ -100,8 +101,9 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100,
 
     Stops as soon as eta_h <= ``tol`` (with the default ``weights="energy"`` eta_h estimates the
     energy error |||u - u_h|||_h, :func:`ngdgfric.estimate`), after ``max_levels`` solves, or when
-    the next refined mesh would exceed ``max_ndof`` degrees of freedom (tried on a copy of the mesh,
-    so the returned solution's mesh is never refined after its solve).  Defaults: hp-adaptive
+    the next refined mesh would exceed ``max_ndof`` degrees of freedom or the memory budget of
+    :func:`ngdgfric.checks.check_size` (tried on a copy of the mesh, so the returned solution's mesh
+    is never refined after its solve).  Defaults: hp-adaptive
     (:func:`ngdgfric.hp.hp_refine`) SIPG from p = ``order`` = 2 up to ``max_order`` = 8, Doerfler
     theta = 0.3; the paper's loop is ``hp=False, order=1, weights="paper"``.
 
@@ -153,9 +155,8 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100,
             refine_start = time.perf_counter()
             marked = dorfler_mark(est.element, theta)
             refinement = dict(indicators=est.element, marked=marked, hp=hp, max_order=max_order, order=order)
-            if _refined_ndof(mesh, state, max_ndof, **refinement) > max_ndof:
-                stopped = "max_ndof"
-            else:
+            stopped = _too_large(mesh, state, max_ndof, **refinement)
+            if stopped is None:
                 carrier.Set(sol.u)  # exact: element-wise L2 projection into a superspace
                 previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
                 sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
@@ -176,19 +177,23 @@ def _refine(mesh, state, indicators, marked, hp, max_order, order):
     return HPState.uniform(mesh, order)
 
 
-def _refined_ndof(mesh, state, max_ndof, **refinement):
-    """dim V_h after the refinement, or an upper bound of it when that is <= max_ndof.
+def _too_large(mesh, state, max_ndof, **refinement):
+    """"max_ndof" if the refined mesh would have more than ``max_ndof`` DOFs, "memory" if its solve
+    would need more than :data:`ngdgfric.checks.MEMORY_BUDGET` (:func:`ngdgfric.checks.check_size`),
+    else None.
 
     One pass of bisection with closure gives an element at most 4 children (hp_refine makes two
-    passes) and raising p_T to p_T + 1 at most doubles its (p_T + 1)(p_T + 2) DOFs; near the budget
-    the refinement is done on a copy of the mesh (Netgen's copy keeps the bisection data, so the
-    copy refines exactly as the mesh would).
+    passes) and raising p_T to p_T + 1 at most doubles its n_T = (p_T + 1)(p_T + 2) DOFs (so at most
+    quadruples its memory n_T (1000 + 270 n_T)); near the limits the refinement is done on a copy
+    of the mesh (Netgen's copy keeps the bisection data, so the copy refines exactly as the mesh would).
     """
-    bound = state.ndof * (32 if refinement["hp"] else 4)
-    if bound <= max_ndof:
-        return bound
-    copy = ngs.Mesh(mesh.ngmesh.Copy())
-    return _refine(copy, state, **refinement).ndof
+    growth, memory_growth = (32, 64) if refinement["hp"] else (4, 4)
+    if state.ndof * growth <= max_ndof and estimated_bytes(state.orders) * memory_growth <= MEMORY_BUDGET:
+        return None
+    refined = _refine(ngs.Mesh(mesh.ngmesh.Copy()), state, **refinement)
+    if refined.ndof > max_ndof:
+        return "max_ndof"
+    return "memory" if estimated_bytes(refined.orders) > MEMORY_BUDGET else None
 
 
 def _report(records, csv_path, progress, solver):

@@ -2,10 +2,12 @@
 
 :class:`ngdgfric.problem.ContactProblem` checks numbers when it is made; data given as
 CoefficientFunctions can only be checked where they are used.  :func:`check_data` samples them
-at the points where the forms evaluate them (each triangle's Gauss points of degree 2p + 2, its
-edges' Gauss points and its vertices; the Gauss points and end points of the edges of Gamma_F and
-Gamma_C) and names the datum and a point where it fails: ``g_a = "sqrt(x - 2)"`` or ``E =
-"2000*(0.5 - x)"`` used to end in a no-contact answer or a complex energy norm.
+at the points where the forms evaluate them (each triangle's Gauss points of degrees 2p - 2 ...
+2p + 2, its edges' Gauss points and its vertices; the Gauss points, among them the contact rule's,
+and end points of the edges of Gamma_F and Gamma_C; p the largest order) and names the datum and
+a point where it fails (a datum invalid only at isolated points between these can pass):
+``g_a = "sqrt(x - 2)"`` or ``E = "2000*(0.5 - x)"`` used to end in a no-contact answer or a complex
+energy norm.
 
 :func:`check_size` refuses a discretisation whose estimated memory is above a budget before it is
 assembled.
@@ -14,7 +16,7 @@ assembled.
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["check_data", "check_size", "DataError", "MEMORY_BUDGET"]
+__all__ = ["check_data", "check_size", "estimated_bytes", "DataError", "MEMORY_BUDGET"]
 
 # bytes; the default limit of check_size, which estimates the peak memory of a solve as the sum over
 # elements of n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the peak resident
@@ -27,16 +29,19 @@ class DataError(ValueError):
 
 
 def _rule(order, shape):
-    """Sampling points on a reference element of ``shape`` (TRIG or SEGM): Gauss points and the boundary."""
-    degree = 2 * order + 2
-    gauss = [tuple(p) for p in ngs.IntegrationRule(ngs.SEGM, degree).points]
+    """Sampling points on a reference element of ``shape`` (TRIG or SEGM): the Gauss points of
+    degrees 2p - 2 ... 2p + 2 (the forms' rules; on edges 2p + 1 is the contact rule), the edges'
+    Gauss points and the vertices."""
+    degrees = range(max(2 * order - 2, 0), 2 * order + 3)
+    gauss = [tuple(p)[0] for d in degrees for p in ngs.IntegrationRule(ngs.SEGM, d).points]
     if shape == ngs.SEGM:
-        points = [(t[0],) for t in gauss] + [(0.0,), (1.0,)]
+        points = [(t,) for t in gauss] + [(0.0,), (1.0,)]
     else:
-        points = [tuple(p)[:2] for p in ngs.IntegrationRule(ngs.TRIG, degree).points]
+        points = [tuple(p)[:2] for d in degrees for p in ngs.IntegrationRule(ngs.TRIG, d).points]
         for (a, b), (c, d) in (((0, 0), (1, 0)), ((1, 0), (0, 1)), ((0, 1), (0, 0))):
-            points += [(a + t[0] * (c - a), b + t[0] * (d - b)) for t in gauss]
+            points += [(a + t * (c - a), b + t * (d - b)) for t in gauss]
         points += [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]
+    points = list(dict.fromkeys(points))
     return {shape: ngs.IntegrationRule(points, [0.0] * len(points))}
 
 
@@ -89,13 +94,20 @@ def _check_on(problem, data, points, where):
             raise DataError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
 
 
+def estimated_bytes(orders, elements=None):
+    """Peak memory of a solve (the model above MEMORY_BUDGET) with element orders ``orders``, or
+    with ``elements`` elements of the one order ``orders``."""
+    n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
+    return float(np.sum(n * (1000 + 270 * n))) * (1 if elements is None else float(elements))
+
+
 def check_size(orders, max_ndof=None, elements=None):
     """ValueError before assembly if the DOFs of elements of ``orders`` exceed ``max_ndof``, or, for
     ``max_ndof=None``, if the estimated memory exceeds MEMORY_BUDGET.  With ``elements``,
     ``orders`` is one order p for that many elements (an estimate before meshing)."""
     n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
-    count = 1 if elements is None else float(elements)
-    ndof, memory = float(np.sum(n)) * count, float(np.sum(n * (1000 + 270 * n))) * count
+    ndof = float(np.sum(n)) * (1 if elements is None else float(elements))
+    memory = estimated_bytes(orders, elements)
     if max_ndof is None:
         if memory > MEMORY_BUDGET:
             raise ValueError(f"{ndof:.4g} DOFs would need about {memory / 1e9:.3g} GB, more than the "

@@ -285,6 +285,10 @@ def _plot_deformed(problem, sol, stress_cf, scale, path):
 
 def cmd_uniform(args, problem, tag):
     levels = tuple(range(1, args.levels + 1))
+    try:  # before any output (uniform_study checks it again)
+        check_size(args.order, args.max_ndof, elements=estimated_elements(problem, h=2.0**-levels[-1]))
+    except ValueError as exc:
+        raise ValueError(f"--levels {args.levels}: {exc}") from None
     csv_path, md_path = outputs(args, tag)
     rows = []
     for method in args.method:
@@ -377,7 +381,9 @@ def run(argv=None):
         try:
             return COMMANDS[args.command](args, problem, tag)
         except DataError as exc:  # found on the mesh: name the key of the problem file
-            raise exc if args.problem in EXAMPLES else ValueError(in_file(args.problem, exc)) from exc
+            if args.problem in EXAMPLES:
+                raise
+            raise ValueError(in_file(args.problem, exc)) from exc
 
 
 def main(argv=None):

@@ -34,6 +34,8 @@ def atomic_path(path, suffix=None):
         if not temporary.exists():
             raise OSError(f"could not write {path}: the writer produced no file")
         try:
+            with open(temporary, "rb") as written:  # on disk before it replaces the earlier file
+                os.fsync(written.fileno())
             os.replace(temporary, path)
         except OSError as exc:
             raise OSError(f"cannot write {path}: {exc.strerror or exc}") from exc

@@ -20,9 +20,10 @@ COORDINATE_LIMIT = 1e100
 def check_polygon(vertices):
     """ValueError naming the defect unless ``vertices`` (n, 2) are those of a simple polygon.
 
-    Checked: finite coordinates (within +-COORDINATE_LIMIT); at least 3 vertices; no vertex within
-    RESOLUTION x diameter of another vertex or of a side it does not bound; no two sides crossing
-    or overlapping.
+    Checked: finite coordinates (within +-COORDINATE_LIMIT); a size of at least RESOLUTION times
+    the largest coordinate (Netgen meshed a pentagon of size 1.5 at 3e6 from the origin and failed
+    at 1e7); at least 3 vertices; no vertex within RESOLUTION x diameter of another vertex or of a
+    side it does not bound (this also refuses sides that overlap or turn back); no two sides crossing.
     """
     v = np.asarray(vertices, dtype=float).reshape(-1, 2)
     bad = np.flatnonzero(~np.all(np.abs(v) <= COORDINATE_LIMIT, axis=1))  # also NaN
@@ -35,10 +36,14 @@ def check_polygon(vertices):
     diameter = float(np.max(np.ptp(v, axis=0)))
     if diameter < 1 / COORDINATE_LIMIT:
         raise ValueError(f"the polygon's vertices span only {diameter:g} (at least {1 / COORDINATE_LIMIT:g} needed)")
-    tol = RESOLUTION * diameter
+    if diameter < RESOLUTION * np.max(np.abs(v)):
+        raise ValueError(f"the polygon (size {diameter:g}) is smaller than {RESOLUTION:g} of its distance from the "
+                         f"origin ({np.max(np.abs(v)):g}): shift its coordinates towards the origin (Netgen failed "
+                         f"on a pentagon of size 1.5 at 1e7)")
+    gap = RESOLUTION * diameter  # the smallest distance allowed between features
     for i in range(n):
         gaps = np.linalg.norm(v[i + 1:] - v[i], axis=1)
-        close = np.flatnonzero(gaps <= tol)
+        close = np.flatnonzero(gaps <= gap)
         if close.size:
             j = i + 1 + int(close[0])
             raise ValueError(f"vertices[{i}] = {_show(v[i])} and vertices[{j}] = {_show(v[j])} coincide "
@@ -48,7 +53,7 @@ def check_polygon(vertices):
         near = distances_to_sides(v[i:i + 1], starts, ends)[0]
         near[[i, (i - 1) % n]] = np.inf  # the two sides that end at vertex i
         j = int(np.argmin(near))
-        if near[j] <= tol:
+        if near[j] <= gap:
             raise ValueError(f"vertices[{i}] = {_show(v[i])} lies on side {j} (from vertices[{j}] to "
                              f"vertices[{(j + 1) % n}]): the polygon touches or crosses itself")
     for i in range(n):
@@ -57,11 +62,6 @@ def check_polygon(vertices):
         if np.any(crossing):
             j = int(np.flatnonzero(crossing)[0])
             raise ValueError(f"sides {i} and {j} of the polygon cross: it is not simple")
-        back = (i + 1) % n  # a side turning back onto the one before (a spike of zero width)
-        a, b = ends[i] - starts[i], ends[back] - starts[back]
-        if abs(a[0] * b[1] - a[1] * b[0]) <= tol * np.linalg.norm(a) and a @ b < 0:
-            raise ValueError(f"sides {i} and {back} of the polygon overlap (the boundary turns back at "
-                             f"vertices[{back}])")
 
 
 def distances_to_sides(points, starts, ends):

@@ -2,7 +2,7 @@
 
 Netgen does not react to SIGINT while it meshes, and some valid but thin polygons keep it busy
 for minutes (a 1 x 1e-5 rectangle with maxh = 1: more than 6 minutes of CPU).  The mesh is made
-in a forked child and sent back pickled; the parent waits in short polls, so Ctrl-C stops it at
+in a forked child and sent back as arrays; the parent waits in short polls, so Ctrl-C stops it at
 once, and a child still busy after ``timeout`` seconds is killed and reported as a ValueError.
 Where fork is not available the mesh is made in this process.
 """
@@ -11,6 +11,8 @@ import multiprocessing
 import pickle
 import time
 
+import netgen.meshing as nm
+import numpy as np
 from netgen.geom2d import SplineGeometry
 
 __all__ = ["generate", "default_timeout"]
@@ -30,9 +32,30 @@ def _mesh(vertices, labels, maxh):
     return spline.GenerateMesh(maxh=maxh)
 
 
+def _arrays(ngmesh):
+    """The mesh as arrays: coordinates, triangles, segments with their region, region names."""
+    segments = ngmesh.Elements1D().NumPy()
+    names = [ngmesh.GetBCName(k) for k in range(int(segments["index"].max()))] if len(segments) else []
+    return (np.array(ngmesh.Coordinates()), ngmesh.Elements2D().NumPy()["nodes"][:, :3].copy(),
+            segments["nodes"][:, :2].copy(), segments["index"].copy(), names)  # copies: the mesh is freed
+
+
+def _rebuild(points, triangles, segments, regions, names):
+    """The Netgen mesh of :func:`_arrays`, numbered as the original (the geometry is not needed:
+    the sides are straight)."""
+    ngmesh = nm.Mesh(dim=2)
+    ngmesh.AddPoints(points)
+    ngmesh.AddElements(dim=2, index=ngmesh.AddRegion("omega", dim=2), data=triangles.astype(np.int32), base=1)
+    for name in names:
+        ngmesh.AddRegion(name, dim=1)
+    for (a, b), region in zip(segments, regions, strict=True):
+        ngmesh.Add(nm.Element1D([nm.PointId(int(a)), nm.PointId(int(b))], index=int(region)))
+    return ngmesh
+
+
 def _child(connection, vertices, labels, maxh):
-    try:
-        connection.send_bytes(pickle.dumps(("mesh", _mesh(vertices, labels, maxh))))
+    try:  # arrays, not the pickled mesh: unpickling a fresh Netgen mesh with its geometry hung
+        connection.send_bytes(pickle.dumps(("mesh", _arrays(_mesh(vertices, labels, maxh)))))
     except Exception as exc:  # netgen.libngpy._meshing.NgException and whatever else Netgen raises
         connection.send_bytes(pickle.dumps(("error", f"{type(exc).__name__}: {exc}")))
     finally:
@@ -65,4 +88,4 @@ def generate(vertices, labels, maxh, timeout):
         receive.close()
     if kind == "error":
         raise RuntimeError(payload)
-    return payload
+    return _rebuild(*payload)

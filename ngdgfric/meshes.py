@@ -160,7 +160,7 @@ def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
 
 def _shown(geometry, count=6):
     """The polygon's first vertices for a message."""
-    vertices = [f"({x:g}, {y:g})" for x, y in geometry.vertices]
+    vertices = [f"({x:.10g}, {y:.10g})" for x, y in geometry.vertices]
     more = f", ... ({len(vertices)} vertices)" if len(vertices) > count else ""
     return "[" + ", ".join(vertices[:count]) + more + "]"
 

@@ -40,16 +40,21 @@ def _check_scalar(name, value):
     if _is_number(value):
         _finite(name, value)
         return
-    if isinstance(value, ngs.CoefficientFunction) and value.dim == 1:
-        return
-    raise ValueError(f"{name} must be a number or a scalar CoefficientFunction, got {value!r}")
+    if isinstance(value, ngs.CoefficientFunction):
+        if value.dim == 1 and not value.is_complex:
+            return
+        value = f"a {'complex ' * value.is_complex}CoefficientFunction of dimension {value.dim}"
+    else:
+        value = repr(value)
+    raise ValueError(f"{name} must be a real number or a real scalar CoefficientFunction, got {value}")
 
 
 def _check_vector(name, value):
     """A vector datum is a pair of scalar data or a CoefficientFunction of dimension 2."""
     if isinstance(value, ngs.CoefficientFunction):
-        if value.dim != 2:
-            raise ValueError(f"{name} must have 2 components, got a CoefficientFunction of dimension {value.dim}")
+        if value.dim != 2 or value.is_complex:
+            raise ValueError(f"{name} must have 2 real components, got a {'complex ' * value.is_complex}"
+                             f"CoefficientFunction of dimension {value.dim}")
         return
     if isinstance(value, (tuple, list)) and len(value) == 2:
         for i, component in enumerate(value):
@@ -114,8 +119,9 @@ class Polygon:
 
     @property
     def signed_area(self):
-        v = self.vertices
-        return 0.5 * sum(v[i - 1][0] * v[i][1] - v[i][0] * v[i - 1][1] for i in range(len(v)))
+        (x0, y0), v = self.vertices[0], self.vertices  # relative to a vertex: exact far from the origin too
+        return 0.5 * sum((v[i - 1][0] - x0) * (v[i][1] - y0) - (v[i][0] - x0) * (v[i - 1][1] - y0)
+                         for i in range(len(v)))
 
     @property
     def is_rectangle(self):

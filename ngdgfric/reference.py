@@ -169,6 +169,10 @@ def _check_arrays(path, data):
     need("fp_points", 2, 2)
     if need("fp_data", 2, 8).shape[0] != len(data["fp_points"]):
         fail("fp_data does not match fp_points")
+    need("fp_vertices", 2, 2)
+    need("fp_numbers", 1)
+    need("fp_labels", 1, kind="U")
+    need("fp_names", 1, kind="U")
 
 
 def _check_fingerprint(path, data, problem):

@@ -99,3 +99,17 @@ def test_adapt_rejects_bad_budgets():
     for bad in (dict(max_levels=0), dict(max_ndof=-1), dict(weights="none")):
         with pytest.raises(ValueError, match=next(iter(bad))):
             ndf.adapt(ndf.example_6_2(), progress=None, **bad)
+
+
+def test_adapt_stops_before_a_mesh_above_the_memory_budget(monkeypatch):
+    # hp with the default max_ndof = 1e6 reached meshes whose solve check_size refuses (P8: 25 GB)
+    from ngdgfric import adaptivity, checks
+
+    problem = ndf.example_6_2()
+    first = ndf.adapt(problem, order=2, max_levels=3, progress=None)
+    budget = checks.estimated_bytes(first.solution.discretization.orders) * 1.01  # the last level's mesh just fits
+    monkeypatch.setattr(adaptivity, "MEMORY_BUDGET", budget)
+    monkeypatch.setattr(checks, "MEMORY_BUDGET", budget)
+    run = ndf.adapt(problem, order=2, max_levels=10, progress=None)
+    assert run.stopped == "memory" and len(run.levels) == 3
+    assert [r["ndof"] for r in run.levels] == [r["ndof"] for r in first.levels]

@@ -70,33 +70,6 @@ def test_non_finite_numbers_raise_naming_the_field(field, value):
         dataclasses.replace(ndf.example_6_1(), **{field: value})
 
 
-LABELS = ("contact", "dirichlet", "traction", "traction")
-SQUARE = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))
-
-
-@pytest.mark.parametrize("vertices, message", [
-    (((0, 0), (1, 0), (1, 0), (0, 1)), r"vertices\[1\] .* and vertices\[2\] .* coincide"),  # crashed Netgen
-    (((0, 0), (1, 0), (1, 1), (1 - 1e-9, 1)), "coincide"),  # made Netgen fail
-    (((0, 0), (NAN, 0), (1, 1), (0, 1)), r"vertices\[1\] = \(nan, 0.0\): coordinates must be finite"),
-    (((0, 0), (INF, 0), (1, 1), (0, 1)), "coordinates must be finite"),
-    (((0, 0), (1, 0), (0, 1), (1, 1)), "sides 1 and 3 of the polygon cross"),  # Netgen looped for minutes
-    (((0, 0), (2, 0), (1, 0), (1, 1)), "lies on side 0"),  # a spike back along a side
-    (((0, 0), (1, 0), (0.5, 0.5 + 1e-9), (1, 1)), "lies on side|cross"),
-    (((0, 0), (1, 0), "ab", (0, 1)), r"vertices\[2\] must be a pair of numbers"),
-    (((0, 0), (0, 1), (1, 1), (1, 0)), "counter-clockwise"),
-    (((0, 0), (1, 0)), "at least 3 vertices"),
-])
-def test_bad_polygons_raise_naming_the_defect(vertices, message):
-    with pytest.raises(ValueError, match=message):
-        ndf.Polygon(vertices, LABELS[:len(vertices)] + ("traction",) * (len(vertices) - 4))
-
-
-def test_polygon_checks_accept_straight_angles_and_small_but_resolved_features():
-    ndf.Polygon(((0, 0), (0.5, 0), (1, 0), (1, 1), (0, 1)), ("contact", "contact", "dirichlet", "traction",
-                                                              "traction"))
-    ndf.Polygon(((0, 0), (1, 0), (1, 1), (1 - 1e-5, 1), (0, 1)), LABELS + ("traction",))
-
-
 FIELDS = {"E": (0, None, True), "nu": (-1, 0.5, True), "c_n": (0, None, False), "m_n": (1, None, False),
           "g_a": (None, None, False), "c_tau": (0, None, False), "m_t": (0, None, False)}
 
