@@ -49,3 +49,19 @@ def test_size_limit_counts_dofs_and_memory():
     with pytest.raises(ValueError, match="pass max_ndof=15000000"):
         check_size(1, elements=2.5e6)
     check_size(1, max_ndof=2e7, elements=2.5e6)  # the user may raise the limit
+
+
+def test_data_invalid_only_at_a_contact_gauss_point_are_found():
+    # c_n < 0 only within 1e-6 of the first Gauss point of the contact rule (P1, h = 1/4): the check's
+    # own rules of degree 2p + 2 missed it and the solver failed with "did not converge" (exit 1)
+    gauss = 0.25 * (0.5 - 3**0.5 / 6)
+    problem = dataclasses.replace(ndf.example_6_1(), c_n=(x - gauss) ** 2 - 1e-12)
+    with pytest.raises(ValueError, match="c_n must be finite and >= 0 on the boundary 'contact', got -1e-12"):
+        check_data(problem, ndf.uniform_mesh(problem, 0.25), 1)
+
+
+@pytest.mark.parametrize("change", [dict(g_a=ngs.CF(0.001j)), dict(E=ngs.CF(2000 + 100j)), dict(f=ngs.CF((1j, 0)))])
+def test_complex_data_are_refused(change):
+    # g_a = 0.001j was solved as g_a = 0 with only numpy's ComplexWarning
+    with pytest.raises(ValueError, match="real"):
+        dataclasses.replace(ndf.example_6_1(), **change)

@@ -70,7 +70,7 @@ def test_run_end_to_end(tmp_path, capsys):
     assert text.count("| named error |") == len(WORKING), text
     assert code == 0
     assert capsys.readouterr().out.count("named error (") == len(WORKING)  # one progress line per case
-    assert not list(tmp_path.glob(".*.tmp"))  # the temporary file of the atomic write is gone
+    assert not list(tmp_path.glob(".*"))  # the temporary file of the atomic write is gone
 
 
 def test_signal_and_hang_in_real_processes(tmp_path):

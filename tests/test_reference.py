@@ -79,3 +79,13 @@ def test_unreadable_files_are_named(saved, content):
     path.write_bytes(whole[:len(whole) // 2] if content is None else content)  # None: truncated
     with pytest.raises(ValueError, match="broken.npz: not a reference file"):
         ndf.load_reference(path, problem)
+
+
+@pytest.mark.parametrize("key", ["fp_vertices", "fp_numbers", "fp_labels", "fp_names"])
+def test_fingerprint_arrays_of_the_wrong_type_are_named(saved, key):
+    folder, problem = saved
+    path = tampered(folder, lambda d: d.update({key: np.array([["a", "b"]] * 3) if key == "fp_vertices"
+                                               else np.array([1.0, 2.0, 3.0]) if key in ("fp_labels", "fp_names")
+                                               else np.array(["x", "y", "z"])}))
+    with pytest.raises(ValueError, match=f"bad.npz: {key} has shape"):
+        ndf.load_reference(path, problem)
