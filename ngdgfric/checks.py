@@ -58,7 +58,7 @@ def check_data(problem, mesh, order):
         _check_on(problem, VOLUME, mesh.MapToAllElements(_rule(order, ngs.TRIG), ngs.VOL), "Omega")
     for part, data in BOUNDARY.items():
         name = getattr(problem, part)
-        if _varying(problem, data) and any(el.mat == name for el in mesh.Elements(ngs.BND)):
+        if _varying(problem, data) and name in mesh.GetBoundaries():
             points = mesh.MapToAllElements(_rule(order, ngs.SEGM), mesh.Boundaries(name))
             _check_on(problem, data, points, f"the boundary {name!r}")
 
@@ -94,20 +94,25 @@ def _check_on(problem, data, points, where):
             raise DataError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
 
 
-def estimated_bytes(orders, elements=None):
-    """Peak memory of a solve (the model above MEMORY_BUDGET) with element orders ``orders``, or
-    with ``elements`` elements of the one order ``orders``."""
+def _size(orders, elements):
+    """(DOFs, bytes by the memory model above MEMORY_BUDGET) of elements of ``orders``, or of
+    ``elements`` elements of the one order ``orders``."""
     n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
-    return float(np.sum(n * (1000 + 270 * n))) * (1 if elements is None else float(elements))
+    count = 1.0 if elements is None else float(elements)
+    return float(np.sum(n)) * count, float(np.sum(n * (1000 + 270 * n))) * count
+
+
+def estimated_bytes(orders, elements=None):
+    """Peak memory of a solve with element orders ``orders`` (or ``elements`` elements of the one
+    order ``orders``), by the model above MEMORY_BUDGET."""
+    return _size(orders, elements)[1]
 
 
 def check_size(orders, max_ndof=None, elements=None):
     """ValueError before assembly if the DOFs of elements of ``orders`` exceed ``max_ndof``, or, for
     ``max_ndof=None``, if the estimated memory exceeds MEMORY_BUDGET.  With ``elements``,
     ``orders`` is one order p for that many elements (an estimate before meshing)."""
-    n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
-    ndof = float(np.sum(n)) * (1 if elements is None else float(elements))
-    memory = estimated_bytes(orders, elements)
+    ndof, memory = _size(orders, elements)
     if max_ndof is None:
         if memory > MEMORY_BUDGET:
             raise ValueError(f"{ndof:.4g} DOFs would need about {memory / 1e9:.3g} GB, more than the "

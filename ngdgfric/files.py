@@ -13,17 +13,16 @@ __all__ = ["atomic_path", "write_text", "write_csv", "check_writable"]
 
 
 @contextlib.contextmanager
-def atomic_path(path, suffix=None):
+def atomic_path(path):
     """Yield a temporary path beside ``path``; on success rename it to ``path``, else remove it.
 
-    ``suffix``: the temporary file's suffix (default ``path``'s, so writers that choose a format by
-    the suffix, such as matplotlib's ``savefig``, write the right one).  OSError naming ``path`` if
-    the writer produced no file or the rename fails.
+    The temporary name keeps ``path``'s suffix, so writers that choose a format by the suffix, such
+    as matplotlib's ``savefig``, write the right one.  OSError naming ``path`` if the writer
+    produced no file or the rename fails.
     """
     path = Path(path)
     try:
-        handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix if suffix is None else suffix,
-                                        dir=path.parent)
+        handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
     except OSError as exc:
         raise OSError(f"cannot write {path}: {exc.strerror or exc}") from exc
     os.close(handle)

@@ -41,7 +41,7 @@ def _is_size(value):
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0
 
 
-def _check_size(problem, max_elements, **size):
+def _check_elements(problem, max_elements, **size):
     (name, value), = size.items()
     estimate = estimated_elements(problem, **size)
     if max_elements is not None and estimate > max_elements:
@@ -65,7 +65,7 @@ def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
         raise ValueError(f"diagonal must be one of {DIAGONALS}, got {diagonal!r}")
     if not (_is_size(h)):
         raise ValueError(f"h must be a positive number, got {h!r}")
-    _check_size(problem, max_elements, h=h)
+    _check_elements(problem, max_elements, h=h)
     x0, y0, x1, y1 = geometry.bounds
     counts = []
     for length in (x1 - x0, y1 - y0):
@@ -143,7 +143,7 @@ def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
     """
     if not _is_size(maxh):
         raise ValueError(f"maxh must be a positive number, got {maxh!r}")
-    _check_size(problem, max_elements, maxh=maxh)
+    _check_elements(problem, max_elements, maxh=maxh)
     geometry = problem.geometry
     if timeout is None:
         timeout = default_timeout(estimated_elements(problem, maxh=maxh))
@@ -190,11 +190,11 @@ def _check_fit(geometry, points, triangles, segments, labels):
     """ValueError unless the mesh (arrays of :func:`mesh_arrays`) fills ``geometry``."""
     sides = np.asarray(geometry.vertices)
     starts, ends, names = sides, np.roll(sides, -1, axis=0), np.asarray(geometry.labels)
-    tol = FIT * float(np.max(np.ptp(sides, axis=0)))
+    gap = FIT * float(np.max(np.ptp(sides, axis=0)))
     for label in map(str, np.unique(labels)):
         ends_of_edges = points[segments[labels == label]].reshape(-1, 2)
         distance = np.min(distances_to_sides(ends_of_edges, starts[names == label], ends[names == label]), axis=1)
-        if distance.max() > tol:
+        if distance.max() > gap:
             k = int(np.argmax(distance))
             raise ValueError(f"the mesh does not fit the problem's polygon: its boundary point "
                              f"({ends_of_edges[k, 0]:.6g}, {ends_of_edges[k, 1]:.6g}) labelled {label!r} is "

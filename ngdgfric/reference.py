@@ -76,15 +76,9 @@ def fingerprint(problem, mesh, points, triangles, segments):
 def _data_at(problem, mesh, where):
     """(k, 8) values of E, f, g, g_a, c_n, c_tau at the points ``where`` (k, 2) of ``mesh``."""
     at = mesh(where[:, 0], where[:, 1])
-    columns = []
-    for name in DATA:
-        value = getattr(problem, name)
-        for component in (value if isinstance(value, (tuple, list)) else (value,)):
-            if isinstance(component, ngs.CoefficientFunction):
-                columns.append(np.asarray(component(at)).reshape(len(where), -1))
-            else:
-                columns.append(np.full((len(where), 1), float(component)))
-    return np.hstack(columns)
+    data = (getattr(problem, name) for name in DATA)
+    return np.hstack([np.asarray(ngs.CF(tuple(d) if isinstance(d, (tuple, list)) else d)(at)).reshape(len(where), -1)
+                      for d in data])
 
 
 def load_reference(path, problem):
