@@ -23,7 +23,7 @@ from .estimator import WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
 from .meshes import element_diameters, netgen_mesh, uniform_mesh
-from .solution import solve
+from .solution import finish, solve
 from .transfer import multiplier_snapshot
 
 __all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle"]
@@ -73,7 +73,7 @@ def minimum_angle(mesh):
     return float(smallest.min())
 
 
-FIELDS = ["level", "ndof", "elements", "eta", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6",
+FIELDS = ["level", "ndof", "elements", "eta", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",
           "iterations", "solve_seconds", "estimate_seconds", "mark_refine_seconds", "h_min", "min_angle",
           "p_min", "p_max"]
 
@@ -96,16 +96,27 @@ class Adaptation:
 
 def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100, max_ndof=10**6, tol=None,
           solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
-          weights="energy", **options):
+          weights="energy", gamma_lin=None, **options):
     """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
 
     Stops as soon as eta_h <= ``tol`` (with the default ``weights="energy"`` eta_h estimates the
     energy error |||u - u_h|||_h, :func:`ngdgfric.estimate`), after ``max_levels`` solves, or when
     the next refined mesh would exceed ``max_ndof`` degrees of freedom or the memory budget of
     :func:`ngdgfric.checks.check_size` (tried on a copy of the mesh, so the returned solution's mesh
-    is never refined after its solve).  Defaults: hp-adaptive
-    (:func:`ngdgfric.hp.hp_refine`) SIPG from p = ``order`` = 2 up to ``max_order`` = 8, Doerfler
-    theta = 0.3; the paper's loop is ``hp=False, order=1, weights="paper"``.
+    is never refined after its solve).
+
+    Defaults: hp-adaptive (:func:`ngdgfric.hp.hp_refine`) SIPG from p = ``order`` = 2 up to
+    ``max_order`` = 8, Doerfler theta = 0.3, every level solved to the solver's tolerance; the
+    paper's loop is ``hp=False, order=1, weights="paper"``.
+
+    ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
+    linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
+    Ern & Vohralik, SISC 35, 2013; :mod:`ngdgfric.newton`), starting from eta_lin <= gamma_lin x the
+    previous level's eta_h; the returned level is solved to the full tolerance.  Not the default:
+    on Example 6.1 (hp, tol = 5e-4) gamma_lin = 0.1 left 0-3 Newton iterations per level, but the
+    contact indicators eta_4, eta_6 of the inexact solutions steered the hp decisions into
+    bisecting Gamma_C (eta_h = 3.0e-3 at 88k DOFs instead of 3.8e-3 at 28k), and gamma_lin = 0.01
+    kept the path but not the iterations (results/time_to_accuracy.md).
 
     mesh: initial mesh (default: uniform h = 1/2 on a rectangle, Netgen maxh = 1/2 otherwise);
     it is refined in place.  Every level after the first starts from the previous solution
@@ -116,21 +127,14 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100,
     solution, estimate) called at every level, e.g. to save a picture.  Further options go to
     :func:`ngdgfric.solve`.
     """
-    if hp and not (isinstance(max_order, int) and max_order >= order):
-        raise ValueError(f"max_order must be an integer >= order = {order}, got {max_order!r}")
-    if weights not in WEIGHTS:
-        raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
-    for name, value in (("max_levels", max_levels), ("max_ndof", max_ndof)):
-        if not (isinstance(value, (int, np.integer)) and value >= 1):
-            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin)
     if mesh is None:
         mesh = uniform_mesh(problem, 0.5) if problem.geometry.is_rectangle else netgen_mesh(problem, 0.5)
-    if tol is not None and not (tol > 0):
-        raise ValueError(f"tol must be positive, got {tol!r}")
     if csv_path is not None:
         csv_path = Path(csv_path)
         check_writable(csv_path.parent)
-    records, previous = [], None
+    inexact = gamma_lin if solver == "newton" else None
+    records, previous, predicted = [], None, None  # predicted: the eta_h the next level starts from
     # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
     # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
     carrier = ngs.GridFunction(ngs.L2(mesh, order=max_order if hp else order, autoupdate=True) ** 2,
@@ -138,35 +142,85 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.3, max_levels=100,
     state = HPState.uniform(mesh, order)
     for level in range(max_levels):
         start = time.perf_counter()
+        inexact_options = {} if inexact is None or predicted is None else dict(energy_tol=inexact * predicted)
         sol = solve(problem, mesh, method=method, order=state.orders if hp else order, eta=eta, solver=solver,
-                    initial=previous, **options)
-        solved = time.perf_counter()
-        est = estimate(sol, weights)
-        estimated = time.perf_counter()
-        record = dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta=est.total,
-                      **{k: math.sqrt(v) for k, v in est.parts.items()}, iterations=sol.iterations,
-                      solve_seconds=solved - start, estimate_seconds=estimated - solved,
-                      h_min=float(element_diameters(mesh).min()), min_angle=minimum_angle(mesh),
-                      p_min=int(state.orders.min()), p_max=int(state.orders.max()), mark_refine_seconds=0.0)
-        if keep is not None:
-            keep(level, sol, est)
+                    initial=previous, **inexact_options, **options)
+        seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
+        sol, est = _settle(sol, None, weights, tol, inexact, level == max_levels - 1, seconds)
         stopped = "tol" if tol is not None and est.total <= tol else "max_levels" if level == max_levels - 1 else None
         if stopped is None:
             refine_start = time.perf_counter()
             marked = dorfler_mark(est.element, theta)
             refinement = dict(indicators=est.element, marked=marked, hp=hp, max_order=max_order, order=order)
+            predicted = est.total
             stopped = _too_large(mesh, state, max_ndof, **refinement)
-            if stopped is None:
-                carrier.Set(sol.u)  # exact: element-wise L2 projection into a superspace
-                previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
-                sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
-                gc.collect()  # reference cycles may keep them alive (seen in dask workers)
-                state = _refine(mesh, state, **refinement)
-            record["mark_refine_seconds"] = time.perf_counter() - refine_start
-        records.append(record)
+            seconds["mark_refine"] += time.perf_counter() - refine_start
+            if stopped is not None:
+                sol, est = _settle(sol, est, weights, tol, inexact, True, seconds)
+        records.append(_record(level, sol, est, state, seconds))
+        if keep is not None:
+            keep(level, sol, est)
+        if stopped is None:
+            refine_start = time.perf_counter()
+            carrier.Set(sol.u)  # exact: element-wise L2 projection into a superspace
+            previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
+            sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
+            gc.collect()  # reference cycles may keep them alive (seen in dask workers)
+            state = _refine(mesh, state, **refinement)
+            records[-1]["mark_refine_seconds"] += time.perf_counter() - refine_start
         _report(records, csv_path, progress, solver)
         if stopped is not None:
             return Adaptation(records, sol, est, stopped)
+
+
+def _record(level, sol, est, state, seconds):
+    """The CSV row of a level (keys ``FIELDS``)."""
+    mesh = sol.mesh
+    return dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta=est.total,
+                **{k: math.sqrt(v) for k, v in est.parts.items()}, eta_lin=sol.info.get("linearization", 0.0),
+                iterations=sol.iterations, solve_seconds=seconds["solve"], estimate_seconds=seconds["estimate"],
+                mark_refine_seconds=seconds["mark_refine"], h_min=float(element_diameters(mesh).min()),
+                min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()))
+
+
+def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin):
+    if hp and not (isinstance(max_order, int) and max_order >= order):
+        raise ValueError(f"max_order must be an integer >= order = {order}, got {max_order!r}")
+    if weights not in WEIGHTS:
+        raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
+    for name, value in (("max_levels", max_levels), ("max_ndof", max_ndof)):
+        if not (isinstance(value, (int, np.integer)) and value >= 1):
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    if tol is not None and not (tol > 0):
+        raise ValueError(f"tol must be positive, got {tol!r}")
+    if gamma_lin is not None and not (isinstance(gamma_lin, (int, float)) and 0 < gamma_lin < 1):
+        raise ValueError(f"gamma_lin must be a number in (0, 1) or None, got {gamma_lin!r}")
+
+
+def _settle(sol, est, weights, tol, gamma_lin, returned, seconds):
+    """The estimate of a level, and an inexact solve made good enough (Ern & Vohralik's adaptive
+    inexact loop): solved on until eta_lin <= gamma_lin eta_h (re-estimated each time), and to the
+    full tolerance where it is returned (``returned``, or eta_h <= tol).  ``est``: the estimate of
+    ``sol`` if known; ``seconds``: its "solve" and "estimate" entries are increased.  Returns (sol, est)."""
+    for _ in range(5):
+        if est is None:
+            start = time.perf_counter()
+            est = estimate(sol, weights)
+            seconds["estimate"] += time.perf_counter() - start
+        full = returned or (tol is not None and est.total <= tol)
+        if sol.state is None or not (full or sol.info["linearization"] > gamma_lin * est.total):
+            return sol, est
+        start = time.perf_counter()
+        sol, est = finish(sol, energy_tol=None if full else gamma_lin * est.total), None
+        seconds["solve"] += time.perf_counter() - start
+    if est is None or sol.state is not None:
+        start = time.perf_counter()
+        sol = finish(sol)
+        seconds["solve"] += time.perf_counter() - start
+        start = time.perf_counter()
+        est = estimate(sol, weights)
+        seconds["estimate"] += time.perf_counter() - start
+    return sol, est
 
 
 def _refine(mesh, state, indicators, marked, hp, max_order, order):

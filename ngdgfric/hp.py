@@ -28,7 +28,6 @@ which the observed reduction decides.  Elements at ``max_order`` are bisected.
 
 from dataclasses import dataclass
 
-import ngsolve as ngs
 import numpy as np
 
 __all__ = ["HPState", "smooth", "refinement_parents", "hp_refine"]
@@ -59,11 +58,16 @@ def smooth(indicators, predicted):
 def refinement_parents(mesh, ne_old):
     """For every element of a mesh just refined by ``Refine``: its ancestor among the ``ne_old``
     elements of the mesh before (elements keep their number, a bisected one for one descendant,
-    the others are appended), and the number of descendants of every old element."""
+    the others are appended), and the number of descendants of every old element.
+
+    Netgen's parent array (``parentsurfaceelements``, -1 for an element not created by bisection)
+    is followed up the chain in whole-array steps, as many as the deepest chain (two for
+    ``Refine()``, more with the closure); no loop over elements."""
     parent = np.arange(mesh.ne)
-    for nr in range(ne_old, mesh.ne):
-        ancestor = mesh.GetParentElement(ngs.ElementId(ngs.VOL, nr)).nr
-        parent[nr] = ancestor if ancestor < ne_old else parent[ancestor]
+    parents = np.asarray(mesh.ngmesh.parentsurfaceelements, dtype=np.int64).reshape(-1)[:mesh.ne]
+    parent[ne_old:] = parents[ne_old:]
+    while np.any(parent >= ne_old):
+        parent = np.where(parent >= ne_old, parent[parent], parent)
     return parent, np.bincount(parent, minlength=ne_old)
 
 

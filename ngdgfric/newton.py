@@ -19,8 +19,15 @@ The nonlinearity of (3.3)-(3.4) lives at the M Gauss points of Gamma_C.  The sol
    hold at the traces of the returned u.
 
 Each Newton step costs a dense solve with one row per penetrating or sticking point
-(milliseconds), so the iteration count hardly matters; the whole solve costs about one sparse
-factorisation (results/solver_benchmark.md).
+(milliseconds on small meshes, 0.4 s with 3500 rows), so on large hp meshes the iteration count
+matters; the whole solve costs about one sparse factorisation (results/solver_benchmark.md).
+
+**Inexact solves** (``energy_tol``, used by the adaptive loop): the iteration also stops once the
+linearisation estimate eta_lin = (sum_q W_qq G_q^2)^(1/2), the KKT residual of the laws measured in
+the energy units of |||.|||_h (:meth:`ngdgfric.reduced.ReducedContact.linearization`), is at most
+``energy_tol``.  The returned ``state`` (:class:`NewtonState`: the factorisation, the condensed
+problem and the forces) continues such a solve to the full tolerance without factorising again
+(:func:`ngdgfric.solution.finish`).
 """
 
 import time
@@ -31,13 +38,75 @@ from .condensation import LINEAR_SOLVERS, Condensation
 from .options import callback, choice, positive_integer, positive_number, validate
 from .reduced import ReducedContact
 
-__all__ = ["newton", "OPTIONS"]
+__all__ = ["newton", "NewtonState", "OPTIONS"]
 
 MAX_CONSISTENCY = 3  # re-solves after a recovery whose traces violate the laws (stiff compliance)
-OPTIONS = dict(tol=positive_number, maxit=positive_integer, progress=callback, linear_solver=choice(*LINEAR_SOLVERS))
+OPTIONS = dict(tol=positive_number, maxit=positive_integer, progress=callback, linear_solver=choice(*LINEAR_SOLVERS),
+               energy_tol=positive_number)
 
 
-def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solver="auto"):
+class NewtonState:
+    """One discretisation's condensed problem (:class:`~ngdgfric.condensation.Condensation`, one
+    factorisation) and :class:`~ngdgfric.reduced.ReducedContact`, with the current forces f."""
+
+    def __init__(self, disc, linear_solver="auto"):
+        start = time.perf_counter()
+        self.disc = disc
+        traces = disc.traces
+        self.condensation = Condensation(disc.A, disc.F, traces, disc.symmetric, linear_solver)
+        self.reduced = ReducedContact(self.condensation.W, self.condensation.w0, traces.omega, traces.g_a,
+                                      traces.c_n, traces.c_tau, traces.m_n, traces.m_t, disc.symmetric,
+                                      traces.redundant)
+        self.f = None
+        self.condense_seconds = time.perf_counter() - start
+
+    def start_from(self, initial):
+        """f from (u, lam) GridFunctions on ``disc.V``, ``disc.Q``: the forces of the laws at u, with l."""
+        w = self.disc.traces.apply(initial[0].vec.FV().NumPy())
+        self.f = self.reduced.forces(w, self.disc.gauss.values(initial[1]).ravel())
+
+    def run(self, tol=1e-13, maxit=100, progress=None, energy_tol=None):
+        """Newton from the current f (zero if none) to ``tol`` (or ``energy_tol``), recover u; (u, lam, info)."""
+        start = time.perf_counter()
+        reduced, condensation, traces = self.reduced, self.condensation, self.disc.traces
+        f, info = reduced.solve(self.f, tol=tol, maxit=maxit, progress=progress, energy_tol=energy_tol)
+        newton_seconds = time.perf_counter() - start
+        start_recover = time.perf_counter()
+        u_vec = condensation.displacement(f)
+        recover_seconds = time.perf_counter() - start_recover
+        for consistency in range(MAX_CONSISTENCY + 1):
+            # the traces of the computed u differ from w0 - W f by the solve's round-off amplified by
+            # cond(A), which a stiff compliance (c_n up to 1e10) turns into a KKT residual: shift w0 so that
+            # w(f) are the traces of u, re-solve the points and move u with the forces, u -= A^-1 B^T df
+            # (Newton steps on the whole nonlinear system, whose round-off is relative to the steps)
+            reduced.shift(traces.apply(u_vec) - reduced.traces(f))
+            if consistency == MAX_CONSISTENCY or reduced.done(reduced.evaluate(f), tol, energy_tol):
+                break
+            start_newton = time.perf_counter()
+            f_new, more = reduced.solve(f, tol=tol, maxit=maxit, energy_tol=energy_tol)
+            for key in ("iterations", "history", "steps"):
+                info[key] += more[key]
+            info.update(linearization=more["linearization"], converged=more["converged"])
+            start_recover = time.perf_counter()
+            newton_seconds += start_recover - start_newton
+            u_vec = u_vec + condensation.correction(f_new - f)
+            f = f_new
+            recover_seconds += time.perf_counter() - start_recover
+        self.f = f
+        disc = self.disc
+        u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
+        u.vec.FV().NumPy()[:] = u_vec
+        disc.gauss.set_values(lam, reduced.multiplier(f).reshape(-1, disc.gauss.q))
+        info.update(contact_points=traces.M, linear_solver=condensation.linear_solver, factorizations=1,
+                    refinements=condensation.refinements, consistency_steps=consistency,
+                    state=None if info["converged"] else self,
+                    timings=dict(condense=self.condense_seconds, newton=newton_seconds, recover=recover_seconds,
+                                 total=self.condense_seconds + time.perf_counter() - start))
+        self.condense_seconds = 0.0  # a resumed run does not condense again
+        return u, lam, info
+
+
+def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solver="auto", energy_tol=None):
     """Solve (3.3)-(3.4) on ``disc`` (module docstring); returns (u, lam, info).
 
     tol: relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points (:mod:`ngdgfric.reduced`;
@@ -46,50 +115,17 @@ def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solve
     progress: callable(iteration, residual) after each iteration, or None.
     linear_solver: "auto" (MKL PARDISO if installed, else NGSolve), "pardiso" or "ngsolve"
     (:class:`ngdgfric.condensation.Condensation`).
+    energy_tol: also stop once the linearisation estimate eta_lin <= energy_tol (module docstring);
+    then ``info["state"]`` can continue the solve (:class:`NewtonState`).
     info: ``iterations``, ``history`` (relative KKT residual after each iteration), ``steps``,
-    ``initial_residual``, ``residual``, ``contact_points`` (M), ``penetrating``, ``stick`` (points at
+    ``initial_residual``, ``residual``, ``linearization`` (eta_lin at the end), ``converged`` (tol met),
+    ``state`` (None when converged), ``contact_points`` (M), ``penetrating``, ``stick`` (points at
     the end), ``linear_solver``, ``refinements``, ``timings`` (condense, newton, recover, total s).
-    Raises :class:`ngdgfric.SolverError` if the stopping test is not met within ``maxit``.
+    Raises :class:`ngdgfric.SolverError` if neither test is met within ``maxit``.
     """
-    validate(OPTIONS, "newton", tol=tol, maxit=maxit, progress=progress, linear_solver=linear_solver)
-    start = time.perf_counter()
-    traces = disc.traces
-    condensation = Condensation(disc.A, disc.F, traces, disc.symmetric, linear_solver)
-    reduced = ReducedContact(condensation.W, condensation.w0, traces.omega, traces.g_a, traces.c_n, traces.c_tau,
-                             traces.m_n, traces.m_t, disc.symmetric, traces.redundant)
-    condensed = time.perf_counter()
-    f0 = None
+    validate(OPTIONS, "newton", tol=tol, maxit=maxit, progress=progress, linear_solver=linear_solver,
+             energy_tol=energy_tol)
+    state = NewtonState(disc, linear_solver)
     if initial is not None:
-        w = traces.apply(initial[0].vec.FV().NumPy())
-        f0 = reduced.forces(w, disc.gauss.values(initial[1]).ravel())
-    f, info = reduced.solve(f0, tol=tol, maxit=maxit, progress=progress)
-    newton_seconds, recover_seconds = time.perf_counter() - condensed, 0.0
-    start_recover = time.perf_counter()
-    u_vec = condensation.displacement(f)
-    recover_seconds += time.perf_counter() - start_recover
-    for consistency in range(MAX_CONSISTENCY + 1):
-        # the traces of the computed u differ from w0 - W f by the solve's round-off amplified by
-        # cond(A), which a stiff compliance (c_n up to 1e10) turns into a KKT residual: shift w0 so that
-        # w(f) are the traces of u, re-solve the points and move u with the forces, u -= A^-1 B^T df
-        # (Newton steps on the whole nonlinear system, whose round-off is relative to the steps)
-        reduced.shift(traces.apply(u_vec) - reduced.traces(f))
-        if consistency == MAX_CONSISTENCY or reduced.converged(reduced.evaluate(f), tol):
-            break
-        start_newton = time.perf_counter()
-        f_new, more = reduced.solve(f, tol=tol, maxit=maxit)
-        info["iterations"] += more["iterations"]
-        info["history"] += more["history"]
-        info["steps"] += more["steps"]
-        start_recover = time.perf_counter()
-        newton_seconds += start_recover - start_newton
-        u_vec = u_vec + condensation.correction(f_new - f)
-        f = f_new
-        recover_seconds += time.perf_counter() - start_recover
-    u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
-    u.vec.FV().NumPy()[:] = u_vec
-    disc.gauss.set_values(lam, reduced.multiplier(f).reshape(-1, disc.gauss.q))
-    info.update(contact_points=traces.M, linear_solver=condensation.linear_solver, factorizations=1,
-                refinements=condensation.refinements, consistency_steps=consistency,
-                timings=dict(condense=condensed - start, newton=newton_seconds, recover=recover_seconds,
-                             total=time.perf_counter() - start))
-    return u, lam, info
+        state.start_from(initial)
+    return state.run(tol, maxit, progress, energy_tol)

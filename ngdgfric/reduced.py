@@ -73,6 +73,7 @@ zero in 21 steps as with 1e-10 in 23.)
 import numpy as np
 
 from .errors import SolverError
+from .linalg import dense_threads
 
 __all__ = ["ReducedContact", "SIGMA"]
 
@@ -87,6 +88,18 @@ def _positive_power(x, m):
     positive = x > 0
     out[positive] = x[positive] if m == 1 else x[positive] ** m
     return out
+
+
+def _dense_solve(matrix, rhs):
+    """matrix^-1 rhs by LU (least squares if singular or not finite), on all cores when large."""
+    with dense_threads(len(rhs)):
+        try:
+            solution = np.linalg.solve(matrix, rhs)
+        except np.linalg.LinAlgError:
+            solution = None
+        if solution is None or not np.all(np.isfinite(solution)):
+            solution = np.linalg.lstsq(matrix, rhs, rcond=1e-13)[0]
+    return solution
 
 
 class _State:
@@ -159,6 +172,17 @@ class ReducedContact:
         """The force scale S = max(|f|_inf, max |w0| / W_qq) (for the projected Newton's epsilon)."""
         return max(self.force_scale, float(np.max(np.abs(s.f), initial=0.0)))
 
+    def linearization(self, s):
+        """eta_lin = (sum_q W_qq G_q^2)^(1/2): each point's residual force G_q times the displacement
+        W_qq G_q it causes there, an estimate of the energy norm |||u* - u|||_h of the change of u that
+        solving the laws exactly would make (the diagonal of the Delassus operator in place of W;
+        W_qq G_q^2 is work, the units of |||.|||_h^2)."""
+        return float(np.sqrt(np.sum(self.diagonal * s.G * s.G)))
+
+    def done(self, s, tol, energy_tol=None):
+        """The stopping test: :meth:`converged` to ``tol``, or eta_lin <= ``energy_tol`` (if given)."""
+        return (energy_tol is not None and self.linearization(s) <= energy_tol) or self.converged(s, tol)
+
     def converged(self, s, tol):
         """W_qq |G_q| <= max(tol max|w|, W_qq x round-off in G_q) at every point."""
         M = self.M
@@ -187,16 +211,11 @@ class ReducedContact:
         source[~normal] = np.where(stick, rows[~normal], t)  # stick: r W_t; slip (m_t > 0): s beta' W_n
         coefficient[~normal] = np.where(stick, self.r[t], s.sign[t] * s.dbeta[t])
         unit[~normal] = np.where(stick, self.regularization, 1.0)
-        J_rows = coefficient[:, None] * W[source]
-        rhs = -s.G[rows] - J_rows[:, identity] @ d[identity]
-        block = J_rows[:, rows]
+        rhs = -s.G[rows] - coefficient * (W @ np.where(identity, d, 0.0))[source]
+        block = W[np.ix_(source, rows)]
+        block *= coefficient[:, None]
         block[np.arange(rows.size), np.arange(rows.size)] += unit
-        try:
-            d[rows] = np.linalg.solve(block, rhs)
-        except np.linalg.LinAlgError:
-            d[rows] = np.linalg.lstsq(block, rhs, rcond=1e-13)[0]
-        if not np.all(np.isfinite(d)):
-            d[rows] = np.linalg.lstsq(block, rhs, rcond=1e-13)[0]
+        d[rows] = _dense_solve(block, rhs)
         return d
 
     # ------------------------------------------------------------------ the energy (symmetric, m_t = 0)
@@ -308,11 +327,10 @@ class ReducedContact:
         direction = np.where(bound, -grad / scaling, 0.0)
         if free.size:
             curvature = np.concatenate([scaling[:M] - self.diagonal[:M], np.zeros(M)])  # Phi*'' (capped)
-            hessian = self.W[np.ix_(free, free)] + np.diag(curvature[free] + self.regularization * self.diagonal[free])
-            try:
-                direction[free] = np.linalg.solve(hessian, -grad[free])
-            except np.linalg.LinAlgError:
-                direction[free] = np.linalg.lstsq(hessian, -grad[free], rcond=1e-13)[0]
+            hessian = self.W[np.ix_(free, free)]
+            on_diagonal = np.arange(free.size)
+            hessian[on_diagonal, on_diagonal] += curvature[free] + self.regularization * self.diagonal[free]
+            direction[free] = _dense_solve(hessian, -grad[free])
         free_decrease = float(-grad[free] @ direction[free])
         t = 1.0
         for _ in range(50):
@@ -415,11 +433,15 @@ class ReducedContact:
         return np.where(s.stick, np.clip(ratio, -1.0, 1.0), direction)
 
     # ------------------------------------------------------------------ the iteration
-    def solve(self, f0=None, tol=1e-12, maxit=100, progress=None):
+    def solve(self, f0=None, tol=1e-12, maxit=100, progress=None, energy_tol=None):
         """Globalised semismooth Newton from f0 (default 0); returns (f, info).
 
+        Stops when :meth:`converged` to ``tol`` or, if ``energy_tol`` is given, as soon as the
+        linearisation estimate :meth:`linearization` is at most ``energy_tol`` (an inexact solve).
+
         info: ``iterations``; ``history``: relative KKT residual (:meth:`residual`) after each
-        iteration; ``initial_residual``; ``steps``: the kind of each step ("newton", "newton x0.5",
+        iteration; ``initial_residual``; ``linearization`` (eta_lin at the end); ``converged`` (``tol``
+        met); ``steps``: the kind of each step ("newton", "newton x0.5",
         "projected newton", "levenberg-marquardt", "fixed point", "continuation s = ..."); ``penetrating``,
         ``stick``: set sizes at the end; ``residual``.
         For m_t > 0, if the iteration stalls, a continuation in c_tau (module docstring) follows.
@@ -427,7 +449,7 @@ class ReducedContact:
         """
         f = np.zeros(2 * self.M) if f0 is None else np.asarray(f0, dtype=float).copy()
         try:
-            return self._iterate(f, tol, maxit, progress)
+            return self._iterate(f, tol, maxit, progress, energy_tol)
         except SolverError as error:
             if self.energy_merit:
                 raise
@@ -481,7 +503,7 @@ class ReducedContact:
         info.update(iterations=iterations, steps=steps, history=history)
         return f, info
 
-    def _iterate(self, f, tol, maxit, progress):
+    def _iterate(self, f, tol, maxit, progress, energy_tol=None):
         """The iteration of :meth:`solve` from f."""
         if self.energy_merit:
             f = self.project(f)
@@ -490,10 +512,11 @@ class ReducedContact:
         fixed_point, fixed_point_changes = None, []  # m_t > 0: T(f), and |f - T(f)| per iteration
         initial = self.residual(s)
         for k in range(maxit + 1):
-            if self.converged(s, tol):
+            if self.done(s, tol, energy_tol):
                 return s.f, dict(iterations=k, history=history, initial_residual=initial, steps=steps,
                                  penetrating=int(np.sum(s.penetrating)), stick=int(np.sum(s.stick)),
-                                 residual=self.residual(s))
+                                 residual=self.residual(s), linearization=self.linearization(s),
+                                 converged=self.converged(s, tol))
             if k == maxit:
                 break
             d = self.newton_direction(s)

@@ -8,7 +8,7 @@ from .discretization import Discretization
 from .options import validate
 from .transfer import initial_guess
 
-__all__ = ["Solution", "solve", "SOLVERS", "DEFAULT_TOL"]
+__all__ = ["Solution", "solve", "finish", "SOLVERS", "DEFAULT_TOL"]
 
 SOLVERS = {"newton": (newton.newton, newton.OPTIONS), "uzawa": (uzawa.uzawa, uzawa.OPTIONS),
            "fixed_point": (fixed_point.fixed_point, fixed_point.OPTIONS)}
@@ -21,7 +21,9 @@ class Solution:
 
     ``u``: GridFunction on the DG space; ``lam_tau``: GridFunction of l on Gamma_C;
     ``iterations``, ``history``: the nonlinear solver's iteration count and convergence history;
-    ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics.
+    ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics; ``state``: for an
+    inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
+    :class:`~ngdgfric.newton.NewtonState` that :func:`finish` continues; None otherwise.
     """
 
     problem: object
@@ -37,6 +39,7 @@ class Solution:
     timings: dict
     discretization: Discretization = field(repr=False)
     info: dict = field(default_factory=dict, repr=False)
+    state: object = field(default=None, repr=False)
 
     @property
     def ndof(self):
@@ -82,6 +85,24 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
     return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam,
-                    info["iterations"], info["history"], timings, disc, info)
+                    info["iterations"], info["history"], timings, disc, info, info.pop("state", None))
+
+
+def finish(sol, tol=None, energy_tol=None, maxit=100):
+    """Continue an inexact Newton solve (``sol.state``, option ``energy_tol`` of :func:`solve`) to ``tol``
+    (default ``DEFAULT_TOL["newton"]``) or to a smaller ``energy_tol``, with the same factorisation;
+    returns the new :class:`Solution` (``sol`` itself if it was solved to its tolerance already).
+    ``iterations`` and ``history`` continue those of ``sol``; ``timings["solve"]`` adds this run's seconds."""
+    if sol.state is None:
+        return sol
+    tol = DEFAULT_TOL["newton"] if tol is None else tol
+    validate(newton.OPTIONS, "newton", tol=tol, energy_tol=energy_tol, maxit=maxit)
+    start = time.perf_counter()
+    u, lam, info = sol.state.run(tol, maxit, energy_tol=energy_tol)
+    seconds = time.perf_counter() - start
+    timings = dict(sol.timings, solve=sol.timings["solve"] + seconds, total=sol.timings["total"] + seconds)
+    return Solution(sol.problem, sol.mesh, sol.method, sol.order, sol.eta, sol.solver, u, lam,
+                    sol.iterations + info["iterations"], sol.history + info["history"], timings,
+                    sol.discretization, info, info.pop("state", None))
 
 

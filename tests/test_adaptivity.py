@@ -113,3 +113,22 @@ def test_adapt_stops_before_a_mesh_above_the_memory_budget(monkeypatch):
     run = ndf.adapt(problem, order=2, max_levels=10, progress=None)
     assert run.stopped == "memory" and len(run.levels) == 3
     assert [r["ndof"] for r in run.levels] == [r["ndof"] for r in first.levels]
+
+
+def test_inexact_levels_solve_the_returned_level_fully():
+    """gamma_lin: every level's eta_lin <= gamma_lin eta_h; the returned solution meets the solver's tolerance
+    (KKT conditions at round-off) and equals a full solve on its mesh (u; the multiplier is not unique on
+    hp meshes, :mod:`ngdgfric.reduced`)."""
+    problem = ndf.example_6_1()
+    run = ndf.adapt(problem, max_levels=8, gamma_lin=0.1, progress=None)
+    for record in run.levels:
+        assert record["eta_lin"] <= 0.1 * record["eta"]
+    sol = run.solution
+    assert sol.state is None and sol.info["converged"]
+    full = ndf.solve(problem, sol.mesh, order=sol.discretization.orders)
+    a, b = sol.u.vec.FV().NumPy(), full.u.vec.FV().NumPy()
+    assert np.max(np.abs(a - b)) <= 1e-10 * np.max(np.abs(b))
+    kkt = ndf.kkt_residuals(sol)
+    assert kkt["lam_excess"] <= 1e-14 and kkt["complementarity"] <= 1e-12
+    with pytest.raises(ValueError, match="gamma_lin"):
+        ndf.adapt(problem, gamma_lin=1.5, progress=None)

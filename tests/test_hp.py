@@ -137,3 +137,22 @@ def test_reference_errors_agree_with_differences_computed_on_the_mesh(contact_pr
     assert ours["energy"] == pytest.approx(energy_error(coarse, fine), rel=1e-14)
     volume, _ = energy_norm_squared_parts(problem, fine.mesh, fine.u)
     assert ours["relative"] == pytest.approx(ours["energy"] / volume**0.5, rel=1e-9)
+
+
+def test_refinement_parents_follow_netgen_parent_elements():
+    """The whole-array parent chains against GetParentElement element by element, after double and
+    single bisections of random sets."""
+    problem = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    rng = np.random.default_rng(1)
+    for step in range(4):
+        ne = mesh.ne
+        mesh.SetRefinementFlags(list(rng.random(ne) < 0.3))
+        mesh.Refine(onlyonce=bool(step % 2))
+        parent, descendants = refinement_parents(mesh, ne)
+        expected = np.arange(mesh.ne)
+        for nr in range(ne, mesh.ne):
+            ancestor = mesh.GetParentElement(ngs.ElementId(ngs.VOL, nr)).nr
+            expected[nr] = ancestor if ancestor < ne else expected[ancestor]
+        np.testing.assert_array_equal(parent, expected)
+        np.testing.assert_array_equal(descendants, np.bincount(expected, minlength=ne))

@@ -10,6 +10,7 @@ from manufactured import contact_manufactured
 import ngdgfric as ndf
 from ngdgfric import pardiso
 from ngdgfric.kkt import rounding_residual
+from ngdgfric.solution import finish
 
 
 def max_rel_diff(a, b):
@@ -138,3 +139,51 @@ def test_spatially_varying_young_modulus_newton_agrees_with_uzawa():
     uzawa_sol = ndf.solve(problem, mesh, solver="uzawa", tol=1e-12)
     assert max_rel_diff(newton_sol, uzawa_sol) <= 1e-7
     assert_kkt_at_roundoff(newton_sol)
+
+
+def energy_of_difference(a, b):
+    """|||u_a - u_b|||_h with the DG energy (u^T A u of SIPG's symmetric A)."""
+    d = a.u.vec.CreateVector()
+    d.data = a.u.vec - b.u.vec
+    Ad = d.CreateVector()
+    Ad.data = b.discretization.A * d
+    return float(np.sqrt(abs(ngs.InnerProduct(d, Ad))))
+
+
+@pytest.mark.parametrize("example, energy_tol", [(ndf.example_6_1, 10.0), (ndf.example_6_1, 1.0),
+                                                 (ndf.example_6_1, 0.1), (ndf.example_6_2, 10.0)])
+def test_linearization_estimate_tracks_the_energy_error_of_an_inexact_solve(example, energy_tol):
+    """eta_lin of an inexact solve within a factor 10 of |||u_inexact - u_converged|||_h (measured 0.24-2.0),
+    and at most energy_tol."""
+    p = example()
+    mesh = ndf.uniform_mesh(p, 1 / 8)
+    full = ndf.solve(p, mesh, order=2)
+    inexact = ndf.solve(p, mesh, order=2, energy_tol=energy_tol)
+    assert inexact.state is not None and full.state is None
+    eta_lin = inexact.info["linearization"]
+    assert eta_lin <= energy_tol
+    assert 0.1 <= eta_lin / energy_of_difference(inexact, full) <= 10
+
+
+def test_finishing_an_inexact_solve_reuses_its_factorisation_and_gives_the_full_solution():
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 8)
+    full = ndf.solve(p, mesh, order=2)
+    inexact = ndf.solve(p, mesh, order=2, energy_tol=1.0)
+    assert 0 < inexact.iterations < full.iterations
+    finished = finish(inexact)
+    assert finished.state is None and finished.info["converged"]
+    assert finished.info["timings"]["condense"] == 0.0  # no second factorisation
+    assert max_rel_diff(finished, full) <= 1e-12
+    assert_kkt_at_roundoff(finished)
+    assert finish(finished) is finished
+
+
+def test_energy_tol_is_checked():
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 2)
+    for bad in (0.0, -1.0, float("nan"), "1"):
+        with pytest.raises(ValueError, match="energy_tol"):
+            ndf.solve(p, mesh, energy_tol=bad)
+    with pytest.raises(ValueError, match="energy_tol"):
+        ndf.solve(p, mesh, solver="uzawa", energy_tol=1.0)

@@ -96,3 +96,15 @@ def test_tolerance(tmp_path):
     rows = run("tolerance", tmp_path)
     assert rows[0]["stopped"] == "tol" and rows[0]["error"] <= rows[0]["tol"]
     assert "true error / t" in (tmp_path / "tolerance.md").read_text()
+
+
+def test_time_to_accuracy(tmp_path):
+    rows = run("time_to_accuracy", tmp_path)
+    assert {r["variant"] for r in rows} == {"defaults", "theta 0.7", "gamma_lin 0.1"}
+    for row in rows:
+        assert row["stopped"] == "tol" and row["eta"] <= 0.1
+        # eta_h is reliable: the true error (against the hp reference) is below it
+        assert row["error"] <= row["eta"]
+        assert row["ratio"] == pytest.approx(row["loop_seconds"] / row["linear_seconds"])
+    for name in ("time_to_accuracy.csv", "time_to_accuracy.md", "time_to_accuracy.png"):
+        assert (tmp_path / name).stat().st_size > 0
