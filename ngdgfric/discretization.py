@@ -2,6 +2,7 @@
 
 import copy
 import dataclasses
+import functools
 import time
 from numbers import Integral, Real
 
@@ -128,15 +129,21 @@ class Discretization:
             self.timings["assemble"] = time.perf_counter() - start
             self.V_plain = dg_space(mesh, order, dgjumps=False)
             self.G = self._friction_matrix() if problem.m_t == 0 else None
-            lam, q = self.Q.TnT()
-            m = ngs.BilinearForm(self.Q)
-            m += lam * q * self.dS
-            m.Assemble()
-            self.M_inv = m.mat.Inverse(inverse="sparsecholesky")
         self.compliance = ngs.BilinearForm(self.V)
         self.compliance += self.compliance_form(u, v)
         self._contact_forms = {}
         self.timings["setup"] = time.perf_counter() - start
+
+    @functools.cached_property
+    def M_inv(self):
+        """The inverse Gauss-rule mass matrix of the multiplier space (factorised when first used: only
+        the multiplier updates of Uzawa and the fixed point need it)."""
+        lam, q = self.Q.TnT()
+        m = ngs.BilinearForm(self.Q)
+        m += lam * q * self.dS
+        with threads(self.V.ndof):
+            m.Assemble()
+            return m.mat.Inverse(inverse="sparsecholesky")
 
     @property
     def c_tau(self):

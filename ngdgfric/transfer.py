@@ -7,7 +7,46 @@ from .contact import normal_tangent, project_unit
 from .forms import strain, stress
 from .nonlinear import multiplier_update
 
-__all__ = ["initial_guess", "multiplier_snapshot"]
+__all__ = ["initial_guess", "multiplier_snapshot", "copy_orders"]
+
+
+def _local(p, q):
+    """Positions, in an element's block of order p, of the basis functions of total degree <= q."""
+    i, j = np.array([(i, j) for i in range(q + 1) for j in range(q + 1 - i)]).T
+    return i * (p + 1) - i * (i - 1) // 2 + j
+
+
+def copy_orders(source, source_orders, target, target_orders):
+    """target = source for GridFunctions of two variable-order ``L2**2`` spaces on one mesh, by copying
+    coefficients: exact where p_T(target) >= p_T(source), else the element-wise L2 projection.
+
+    NGSolve's L2 triangle basis is hierarchical and L2-orthogonal (Dubiner): the element's functions
+    are ordered by (i, j), i = 0..p, j = 0..p - i, the same functions for every p, and an element's
+    coefficients are contiguous, elements in order, one component after the other; so the
+    functions of degree <= min(p, p') carry over and truncation is the projection onto lower p.
+    The same as ``target.Set(source)`` with a quadrature exact for both degrees (tested; ``Set``'s
+    default rule of degree 2 p_T is not exact onto lower orders), without the quadrature: ``Set``
+    took 0.11 s for 512 elements into p = 8, 18 % of a solve on that mesh.
+    """
+    source_orders = np.asarray(source_orders, dtype=np.int64)
+    target_orders = np.asarray(target_orders, dtype=np.int64)
+    sizes = lambda p: (p + 1) * (p + 2) // 2  # noqa: E731
+    blocks = []
+    for orders, gf in ((source_orders, source), (target_orders, target)):
+        first = np.concatenate([[0], np.cumsum(sizes(orders))])
+        if 2 * first[-1] != len(gf.vec):
+            raise ValueError(f"a space with {len(gf.vec)} DOFs does not have the orders given ({2 * first[-1]} DOFs)")
+        blocks.append(first)
+    values, out = source.vec.FV().NumPy(), np.zeros(len(target.vec))
+    pairs = np.stack([source_orders, target_orders], axis=1)
+    for ps, pt in np.unique(pairs, axis=0):
+        elements = np.flatnonzero((source_orders == ps) & (target_orders == pt))
+        q = min(ps, pt)
+        from_ = blocks[0][elements][:, None] + _local(ps, q)[None, :]
+        to = blocks[1][elements][:, None] + _local(pt, q)[None, :]
+        for component in range(2):
+            out[to + component * blocks[1][-1]] = values[from_ + component * blocks[0][-1]]
+    target.vec.FV().NumPy()[:] = out
 
 
 def multiplier_snapshot(sol):

@@ -45,7 +45,7 @@ def make_reference(problem, path, tol, max_ndof, max_order, max_levels=80):
 
         start = time.perf_counter()
         records = ndf.adapt(problem, method="sipg", order=2, hp=True, max_order=max_order, tol=tol,
-                            max_ndof=max_ndof, max_levels=max_levels, weights="paper", gamma_lin=None, keep=keep,
+                            max_ndof=max_ndof, max_levels=max_levels, weights="paper", theta=0.3, keep=keep,
                             progress=say).levels
         seconds = time.perf_counter() - start
         with atomic_path(path) as temporary:

@@ -53,7 +53,7 @@ def variants(example, quick):
     if not quick:
         name, other = traction_variant(example)
         say(f"Example {example}, {name}: hp reference (adapt to eta_h <= {REFERENCE_TOL:g})")
-        run = ndf.adapt(other, tol=REFERENCE_TOL, progress=None)
+        run = ndf.adapt(other, tol=REFERENCE_TOL, theta=0.3, progress=None)
         out.append((name, other, run.solution, {}))
     return out
 

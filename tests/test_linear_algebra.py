@@ -1,9 +1,12 @@
 """Sparse plumbing: contact blocks added to A (Uzawa's Jacobians), and the BLAS thread limit."""
 
+import ctypes
+import os
+
 import numpy as np
 
 import ngdgfric as ndf
-from ngdgfric.linalg import BlockSum, limit_blas_threads
+from ngdgfric.linalg import BlockSum, dense_threads, limit_blas_threads
 
 
 def test_block_sum_adds_the_contact_blocks_only():
@@ -35,3 +38,31 @@ def test_block_sum_adds_the_contact_blocks_only():
 def test_blas_thread_limit_touches_only_openblas():
     limited = limit_blas_threads(1)
     assert all("openblas" in path.rsplit("/", 1)[-1].lower() for path in limited)
+
+
+def openblas_threads(paths):
+    """The thread count each OpenBLAS reports (openblas_get_num_threads), where it has that function."""
+    counts = []
+    for path in paths:
+        library = ctypes.CDLL(path)
+        names = ("openblas_get_num_threads", "scipy_openblas_get_num_threads64_", "scipy_openblas_get_num_threads")
+        getter = next((getattr(library, name) for name in names if hasattr(library, name)), None)
+        if getter is not None:
+            counts.append(getter())
+    return counts
+
+
+def test_dense_threads_gives_all_cores_to_large_dense_solves_and_restores_the_limit():
+    paths = limit_blas_threads(1)
+    rng = np.random.default_rng(0)
+    matrix, rhs = rng.random((1200, 1200)) + 1200 * np.eye(1200), rng.random(1200)
+    expected = np.linalg.solve(matrix, rhs)
+    with dense_threads(1200):
+        inside = openblas_threads(paths)
+        solution = np.linalg.solve(matrix, rhs)
+    assert np.allclose(solution, expected, rtol=1e-12, atol=0)
+    assert set(openblas_threads(paths)) <= {1}
+    if os.cpu_count() and os.cpu_count() > 1 and inside:
+        assert min(inside) > 1
+    with dense_threads(999):  # small work keeps the limit
+        assert set(openblas_threads(paths)) <= {1}

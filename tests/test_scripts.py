@@ -100,7 +100,8 @@ def test_tolerance(tmp_path):
 
 def test_time_to_accuracy(tmp_path):
     rows = run("time_to_accuracy", tmp_path)
-    assert {r["variant"] for r in rows} == {"defaults", "theta 0.7", "gamma_lin 0.1"}
+    assert {r["variant"] for r in rows} == {"defaults (theta 0.5)", "theta 0.3 (old default)", "theta 0.7",
+                                            "gamma_lin 0.1"}
     for row in rows:
         assert row["stopped"] == "tol" and row["eta"] <= 0.1
         # eta_h is reliable: the true error (against the hp reference) is below it
