@@ -109,18 +109,19 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
     ``max_order`` = 8, Doerfler theta = 0.5, every level solved to the solver's tolerance; the
     paper's loop is ``hp=False, order=1, theta=0.3, weights="paper"``.  Theta = 0.5 is the fastest
     robust choice measured (results/time_to_accuracy.md; to tol = 5e-4: Example 6.1 in 29 levels
-    and 15 s against 47 levels and 106 s with theta = 0.3, Example 6.2 in 29 levels and 9.5 s
-    against 49 and 15 s); theta = 0.7 was faster on Example 6.2 but the contact solver stalled
-    (relative KKT residual 3.6e-10) on an hp level of Example 6.1.
+    and 13 s against 46 levels and 47 s with theta = 0.3, Example 6.2 in 29 levels and 8.4 s
+    against 49 and 13 s); theta = 0.7 was a little faster on Example 6.2 (6.7 s) but took 176 s
+    on Example 6.1, whose large contact solves it reached sooner (in one run the contact solver
+    stalled there at a relative KKT residual 3.6e-10).
 
     ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
     linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
     Ern & Vohralik, SISC 35, 2013; :mod:`ngdgfric.newton`), starting from eta_lin <= gamma_lin x the
     previous level's eta_h; the returned level is solved to the full tolerance.  Not the default:
-    on Example 6.1 (hp, tol = 5e-4) gamma_lin = 0.1 left 0-3 Newton iterations per level, but the
-    contact indicators eta_4, eta_6 of the inexact solutions steered the hp decisions into
-    bisecting Gamma_C (eta_h = 3.0e-3 at 88k DOFs instead of 3.8e-3 at 28k), and gamma_lin = 0.01
-    kept the path but not the iterations (results/time_to_accuracy.md).
+    on Example 6.1 gamma_lin = 0.1 left 0-3 Newton iterations per level, but the contact
+    indicators eta_4, eta_6 of the inexact solutions steered the hp decisions into bisecting
+    Gamma_C (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DOFs and 4.2 s,
+    results/time_to_accuracy.md), and gamma_lin = 0.01 kept the path but not the iterations.
 
     mesh: initial mesh (default: uniform h = 1/2 on a rectangle, Netgen maxh = 1/2 otherwise);
     it is refined in place.  Every level after the first starts from the previous solution
