@@ -204,28 +204,29 @@ def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, g
 
 def _settle(sol, est, weights, tol, gamma_lin, returned, seconds):
     """The estimate of a level, and an inexact solve made good enough (Ern & Vohralik's adaptive
-    inexact loop): solved on until eta_lin <= gamma_lin eta_h (re-estimated each time), and to the
-    full tolerance where it is returned (``returned``, or eta_h <= tol).  ``est``: the estimate of
-    ``sol`` if known; ``seconds``: its "solve" and "estimate" entries are increased.  Returns (sol, est)."""
-    for _ in range(5):
-        if est is None:
-            start = time.perf_counter()
-            est = estimate(sol, weights)
-            seconds["estimate"] += time.perf_counter() - start
-        full = returned or (tol is not None and est.total <= tol)
-        if sol.state is None or not (full or sol.info["linearization"] > gamma_lin * est.total):
-            return sol, est
-        start = time.perf_counter()
-        sol, est = finish(sol, energy_tol=None if full else gamma_lin * est.total), None
-        seconds["solve"] += time.perf_counter() - start
-    if est is None or sol.state is not None:
-        start = time.perf_counter()
-        sol = finish(sol)
-        seconds["solve"] += time.perf_counter() - start
-        start = time.perf_counter()
-        est = estimate(sol, weights)
-        seconds["estimate"] += time.perf_counter() - start
+    inexact loop): if eta_lin > gamma_lin eta_h, solved on to eta_lin <= gamma_lin eta_h and
+    re-estimated (then, if still short, to the full tolerance); solved to the full tolerance at once
+    where it is returned (``returned``, or eta_h <= tol).  ``est``: the estimate of ``sol`` if known;
+    ``seconds``: its "solve" and "estimate" entries are increased.  Returns (sol, est)."""
+    if est is None:
+        est = _timed(seconds, "estimate", estimate, sol, weights)
+    for partial in (True, False):
+        if sol.state is None:
+            break
+        full = not partial or returned or (tol is not None and est.total <= tol)
+        if not full and sol.info["linearization"] <= gamma_lin * est.total:
+            break
+        sol = _timed(seconds, "solve", finish, sol, energy_tol=None if full else gamma_lin * est.total)
+        est = _timed(seconds, "estimate", estimate, sol, weights)
     return sol, est
+
+
+def _timed(seconds, key, function, *args, **kwargs):
+    """function(*args, **kwargs), its seconds added to ``seconds[key]``."""
+    start = time.perf_counter()
+    result = function(*args, **kwargs)
+    seconds[key] += time.perf_counter() - start
+    return result
 
 
 def _refine(mesh, state, indicators, marked, hp, max_order, order):

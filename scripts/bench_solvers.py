@@ -18,7 +18,6 @@ recovery of u) and Newton's iterations.  Writes results/solver_benchmark.md, .cs
 """
 
 import argparse
-import dataclasses
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -26,7 +25,7 @@ from types import SimpleNamespace
 import matplotlib
 import ngsolve as ngs
 import numpy as np
-from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import EXAMPLES, RESULTS, best, command_line, contact_free, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
@@ -51,21 +50,6 @@ def parse(argv=None):
     parser.add_argument("--quick", action="store_true", help="two small series, no hp meshes (smoke test)")
     parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
-
-
-def contact_free(problem):
-    """The same problem without contact forces: no friction, a gap no displacement closes."""
-    return dataclasses.replace(problem, c_tau=0.0, g_a=1e6)
-
-
-def best(repeat, function):
-    """(smallest seconds, result of that run) over ``repeat`` calls of function()."""
-    runs = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        result = function()
-        runs.append((time.perf_counter() - start, result))
-    return min(runs, key=lambda run: run[0])
 
 
 def floor_solve(problem, mesh, method, order):

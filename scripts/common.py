@@ -1,8 +1,10 @@
 """Helpers shared by the scripts: examples by name, results folder, Markdown/CSV writers."""
 
+import dataclasses
 import multiprocessing
 import os
 import sys
+import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
@@ -11,6 +13,21 @@ from ngdgfric import files
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
 EXAMPLES = {"6.1": ndf.example_6_1, "6.2": ndf.example_6_2}
+
+
+def contact_free(problem):
+    """The same problem without contact forces: no friction, a gap no displacement closes."""
+    return dataclasses.replace(problem, c_tau=0.0, g_a=1e6)
+
+
+def best(repeat, function):
+    """(smallest seconds, result of that run) over ``repeat`` calls of function()."""
+    runs = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        result = function()
+        runs.append((time.perf_counter() - start, result))
+    return min(runs, key=lambda run: run[0])
 
 
 def results_path(name):

@@ -20,12 +20,11 @@ Writes results/time_to_accuracy.csv, .md and .png.
 
 import argparse
 import csv
-import dataclasses
 import itertools
 import time
 from pathlib import Path
 
-from common import EXAMPLES, fmt, markdown_table, results_path, save_figure, say, write_csv
+from common import EXAMPLES, best, contact_free, fmt, markdown_table, results_path, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.reference import energy_error, load_reference
@@ -49,17 +48,6 @@ def parse(argv=None):
     return parser.parse_args(argv)
 
 
-def linear_seconds(problem, mesh, orders, repeat=3):
-    """Best of ``repeat`` end-to-end solves of the problem without contact on ``mesh`` with ``orders``."""
-    free = dataclasses.replace(problem, c_tau=0.0, g_a=1e6)
-    best = float("inf")
-    for _ in range(repeat):
-        start = time.perf_counter()
-        ndf.solve(free, mesh, order=orders)
-        best = min(best, time.perf_counter() - start)
-    return best
-
-
 def run(example, variant, tol):
     """One adaptive run and its row."""
     problem = EXAMPLES[example]()
@@ -74,7 +62,7 @@ def run(example, variant, tol):
     seconds = {key: sum(r[f"{key}_seconds"] for r in levels) for key in ("solve", "estimate", "mark_refine")}
     loop = sum(seconds.values())
     sol = result.solution
-    linear = linear_seconds(problem, sol.mesh, sol.discretization.orders)
+    linear, _ = best(3, lambda: ndf.solve(contact_free(problem), sol.mesh, order=sol.discretization.orders))
     return dict(example=example, variant=variant, tol=tol, levels=len(levels), ndof=sol.ndof,
                 p_max=levels[-1]["p_max"], contact_points=sol.info["contact_points"], stopped=result.stopped,
                 loop_seconds=loop, final_solve_seconds=levels[-1]["solve_seconds"],
