@@ -187,3 +187,20 @@ def test_energy_tol_is_checked():
             ndf.solve(p, mesh, energy_tol=bad)
     with pytest.raises(ValueError, match="energy_tol"):
         ndf.solve(p, mesh, solver="uzawa", energy_tol=1.0)
+
+
+def test_hp_mesh_with_redundant_contact_points_is_solved_by_the_proximal_point_method():
+    """Contact elements of degree 1 on a mesh of degree 4: five Gauss points per contact edge carry traces of
+    degree 1, W is singular and the forces are not unique (u is); the proximal point method of
+    ngdgfric.reduced converges to round-off and agrees with Uzawa (an independent solver)."""
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 4)
+    orders = np.full(mesh.ne, 4)
+    for el in mesh.Elements(ngs.BND):
+        if el.mat == p.contact:
+            orders[mesh[el.edges[0]].elements[0].nr] = 1
+    sol = ndf.solve(p, mesh, order=orders)
+    assert sol.discretization.traces.redundant
+    assert any(step.startswith("proximal") for step in sol.info["steps"])
+    assert_kkt_at_roundoff(sol)
+    assert max_rel_diff(sol, ndf.solve(p, mesh, order=orders, solver="uzawa", tol=1e-12)) <= 1e-7

@@ -81,6 +81,7 @@ def test_solution_minimises_the_complementary_energy():
 def test_redundant_points_converge_and_the_traces_are_unique():
     reduced, _ = random_problem(4, redundant=True)
     f, info = reduced.solve(tol=1e-12)
+    assert info["steps"][0].startswith("proximal")  # the proximal point method (symmetric, m_t = 0)
     assert law_violation(reduced, f)[0] <= 1e-10
     other, _ = reduced.solve(f0=f + 1.0, tol=1e-12)
     assert np.allclose(reduced.traces(f), reduced.traces(other), atol=1e-9 * np.abs(reduced.traces(f)).max())
