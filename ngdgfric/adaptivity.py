@@ -108,11 +108,11 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
     Defaults: hp-adaptive (:func:`ngdgfric.hp.hp_refine`) SIPG from p = ``order`` = 2 up to
     ``max_order`` = 8, Doerfler theta = 0.5, every level solved to the solver's tolerance; the
     paper's loop is ``hp=False, order=1, theta=0.3, weights="paper"``.  Theta = 0.5 is the fastest
-    robust choice measured (results/time_to_accuracy.md; to tol = 5e-4: Example 6.1 in 29 levels
-    and 13 s against 46 levels and 47 s with theta = 0.3, Example 6.2 in 29 levels and 8.4 s
-    against 49 and 13 s); theta = 0.7 was a little faster on Example 6.2 (6.7 s) but took 176 s
-    on Example 6.1, whose large contact solves it reached sooner (in one run the contact solver
-    stalled there at a relative KKT residual 3.6e-10).
+    robust choice measured (results/time_to_accuracy.md; to tol = 5e-4: Example 6.1 in 28 levels
+    and 10.7 s against 46 levels and 20.3 s with theta = 0.3, Example 6.2 in 29 levels and 9.3 s
+    against 49 and 14.7 s); theta = 0.7 (best of two runs): 15 % faster on Example 6.2 (tol
+    5e-4: 7.1 s against 8.3 s; 1e-4: 12.2 s against 13.3 s) but slower on Example 6.1 (11.5 s
+    against 10.4 s; 1e-4: 22.4 s against 18.7 s), whose large hp contact solves it reaches sooner.
 
     ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
     linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
