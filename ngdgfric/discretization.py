@@ -20,7 +20,7 @@ from .contact import (
     normal_tangent,
 )
 from .forms import check_penalty, default_eta, dg_terms, edge_length, get_method, load_terms
-from .liftings import lifting_stiffness
+from .liftings import lifting_terms
 from .linalg import sparse_sum, threads
 from .meshes import check_mesh
 from .problem import ContactProblem
@@ -119,8 +119,8 @@ class Discretization:
             for term in dg_terms(problem, mesh, u, v, self.method, self.eta, self.p, self.h_e):
                 a += term
             a.Assemble()
-            lifts = lifting_stiffness(problem, mesh, self.V, self.order, self.method, self.eta)
-            self.A = a.mat if lifts is None else sparse_sum([(1.0, a.mat), (1.0, lifts)])
+            lifts = lifting_terms(problem, mesh, self.V, self.order, self.method, self.eta)
+            self.A = sparse_sum([(1.0, a.mat), *lifts]) if lifts else a.mat
             f = ngs.LinearForm(self.V)
             for term in load_terms(problem, mesh, v):
                 f += term
