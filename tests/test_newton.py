@@ -112,7 +112,12 @@ def test_warm_start_from_a_coarser_mesh_needs_few_iterations():
     coarse = ndf.solve(p, ndf.uniform_mesh(p, 1 / 8))
     cold = ndf.solve(p, ndf.uniform_mesh(p, 1 / 16))
     warm = ndf.solve(p, ndf.uniform_mesh(p, 1 / 16), initial=coarse)
-    assert warm.iterations <= 4 < cold.iterations
+
+    def newton_steps(sol):  # to the tolerance; a consistency re-solve after recovering u (a round-off
+        # polish, machine-dependent: 0 or 1 step here) is not counted
+        return next(k + 1 for k, r in enumerate(sol.info["history"]) if r <= 1e-13)
+
+    assert newton_steps(warm) <= 4 < newton_steps(cold)
     assert max_rel_diff(warm, cold) <= 1e-12
 
 
