@@ -120,7 +120,11 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
     and eta_h still 3.5e-3 after 18 levels; raised in p only: 28 levels and 55-60k DOFs for
     growths 1.2-1.8); marked h elements bisected four times instead of twice (811k DOFs); a second
     Doerfler round on the predicted indicators before each solve (16 levels, 1.5 times the DOFs,
-    the same time to the answer).  Levels are paced by the grading towards the singular points.
+    the same time to the answer); p raised by 2 instead of 1 (28 and 29 levels, as with 1); theta =
+    0.7 and 0.85 with p + 1 or p + 2 (21-24 levels, 8.9-10.3 linear solves); the smallest h
+    elements bisected 4 or 6 times (24 and 23 levels, 69k and 156k DOFs).  Levels are paced by the
+    grading towards the singular points: h_min halves on every level (2.8e-3 at level 8, 5.3e-9
+    at level 27) and eta_h falls by about 0.67 per level whatever else is refined.
 
     ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
     linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
