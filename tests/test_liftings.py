@@ -10,16 +10,19 @@ from ngdgfric.liftings import edge_colours, lifting_matrices, lifting_space
 from ngdgfric.meshes import facet_indicator
 
 
-@pytest.fixture(scope="module")
-def small():
+@pytest.fixture(scope="module", params=["netgen", "bisected"])
+def small(request):
     p = ndf.example_6_1()
     mesh = ndf.netgen_mesh(p, 0.35)  # unstructured: more colours than a structured mesh
+    if request.param == "bisected":  # facet numbers then include the bisected edges: not the facet dofs
+        ndf.refine(mesh, np.arange(mesh.ne) % 3 == 0)
+        assert mesh.nfacet > ngs.FacetFESpace(mesh, order=0).ndof
     return p, mesh, ndf.Discretization(p, mesh, order=2)
 
 
 def test_colours_separate_the_edges_of_every_triangle(small):
     p, mesh, _ = small
-    colours = edge_colours(p, mesh)
+    colours = [colour.indicator for colour in edge_colours(p, mesh)]
     assert 3 <= len(colours) <= 5
     total = sum(c.vec.FV().NumPy() for c in colours)
     interior_or_dirichlet = ngs.Integrate(sum(colours) * ngs.dx(element_boundary=True), mesh, element_wise=True)
@@ -30,6 +33,18 @@ def test_colours_separate_the_edges_of_every_triangle(small):
         lengths = ngs.Integrate(ngs.CF(1) * ngs.dx(element_boundary=True), mesh, element_wise=True).NumPy()
         # one edge is shorter than half the perimeter, two edges are longer (triangle inequality)
         assert np.all(per_element < lengths / 2)
+
+
+def test_colour_bitarrays_mark_the_facets_of_the_indicators(small):
+    p, mesh, _ = small
+    space = ngs.FacetFESpace(mesh, order=0)
+    for colour in edge_colours(p, mesh):
+        marked = np.array(list(colour.facets), dtype=bool)
+        assert marked.size == mesh.nfacet
+        values = colour.indicator.vec.FV().NumPy()
+        for facet in range(mesh.nfacet):  # facet -> dof through NGSolve's own node lookup
+            dofs = space.GetDofNrs(ngs.NodeId(ngs.FACET, facet))
+            assert marked[facet] == (len(dofs) == 1 and values[dofs[0]] == 1.0)
 
 
 def test_lifting_identity_and_global_lifting(small):
