@@ -65,9 +65,10 @@ def edge_colours(problem, mesh):
                        dtype=np.int64)
     in_use = np.zeros(mesh.nfacet, dtype=bool)
     in_use[edge_of] = True
-    if in_use.sum() != space.ndof:
-        raise RuntimeError(f"{space.ndof} facet dofs but {in_use.sum()} edges of triangles")
-    dof_of_facet = np.where(in_use, np.cumsum(in_use) - 1, -1)
+    numbering = np.cumsum(in_use) - 1
+    if numbering[-1] + 1 != space.ndof:
+        raise RuntimeError(f"{space.ndof} facet dofs but {numbering[-1] + 1} edges of triangles")
+    dof_of_facet = np.where(in_use, numbering, -1)
     on_boundary = np.zeros(space.ndof, dtype=bool)
     for name in (problem.traction, problem.contact):
         on_boundary |= np.array(list(space.GetDofs(mesh.Boundaries(name))), dtype=bool)
