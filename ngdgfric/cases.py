@@ -14,11 +14,12 @@ from .contact import normal_tangent
 from .discretization import Discretization
 from .errors import SolverError
 from .examples import example_6_1, example_6_2
-from .forms import edge_length, get_method, jump_inner, strain, stress
+from .forms import edge_length, get_method, jump_inner
 from .kkt import contact_state, kkt_residuals
 from .manufactured import elasticity_manufactured, strain_of
 from .meshes import uniform_mesh
 from .norms import energy_norm
+from .problem import strain, stress
 from .reference import energy_error, load_reference
 from .solution import solve
 from .studies import strategy_run

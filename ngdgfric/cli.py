@@ -30,14 +30,15 @@ from .errors import SolverError
 from .estimator import estimate
 from .examples import example_6_1, example_6_2
 from .files import atomic_path, check_writable, write_csv, write_text
-from .forms import METHODS, strain, stress
+from .forms import METHODS
 from .meshes import estimated_elements, mesh_arrays, netgen_mesh, uniform_mesh
 from .norms import energy_norm
+from .problem import von_mises
 from .problem_file import in_file, load_problem
 from .solution import SOLVERS, solve
 from .studies import uniform_study
 
-__all__ = ["main", "run", "build_parser", "load", "von_mises"]
+__all__ = ["main", "run", "build_parser", "load"]
 
 EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
 DEFAULT_H = 0.125
@@ -182,14 +183,6 @@ def _mesh(problem, h, maxh, default, order, max_ndof):
     if maxh is not None:
         return netgen_mesh(problem, maxh, max_elements=None), f"Netgen maxh = {maxh:g}"
     return uniform_mesh(problem, h, max_elements=None), f"uniform h = {h:g}"
-
-
-def von_mises(problem, u):
-    """Von Mises stress of sigma(u) (1.3) in plane strain, sigma_zz = lam tr eps(u)."""
-    e = strain(u)
-    s = stress(problem, e)
-    sxx, syy, sxy, szz = s[0, 0], s[1, 1], s[0, 1], problem.lam * ngs.Trace(e)
-    return ngs.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)
 
 
 def say(message):

@@ -29,9 +29,10 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, normal_tangent
-from .forms import edge_order, jump_inner, jump_penalty, strain, stress
+from .forms import edge_order, jump_inner, jump_penalty
 from .linalg import threads
 from .meshes import element_diameters, facet_indicator
+from .problem import strain, stress
 
 __all__ = ["Estimate", "estimate", "div_stress"]
 

@@ -27,7 +27,9 @@ from dataclasses import dataclass
 
 import ngsolve as ngs
 
-__all__ = ["Method", "METHODS", "get_method", "default_eta", "strain", "stress", "edge_length",
+from .problem import strain, stress
+
+__all__ = ["Method", "METHODS", "get_method", "default_eta", "edge_length",
            "edge_penalty", "edge_order", "jump_penalty", "dg_terms", "load_terms", "jump_inner", "PenaltyWarning",
            "coercivity_threshold", "check_penalty", "SIPG_THRESHOLD"]
 
@@ -130,16 +132,6 @@ def check_penalty(problem, method, eta, order, action="warn"):
     if action == "raise":
         raise ValueError(message)
     warnings.warn(message, PenaltyWarning, stacklevel=3)
-
-
-def strain(w):
-    """eps(w) = (grad w + grad w^T)/2, (1.1)."""
-    return ngs.Sym(ngs.Grad(w))
-
-
-def stress(problem, e):
-    """sigma = C e = lam tr(e) I + 2 mu e for a strain e, (1.3)."""
-    return 2 * problem.mu * e + problem.lam * ngs.Trace(e) * ngs.Id(2)
 
 
 def jump_inner(a, b, n):

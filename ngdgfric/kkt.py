@@ -4,7 +4,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, evaluate_on_contact, normal_tangent, penetration
-from .forms import strain, stress
+from .problem import strain, stress
 
 __all__ = ["contact_state", "kkt_residuals", "rounding_residual"]
 

@@ -30,8 +30,8 @@ from typing import NamedTuple
 import ngsolve as ngs
 import numpy as np
 
-from .forms import stress
 from .linalg import diagonal, threads
+from .problem import stress
 
 __all__ = ["lifting_space", "EdgeColour", "edge_colours", "lifting_matrices", "lifting_terms"]
 

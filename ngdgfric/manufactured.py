@@ -11,8 +11,7 @@ import math
 
 import ngsolve as ngs
 
-from .forms import stress
-from .problem import ContactProblem, Polygon
+from .problem import ContactProblem, Polygon, stress
 
 __all__ = ["strain_of", "body_force_and_traction", "elasticity_manufactured", "contact_manufactured",
            "incompressible_contact_manufactured",

@@ -2,8 +2,9 @@
 
 import ngsolve as ngs
 
-from .forms import edge_length, jump_inner, strain, stress
+from .forms import edge_length, jump_inner
 from .meshes import facet_indicator
+from .problem import strain, stress
 
 __all__ = ["energy_norm", "energy_norm_squared_parts", "difference"]
 

@@ -15,7 +15,7 @@ import ngsolve as ngs
 
 from .geometry import check_polygon
 
-__all__ = ["ContactProblem", "Polygon"]
+__all__ = ["ContactProblem", "Polygon", "strain", "stress", "von_mises"]
 
 
 def _is_number(value):
@@ -216,3 +216,21 @@ class ContactProblem:
     def boundary_names(self):
         """(dirichlet, traction, contact)."""
         return self.dirichlet, self.traction, self.contact
+
+
+def strain(w):
+    """eps(w) = (grad w + grad w^T)/2, (1.1)."""
+    return ngs.Sym(ngs.Grad(w))
+
+
+def stress(problem, e):
+    """sigma = C e = lam tr(e) I + 2 mu e for a strain e, (1.3)."""
+    return 2 * problem.mu * e + problem.lam * ngs.Trace(e) * ngs.Id(2)
+
+
+def von_mises(problem, u):
+    """Von Mises stress of sigma(u) (1.3) in plane strain, sigma_zz = lam tr eps(u)."""
+    e = strain(u)
+    s = stress(problem, e)
+    sxx, syy, sxy, szz = s[0, 0], s[1, 1], s[0, 1], problem.lam * ngs.Trace(e)
+    return ngs.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)

@@ -23,9 +23,9 @@ import numpy as np
 
 from .discretization import dg_space
 from .files import atomic_path
-from .forms import strain
 from .meshes import mesh_arrays, mesh_from_arrays
 from .norms import energy_norm_squared_parts
+from .problem import strain
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint"]
 

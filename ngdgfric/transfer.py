@@ -4,8 +4,8 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import normal_tangent, project_unit
-from .forms import strain, stress
 from .nonlinear import multiplier_update
+from .problem import strain, stress
 
 __all__ = ["initial_guess", "multiplier_snapshot", "copy_orders"]
 
