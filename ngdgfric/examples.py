@@ -4,7 +4,7 @@ import ngsolve as ngs
 
 from .problem import ContactProblem, Polygon
 
-__all__ = ["example_6_1", "example_6_2"]
+__all__ = ["example_6_1", "example_6_2", "EXAMPLES", "example"]
 
 
 def example_6_1():
@@ -33,3 +33,14 @@ def example_6_2():
     return ContactProblem(E=2500.0, nu=0.2, f=(0.0, 0.0), g=(880.0, 0.0),
                           c_n=1.0, m_n=1.0, g_a=0.0, c_tau=250.0, geometry=geometry,
                           name="Example 6.2")
+
+
+EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
+
+
+def example(name):
+    """The problem of Example ``name`` ("6.1" or "6.2"; ValueError naming the choices otherwise)."""
+    key = str(name)
+    if key not in EXAMPLES:
+        raise ValueError(f"example must be one of {sorted(EXAMPLES)}, got {name!r}")
+    return EXAMPLES[key]()

@@ -15,7 +15,15 @@ import ngsolve as ngs
 
 from .geometry import check_polygon
 
-__all__ = ["ContactProblem", "Polygon", "strain", "stress", "von_mises"]
+__all__ = ["ContactProblem", "Polygon", "strain", "stress", "von_mises", "coefficient"]
+
+
+def coefficient(value):
+    """A datum of the problem as a CoefficientFunction: a number, a pair (f_x, f_y) of data or a
+    CoefficientFunction (returned as is)."""
+    if isinstance(value, ngs.CoefficientFunction):
+        return value
+    return ngs.CF(tuple(value)) if isinstance(value, (tuple, list)) else ngs.CF(value)
 
 
 def _is_number(value):
