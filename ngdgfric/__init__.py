@@ -3,30 +3,24 @@
 Porwal & Tanvi, "Unified analysis of DG methods for frictional contact problem with normal
 compliance": model (1.1)-(1.10), DG forms of Section 3, Uzawa solver of Section 6.
 
-Importing the package limits OpenBLAS (numpy's and NGSolve's) to NGDGFRIC_BLAS_THREADS threads
-(default 1): idle BLAS threads busy-wait and made NGSolve's sparse solves 8-10x slower on two
-cores (:func:`ngdgfric.linalg.limit_blas_threads`).
+The entry points (solve, finish, estimate, adapt) limit OpenBLAS to NGDGFRIC_BLAS_THREADS threads
+(default 1) while they run (:func:`ngdgfric.linalg.blas_threads`); importing changes nothing.
 """
-
-import os
 
 from .adaptivity import Adaptation, adapt, dorfler_mark, minimum_angle, refine
 from .discretization import Discretization
 from .errors import SolverError
 from .estimator import Estimate, estimate
 from .examples import example_6_1, example_6_2
-from .forms import METHODS
 from .hp import HPState, hp_refine
 from .kkt import contact_state, kkt_residuals
-from .linalg import limit_blas_threads
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
+from .methods import METHODS
 from .norms import energy_norm
 from .problem import ContactProblem, Polygon
 from .problem_file import example_file, load_problem
 from .reference import Reference, energy_error, load_reference, save_reference
 from .solution import Solution, solve
-
-limit_blas_threads(int(os.environ.get("NGDGFRIC_BLAS_THREADS", "1")))
 
 __all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_mesh", "netgen_mesh",
            "check_mesh", "Discretization", "solve", "Solution", "SolverError", "energy_norm", "METHODS",

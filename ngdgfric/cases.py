@@ -14,10 +14,11 @@ from .contact import normal_tangent
 from .discretization import Discretization
 from .errors import SolverError
 from .examples import example_6_1, example_6_2
-from .forms import edge_length, get_method, jump_inner
+from .forms import edge_length, jump_inner
 from .kkt import contact_state, kkt_residuals
 from .manufactured import elasticity_manufactured, strain_of
 from .meshes import uniform_mesh
+from .methods import get_method
 from .norms import energy_norm
 from .problem import strain, stress
 from .reference import energy_error, load_reference
@@ -34,7 +35,7 @@ EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
 def penalty_value(problem, method, ratio):
     """eta for a study value eta/mu: ratio * mu for the edge-penalty methods; for Bassi and Brezzi
     eta multiplies (C r_e, r_e), which already carries the material, so eta = ratio."""
-    return ratio * problem.mu if get_method(method).penalty == "edge" else ratio
+    return ratio * get_method(method).eta_scale(problem)
 
 
 def coercivity(problem, mesh, method, order, eta):

@@ -19,10 +19,11 @@ from .contact import (
     multiplier_space,
     normal_tangent,
 )
-from .forms import check_penalty, default_eta, dg_terms, edge_length, get_method, load_terms
+from .forms import dg_terms, edge_length, load_terms
 from .liftings import lifting_terms
 from .linalg import sparse_sum, threads
 from .meshes import check_mesh
+from .methods import check_penalty, get_method
 from .problem import ContactProblem
 from .traces import ContactTraces
 
@@ -104,7 +105,7 @@ class Discretization:
         self.order = int(self.orders.max())
         self.p = self.order if np.ndim(order) == 0 or np.all(order == self.order) else order_function(mesh, order)
         lowest = int(self.orders.min())  # the lowest order has the highest SIPG threshold
-        self.eta = _check_eta(default_eta(problem, self.method, lowest) if eta is None else eta)
+        self.eta = _check_eta(self.method.default(problem, lowest) if eta is None else eta)
         check_penalty(problem, self.method, self.eta, lowest, penalty_check)
         self.timings = {}
         self._gauss = self._traces = None

@@ -17,7 +17,7 @@ the friction force of (1.9) does; for p > 1 they carry the usual hp weights h/p 
 residual f + div sigma_h(u_h).  With a variable order (hp), p is p_T of the element integrated
 over (volume terms and the element's share of edge terms) and eta_3 uses the penalty of the
 forms, with p_e = max(p_T+, p_T-).  eta_3 uses the method's edge penalty eta p^2/h_e (for the lifting
-methods 2 mu eta p^2/h_e, see :func:`ngdgfric.forms.jump_penalty`).  Edge terms of interior edges are shared
+methods 2 mu eta p^2/h_e, see :meth:`ngdgfric.methods.Method.jump_weight`).  Edge terms of interior edges are shared
 half-half by the two neighbours; boundary edges go to their element.  The element values are
 those of ``Integrate(..., element_wise=True)``, computed for all six terms in one assembly
 (:func:`element_integrals`).
@@ -29,7 +29,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, normal_tangent
-from .forms import edge_order, jump_inner, jump_penalty
+from .forms import edge_order, edge_penalty, jump_inner
 from .linalg import threads
 from .meshes import element_diameters, facet_indicator
 from .problem import strain, stress
@@ -147,8 +147,8 @@ def estimate(sol, weights="energy"):
     h_T = ngs.GridFunction(ngs.L2(mesh, order=0))
     h_T.vec.FV().NumPy()[:] = element_diameters(mesh)
     jump_u = u - u.Other()
-    penalty = jump_penalty(problem, disc.method, disc.eta, edge_order(p), h_e)
-    boundary_penalty = jump_penalty(problem, disc.method, disc.eta, p, h_e)
+    weight = disc.method.jump_weight(problem, disc.eta)
+    penalty, boundary_penalty = edge_penalty(weight, edge_order(p), h_e), edge_penalty(weight, p, h_e)
     # quadrature order 2p + 2 (exact for the polynomial parts; Integrate's default 5 is too low
     # for p >= 3): the LinearForm of element_integrals integrates with the bonus order alone,
     # Integrate with 5 + bonus

@@ -7,14 +7,15 @@ with two numpy scatters.
 """
 
 import contextlib
-import ctypes
+import functools
 import os
 
 import ngsolve as ngs
 import numpy as np
+import threadpoolctl
 
-__all__ = ["BlockSum", "csr_keys", "dense_threads", "direct_inverse", "diagonal", "limit_blas_threads", "sparse_sum",
-           "threads"]
+__all__ = ["BlockSum", "csr_keys", "blas_threads", "limited_blas", "dense_threads", "direct_inverse", "diagonal",
+           "sparse_sum", "threads"]
 
 
 def csr_keys(mat, ncols=None):
@@ -142,59 +143,51 @@ def threads(size):
     return ngs.TaskManager() if size >= PARALLEL_FROM else contextlib.nullcontext()
 
 
-_BLAS = dict(count=None, setters=[])  # what limit_blas_threads set, for dense_threads
+BLAS_THREADS = int(os.environ.get("NGDGFRIC_BLAS_THREADS", "1"))
+"""OpenBLAS threads inside :func:`blas_threads` (environment variable NGDGFRIC_BLAS_THREADS, default 1)."""
 DENSE_PARALLEL_FROM = 1000
 
 
+@functools.cache
+def _openblas():
+    """The OpenBLAS libraries loaded in this process (numpy's, NGSolve's), found by threadpoolctl."""
+    return threadpoolctl.ThreadpoolController().select(internal_api="openblas")
+
+
 @contextlib.contextmanager
-def dense_threads(rows):
-    """All cores for OpenBLAS inside the block if the dense work has >= 1000 ``rows`` (then the
-    limit of :func:`limit_blas_threads` again), else nothing.
-
-    The dense Newton systems of the condensed contact problem (:mod:`ngdgfric.reduced`) reach
-    3500 rows on hp meshes; a dense solve of 2700 rows took 0.35 s on one thread and 0.22 s on two.
-    No NGSolve work runs inside the block, so busy-waiting BLAS threads steal nothing from it.
-    """
-    if rows < DENSE_PARALLEL_FROM or not _BLAS["setters"]:
-        yield
-        return
-    for setter in _BLAS["setters"]:
-        setter(ctypes.c_int(os.cpu_count() or 1))
-    try:
-        yield
-    finally:
-        for setter in _BLAS["setters"]:
-            setter(ctypes.c_int(_BLAS["count"]))
-
-
-_BLAS_THREAD_SETTERS = ("openblas_set_num_threads", "scipy_openblas_set_num_threads64_",
-                        "scipy_openblas_set_num_threads", "openblas_set_num_threads64_")
-
-
-def limit_blas_threads(count=1):
-    """Limit every OpenBLAS loaded in this process (numpy's, NGSolve's) to ``count`` threads.
+def blas_threads(count=None):
+    """Limit every OpenBLAS of the process to ``count`` threads (default :data:`BLAS_THREADS`) inside
+    the block; the previous limits come back at its end.
 
     Idle OpenBLAS threads busy-wait for a while after each call; on two cores they took the cores
     from NGSolve's TaskManager, and inside Newton each sparse back-substitution took 30-40 ms
     instead of 3-4 ms (Example 6.1, P2, 24576 DOFs).  Small dense work (12 x 12 blocks, batched
     Vandermonde solves) gains nothing from BLAS threads; large dense solves get all cores back in
-    :func:`dense_threads`.  Linux only (reads /proc/self/maps); returns the libraries limited.
+    :func:`dense_threads`.  MKL (PARDISO's) is left alone.
     """
-    try:
-        with open("/proc/self/maps") as maps:
-            paths = {line.split()[-1] for line in maps if "openblas" in line.rsplit("/", 1)[-1].lower()}
-    except OSError:
-        return []
-    limited = []
-    for path in sorted(paths):
-        try:
-            library = ctypes.CDLL(path)
-        except OSError:
-            continue
-        setter = next((getattr(library, name) for name in _BLAS_THREAD_SETTERS if hasattr(library, name)), None)
-        if setter is not None:
-            setter(ctypes.c_int(count))
-            limited.append(path)
-            _BLAS["setters"].append(setter)
-    _BLAS["count"] = count
+    with _openblas().limit(limits=BLAS_THREADS if count is None else count):
+        yield
+
+
+def limited_blas(function):
+    """``function`` run inside :func:`blas_threads` (the entry points solve, adapt, estimate)."""
+    @functools.wraps(function)
+    def limited(*args, **kwargs):
+        with blas_threads():
+            return function(*args, **kwargs)
     return limited
+
+
+@contextlib.contextmanager
+def dense_threads(rows):
+    """All cores for OpenBLAS inside the block if the dense work has >= 1000 ``rows``, else nothing.
+
+    The dense Newton systems of the condensed contact problem (:mod:`ngdgfric.reduced`) reach
+    3500 rows on hp meshes; a dense solve of 2700 rows took 0.35 s on one thread and 0.22 s on two.
+    No NGSolve work runs inside the block, so busy-waiting BLAS threads steal nothing from it.
+    """
+    if rows < DENSE_PARALLEL_FROM:
+        yield
+        return
+    with blas_threads(os.cpu_count() or 1):
+        yield

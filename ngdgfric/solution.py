@@ -52,7 +52,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
     problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
-    method: one of ``ngdgfric.forms.METHODS`` (Section 3); order: polynomial degree p >= 1.
+    method: one of ``ngdgfric.methods.METHODS`` (Section 3); order: polynomial degree p >= 1.
     eta: penalty parameter (default 30 mu, Section 6).
     solver: "newton" (default; the problem condensed onto the contact points and solved there by a
     globalised semismooth Newton method, :func:`ngdgfric.newton.newton`, fully coupled for
@@ -63,7 +63,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     residual at the contact points; Uzawa and the fixed point: 1e-8 on the relative max-norm
     change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4)).
     penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
-    threshold (:func:`ngdgfric.forms.check_penalty`).
+    threshold (:func:`ngdgfric.methods.check_penalty`).
     initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
     same domain: see :func:`ngdgfric.transfer.initial_guess`).
     max_ndof: refuse (ValueError, before assembly) above this many DOFs; None: above an estimated

@@ -20,8 +20,8 @@ from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure,
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
-from ngdgfric.forms import METHODS
 from ngdgfric.meshes import mesh_arrays
+from ngdgfric.methods import METHODS
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -280,7 +280,7 @@ def adapted_mesh(family, hp, levels):
         kept.update(mesh=ngs.Mesh(sol.mesh.ngmesh.Copy()), orders=sol.discretization.orders.copy())
 
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ndf.forms.PenaltyWarning)
+        warnings.simplefilter("ignore", ndf.methods.PenaltyWarning)
         if hp:
             ndf.adapt(problem, hp=True, order=2, max_order=5, max_levels=levels, weights="paper", theta=0.3,
                       progress=None, keep=keep)

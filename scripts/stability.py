@@ -21,7 +21,7 @@ from common import RESULTS, command_line, markdown_table, save_figure, say, writ
 
 from ngdgfric import cases
 from ngdgfric.files import write_text
-from ngdgfric.forms import METHODS, SIPG_THRESHOLD
+from ngdgfric.methods import METHODS, SIPG_THRESHOLD
 from ngdgfric.runner import run_cases
 
 matplotlib.use("Agg")
@@ -94,7 +94,7 @@ def report(results, speedup):
               "SIPG's threshold is a constant times 2 mu + lam (at p = 1: " + ", ".join(
                   f"Example {r['example']} {r['threshold_2mu_lam']:.2f}" for r in sipg1) + "), falling with p because",
               f"the penalty carries p^2; the library warns below {SIPG_THRESHOLD} x (2 mu + lam)",
-              "(`ngdgfric.forms.SIPG_THRESHOLD`, which also covers nu = 0 ... 0.49) and raises its default above",
+              "(`ngdgfric.methods.SIPG_THRESHOLD`, which also covers nu = 0 ... 0.49) and raises its default above",
               "30 mu where 30 mu is not enough.  The paper's 30 mu is " + ", ".join(
                   f"{30 / r['threshold_mu']:.2f} times the P1 threshold of Example {r['example']}" for r in sipg1)
               + ".", ""]

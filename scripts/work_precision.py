@@ -20,7 +20,7 @@ from common import RESULTS, command_line, markdown_table, save_figure, say, writ
 
 from ngdgfric.cases import precision_case
 from ngdgfric.files import write_text
-from ngdgfric.forms import METHODS
+from ngdgfric.methods import METHODS
 from ngdgfric.runner import run_cases
 
 matplotlib.use("Agg")

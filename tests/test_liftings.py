@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.forms import PenaltyWarning, get_method
 from ngdgfric.liftings import edge_colours, lifting_matrices, lifting_space
 from ngdgfric.meshes import facet_indicator
+from ngdgfric.methods import PenaltyWarning
 
 
 @pytest.fixture(scope="module", params=["netgen", "bisected"])
@@ -101,10 +101,3 @@ def test_lifting_methods_converge_at_the_optimal_rate(elasticity, method, order,
     errors = [ndf.energy_norm(ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k), method=method, order=order),
                               u_exact) for k in levels]
     assert np.log2(errors[-2] / errors[-1]) == pytest.approx(order, abs=0.15)
-
-
-def test_method_table_shows_one_construction():
-    rows = {name: (m.symmetry, m.penalty, m.global_lift) for name, m in ndf.METHODS.items()}
-    assert rows == {"sipg": (1, "edge", False), "nipg": (-1, "edge", False), "bassi": (1, "lift", False),
-                    "brezzi": (1, "lift", True), "ldg": (1, "edge", True)}
-    assert get_method("LDG").name == "ldg"

@@ -7,7 +7,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.cases import coercivity, penalty_threshold, rho_case
-from ngdgfric.forms import SIPG_THRESHOLD, PenaltyWarning, coercivity_threshold, get_method
+from ngdgfric.methods import SIPG_THRESHOLD, PenaltyWarning, get_method
 from ngdgfric.runner import run_cases
 
 
@@ -15,7 +15,7 @@ from ngdgfric.runner import run_cases
 def test_sipg_threshold_table_separates_coercive_from_not(order):
     for problem in (ndf.example_6_1(), ndf.example_6_2()):
         mesh = ndf.uniform_mesh(problem, 1 / 4)
-        threshold = coercivity_threshold(problem, get_method("sipg"), order)
+        threshold = get_method("sipg").threshold(problem, order)
         assert coercivity(problem, mesh, "sipg", order, threshold) > 0
         assert coercivity(problem, mesh, "sipg", order, 0.5 * threshold) < 0
 

@@ -1,0 +1,118 @@
+"""The five DG methods of Section 3 as data rows, and what their penalty parameter eta means.
+
+All five share the volume and consistency terms of B_h (:mod:`ngdgfric.forms`) and differ in a
+sign, a penalty and a lifting term:
+
+    method   s    penalty on E_h^o                  global lifting   eta          default eta     stable for
+    sipg    +1    eta p^2 / h_e [u]:[v]             -                a stress     30 mu (*)       eta > t_p (2 mu + lam)
+    nipg    -1    eta p^2 / h_e [u]:[v]             -                a stress     30 mu           eta > 0
+    bassi   +1    sum_e eta (C r_e[u], r_e[v])      -                1            6               eta > 3
+    brezzi  +1    sum_e eta (C r_e[u], r_e[v])      (C r_0, r_0)     1            1               eta > 0
+    ldg     +1    eta p^2 / h_e [u]:[v]             (C r_0, r_0)     a stress     30 mu           eta > 0
+
+30 mu is the paper's choice (Section 6).  (*) For SIPG the default is raised to 1.5 times the
+threshold where 30 mu is not above it (nearly incompressible materials: the threshold grows like
+2 mu + lam); both examples of the paper keep 30 mu.  t_p is :data:`SIPG_THRESHOLD`, measured.
+Bassi et al.: eta > 3, the number of edges of a triangle (Arnold, Brezzi, Cockburn, Marini 2002,
+for liftings into a space containing eps_h(V_h)); sufficient, the measured threshold is lower.
+Brezzi et al.: any eta > 0 is stable, the global lifting term adds stability.
+"""
+
+import warnings
+from dataclasses import dataclass
+
+__all__ = ["Method", "METHODS", "get_method", "SIPG_THRESHOLD", "PenaltyWarning", "check_penalty"]
+
+SIPG_THRESHOLD = {1: 4.0, 2: 2.2, 3: 1.75, 4: 1.55}
+"""Smallest coercive SIPG penalty as eta / (2 mu + lam), per order (p > 4: the p = 4 value).
+
+Measured by ``scripts/stability.py`` (results/stability.md): the smallest eigenvalue of
+B_h(v, v) / |||v|||_h^2 changes sign at eta / (2 mu + lam) = 3.3-4.0 (p = 1), 1.85-2.15 (p = 2),
+1.5-1.74 (p = 3), 1.35-1.52 (p = 4) for nu = 0 ... 0.49 on the structured meshes of Examples
+6.1 and 6.2, independently of h; the table takes the largest, rounded up."""
+
+
+@dataclass(frozen=True)
+class Method:
+    """One row of the table in the module docstring.
+
+    symmetry: s in -s <[u], {sigma(v)}>; penalty: "edge" (eta p^2/h_e [u]:[v], eta a stress) or
+    "lift" (sum_e eta (C r_e[u], r_e[v]), eta dimensionless); global_lift: adds (C r_0[u], r_0[v]);
+    default_eta: the default eta in units of :meth:`eta_scale`; thresholds: the smallest stable eta
+    per order p = 1, 2, ... (the last one for higher p) in units of :meth:`threshold_scale`, empty
+    if any eta > 0 is stable.
+    """
+
+    name: str
+    symmetry: int
+    penalty: str
+    global_lift: bool
+    default_eta: float
+    thresholds: tuple
+    reference: str
+
+    def eta_scale(self, problem):
+        """The unit of eta: mu for the edge penalties (eta is a stress), 1 for the liftings."""
+        return problem.mu if self.penalty == "edge" else 1.0
+
+    def threshold_scale(self, problem):
+        """The unit of the coercivity thresholds: 2 mu + lam for the edge penalties, 1 for the liftings."""
+        return 2 * problem.mu + problem.lam if self.penalty == "edge" else 1.0
+
+    def threshold(self, problem, order):
+        """The smallest stable eta for degree ``order`` (None: any eta > 0 is stable)."""
+        if not self.thresholds:
+            return None
+        value = self.thresholds[min(int(order), len(self.thresholds)) - 1]
+        return value * self.threshold_scale(problem) if self.penalty == "edge" else value
+
+    def default(self, problem, order=1):
+        """The default eta (table above): ``default_eta`` times :meth:`eta_scale`, raised to 1.5 times the
+        threshold where it is not above it (numbers only: a CoefficientFunction E keeps the default)."""
+        eta = self.default_eta * problem.mu if self.penalty == "edge" else self.default_eta
+        threshold = self.threshold(problem, order)
+        if isinstance(threshold, (int, float)) and eta <= threshold:
+            return 1.5 * threshold
+        return eta
+
+    def jump_weight(self, problem, eta):
+        """The factor of p^2 / h_e ||[u]||_e^2 that the penalty amounts to (estimator term eta_3,
+        coercivity): eta for the edge penalties; (C r_e, r_e) ~ 2 mu / h_e ||[u]||^2 for the liftings,
+        so 2 mu eta there."""
+        return 2 * problem.mu * eta if self.penalty == "lift" else eta
+
+
+METHODS = {
+    "sipg": Method("sipg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "B_h^(1), SIPG"),
+    "nipg": Method("nipg", -1, "edge", False, 30.0, (), "B_h^(2), NIPG"),
+    "bassi": Method("bassi", +1, "lift", False, 6.0, (3.0,), "B_h^(3), Bassi et al."),
+    "brezzi": Method("brezzi", +1, "lift", True, 1.0, (), "B_h^(4), Brezzi et al."),
+    "ldg": Method("ldg", +1, "edge", True, 30.0, (), "B_h^(5), LDG"),
+}
+
+
+def get_method(name):
+    """The :class:`Method` called ``name`` (case-insensitive); ValueError for an unknown name."""
+    key = str(name).lower()
+    if key not in METHODS:
+        raise ValueError(f"method must be one of {sorted(METHODS)}, got {name!r}")
+    return METHODS[key]
+
+
+class PenaltyWarning(UserWarning):
+    """The penalty parameter is at or below the method's coercivity threshold."""
+
+
+def check_penalty(problem, method, eta, order, action="warn"):
+    """Warn (``action="warn"``), raise ValueError (``"raise"``) or do nothing (``"ignore"``) when
+    eta is at or below :meth:`Method.threshold`."""
+    if action not in ("warn", "raise", "ignore"):
+        raise ValueError(f"penalty_check must be 'warn', 'raise' or 'ignore', got {action!r}")
+    threshold = method.threshold(problem, order)
+    if action == "ignore" or threshold is None or not isinstance(eta, (int, float)) or eta > threshold:
+        return
+    message = (f"eta = {eta:g} is at or below the coercivity threshold {threshold:g} of {method.name} "
+               f"for order {order}: B_h may not be coercive and the solution may be meaningless")
+    if action == "raise":
+        raise ValueError(message)
+    warnings.warn(message, PenaltyWarning, stacklevel=3)
