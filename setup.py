@@ -9,6 +9,10 @@ setup(
     python_requires=">=3.10",
     install_requires=[
         "ngsolve", "numpy", "matplotlib", "tomli; python_version < '3.11'",
+        # threadpoolctl: OpenBLAS limited to one thread while solve/estimate/adapt run, scoped to the call
+        # (idle OpenBLAS threads busy-wait: sparse back-substitutions 30-40 ms instead of 3-4 ms on 2 cores);
+        # it replaces 40 lines of ctypes over /proc/self/maps that limited the whole process at import
+        "threadpoolctl",
         # MKL PARDISO: the only pip-installable sparse factorisation with a Schur complement; the contact
         # solver condenses onto Gamma_C with it in one partial factorisation (results/linear_solvers.md).
         # Without it (other platforms) W comes from back-substitutions: same results, slower.

@@ -9,7 +9,7 @@
 
 These are the terms of ``estimate(sol, weights="paper")``; the default (``weights="energy"``) divides
 the residual terms by 2 mu and replaces the pressure part of sigma_h(u_h) by a continuous average
-(:func:`estimate`), so that eta_h estimates |||u - u_h|||_h in its units.
+(below), so that eta_h estimates |||u - u_h|||_h in its units.
 
 For p = 1 and m_t = 0 these are exactly the terms of Section 4 (div sigma_h(u_h) = 0 for piecewise
 linear u_h, so eta_1 involves f only); for m_t > 0, eta_4 carries the friction bound at u_h, as
@@ -21,6 +21,40 @@ methods 2 mu eta p^2/h_e, see :meth:`ngdgfric.methods.Method.jump_weight`).  Edg
 half-half by the two neighbours; boundary edges go to their element.  The element values are
 those of ``Integrate(..., element_wise=True)``, computed for all six terms in one assembly
 (:func:`element_integrals`).
+
+``weights="energy"`` (default): an estimate of |||u - u_h|||_h in its own units, robust in the
+scale of E and, for the methods that do not lock, in nu -> 1/2.  Write the discrete stress as
+sigma_h = 2 mu eps_h(u_h) + p_h I with p_h = lam div_h u_h, let p~_h be the continuous average of
+p_h (:func:`averaged_pressure`) and sigma~_h = 2 mu eps_h(u_h) + p~_h I.  For v in H^1 vanishing on
+Gamma_D the residual splits as
+
+    R(v) = l(v) - (sigma~_h, eps(v)) - contact(v)  -  (p_h - p~_h, div v),
+
+the first part a residual of sigma~_h, bounded by the usual terms (Clement interpolation,
+||v - I v||_T <~ h_T / p |v|_{1, w_T}, Korn) times |v|_1 <~ |||v||| / sqrt(2 mu); the second by
+||p_h - p~_h|| ||div v|| <= ||p_h - p~_h|| sqrt(2) ||eps(v)|| <= ||p_h - p~_h|| |||v||| / sqrt(mu).
+Hence every residual term carries the weight 1 / (2 mu) and no constant depends on lam, as in
+the lam-robust bounds of Houston, Schoetzau & Wihler (CMAME 195, 2006, the pressure a separate
+unknown weighted by 1/mu) and Wihler (Math. Comp. 75, 2006); the averaging is the Oswald
+interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using p~_h
+instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an oscillating
+discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
+error (measured on :func:`ngdgfric.manufactured.incompressible_contact_manufactured`, NIPG, P3,
+nu = 0.4999, h = 1/16, before the calibration below: effectivity 12.5 with p_h, 5.5 with p~_h).
+Calibrated constant: every element indicator is multiplied by p_T^(-1/2).  The hp weights h/p
+make residual estimators reliable with a constant independent of p but efficient only up to
+powers of p (Melenk & Wohlmuth, Adv. Comput. Math. 15, 2001), and eta_h / |||u - u_h|||_h grew
+with p as p^(1/2): medians 1 : 1.32 : 1.67 : 1.93 for p = 1, 2, 3, 4 on Example 6.1 (SIPG,
+uniform and h-adaptive levels, against the hp reference), the cases the factor was chosen on;
+results/effectivity.md checks it on every other case (the other example, the five methods,
+the manufactured solutions at E = 1 ... 1e6, nu up to 0.4999).
+
+The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies):
+
+    eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma~_h||_T^2 + ||p_h - p~_h||_T^2
+    eta_2^2 = sum_{e in E_h^i} (h_e/p) ||[sigma~_h n]||_e^2   (= [2 mu eps_h(u_h) n]: p~_h is continuous)
+    eta_4, eta_5, eta_6 with sigma~_h n in place of sigma_h(u_h) n;  eta_3 as printed (a penalty:
+    already in energy units).
 """
 
 from dataclasses import dataclass
@@ -30,9 +64,9 @@ import numpy as np
 
 from .contact import compliance, normal_tangent
 from .forms import edge_order, edge_penalty, jump_inner
-from .linalg import threads
+from .linalg import limited_blas, threads
 from .meshes import element_diameters, facet_indicator
-from .problem import strain, stress
+from .problem import coefficient, strain, stress
 
 __all__ = ["Estimate", "estimate", "div_stress"]
 
@@ -44,7 +78,6 @@ class Estimate:
     element: np.ndarray
     parts: dict
     total: float
-    element_parts: dict
 
 
 def div_stress(problem, u, lam=None):
@@ -79,10 +112,6 @@ def element_integrals(mesh, integrals):
     return {name: values[k].copy() for k, name in enumerate(names)}
 
 
-def _vector(value):
-    return value if isinstance(value, ngs.CoefficientFunction) else ngs.CF(tuple(value))
-
-
 WEIGHTS = ("energy", "paper")
 
 
@@ -99,44 +128,12 @@ def averaged_pressure(problem, u, order):
     return pressure
 
 
+@limited_blas
 def estimate(sol, weights="energy"):
-    """Element indicators and the six terms of eta_h for a Solution (see module docstring).
+    """Element indicators eta_T^2 and the six terms of eta_h for a Solution (module docstring).
 
-    ``weights="paper"``: the terms of Section 4 as printed (module docstring).
-
-    ``weights="energy"`` (default): an estimate of |||u - u_h|||_h in its own units, robust in the
-    scale of E and, for the methods that do not lock, in nu -> 1/2.  Write the discrete stress as
-    sigma_h = 2 mu eps_h(u_h) + p_h I with p_h = lam div_h u_h, let p~_h be the continuous average of
-    p_h (:func:`averaged_pressure`) and sigma~_h = 2 mu eps_h(u_h) + p~_h I.  For v in H^1 vanishing on
-    Gamma_D the residual splits as
-
-        R(v) = l(v) - (sigma~_h, eps(v)) - contact(v)  -  (p_h - p~_h, div v),
-
-    the first part a residual of sigma~_h, bounded by the usual terms (Clement interpolation,
-    ||v - I v||_T <~ h_T / p |v|_{1, w_T}, Korn) times |v|_1 <~ |||v||| / sqrt(2 mu); the second by
-    ||p_h - p~_h|| ||div v|| <= ||p_h - p~_h|| sqrt(2) ||eps(v)|| <= ||p_h - p~_h|| |||v||| / sqrt(mu).
-    Hence every residual term carries the weight 1 / (2 mu) and no constant depends on lam, as in
-    the lam-robust bounds of Houston, Schoetzau & Wihler (CMAME 195, 2006, the pressure a separate
-    unknown weighted by 1/mu) and Wihler (Math. Comp. 75, 2006); the averaging is the Oswald
-    interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using p~_h
-    instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an oscillating
-    discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
-    error (measured on :func:`ngdgfric.manufactured.incompressible_contact_manufactured`, NIPG, P3,
-    nu = 0.4999, h = 1/16, before the calibration below: effectivity 12.5 with p_h, 5.5 with p~_h).
-    Calibrated constant: every element indicator is multiplied by p_T^(-1/2).  The hp weights h/p
-    make residual estimators reliable with a constant independent of p but efficient only up to
-    powers of p (Melenk & Wohlmuth, Adv. Comput. Math. 15, 2001), and eta_h / |||u - u_h|||_h grew
-    with p as p^(1/2): medians 1 : 1.32 : 1.67 : 1.93 for p = 1, 2, 3, 4 on Example 6.1 (SIPG,
-    uniform and h-adaptive levels, against the hp reference), the cases the factor was chosen on;
-    results/effectivity.md checks it on every other case (the other example, the five methods,
-    the manufactured solutions at E = 1 ... 1e6, nu up to 0.4999).
-
-    The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies):
-
-        eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma~_h||_T^2 + ||p_h - p~_h||_T^2
-        eta_2^2 = sum_{e in E_h^i} (h_e/p) ||[sigma~_h n]||_e^2   (= [2 mu eps_h(u_h) n]: p~_h is continuous)
-        eta_4, eta_5, eta_6 with sigma~_h n in place of sigma_h(u_h) n;  eta_3 as printed (a penalty:
-        already in energy units).
+    ``weights="paper"``: the terms of Section 4 as printed; ``weights="energy"`` (default): the
+    estimate of |||u - u_h|||_h in its own units described in the module docstring.
     """
     if weights not in WEIGHTS:
         raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
@@ -144,56 +141,57 @@ def estimate(sol, weights="energy"):
     problem, mesh, u, p = sol.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
     h_e = disc.h_e
-    h_T = ngs.GridFunction(ngs.L2(mesh, order=0))
-    h_T.vec.FV().NumPy()[:] = element_diameters(mesh)
-    jump_u = u - u.Other()
     weight = disc.method.jump_weight(problem, disc.eta)
-    penalty, boundary_penalty = edge_penalty(weight, edge_order(p), h_e), edge_penalty(weight, p, h_e)
     # quadrature order 2p + 2 (exact for the polynomial parts; Integrate's default 5 is too low
     # for p >= 3): the LinearForm of element_integrals integrates with the bonus order alone,
     # Integrate with 5 + bonus
     q = 2 * disc.order + 2
     boundary = ngs.dx(element_boundary=True, bonus_intorder=q)
-    jump_measure = ngs.dx(element_boundary=True, bonus_intorder=max(q - 5, 0))
     on = {name: facet_indicator(mesh, name) for name in problem.boundary_names()}
-
-    if weights == "paper":
-        sigma = stress(problem, strain(u))
-        neighbour = stress(problem, strain(u)).Other()
-        residual = _vector(problem.f) + (div_stress(problem, u) if disc.order > 1 else ngs.CF((0, 0)))
-        volume = (h_T / p) ** 2 * residual * residual * ngs.dx(bonus_intorder=q)
-    else:
-        pressure = averaged_pressure(problem, u, disc.order)
-        sigma = 2 * problem.mu * strain(u) + pressure * ngs.Id(2)
-        neighbour = 2 * problem.mu * strain(u).Other() + pressure * ngs.Id(2)
-        div_deviatoric = div_stress(problem, u, lam=0) if disc.order > 1 else ngs.CF((0, 0))
-        residual = _vector(problem.f) + div_deviatoric + ngs.Grad(pressure)
-        difference = discrete_pressure(problem, u) - pressure
-        volume = ((h_T / p) ** 2 * residual * residual + difference * difference) * ngs.dx(bonus_intorder=q)
+    sigma, neighbour, volume = _stress_and_volume_term(sol, weights, q)
     sigma_n = sigma * n
-    jump_sigma = sigma_n - neighbour * n
-    contact = on[problem.contact]
-    traction_residual = sigma_n - _vector(problem.g)
+    traction_residual = sigma_n - coefficient(problem.g)
     parts = element_integrals(mesh, {
         "eta1": volume,
-        "eta3": on[problem.dirichlet] * boundary_penalty * jump_inner(u, u, n) * boundary,
-        "eta4": contact * h_e / p * (sigma_n * t + disc.bound(u) * sol.lam_tau) ** 2 * boundary,
+        "eta3": on[problem.dirichlet] * edge_penalty(weight, p, h_e) * jump_inner(u, u, n) * boundary,
+        "eta4": on[problem.contact] * h_e / p * (sigma_n * t + disc.bound(u) * sol.lam_tau) ** 2 * boundary,
         "eta5": on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual) * boundary,
-        "eta6": contact * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
+        "eta6": on[problem.contact] * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
     })
     # the jump terms need the neighbour (Other()), which only Integrate provides on element boundaries
     # (on boundary edges u - u.Other() evaluates to zero, so these terms cover interior edges only)
+    jump_sigma, jump_u = sigma_n - neighbour * n, u - u.Other()
+    jump_measure = ngs.dx(element_boundary=True, bonus_intorder=max(q - 5, 0))
     for name, integrand in (("eta2", 0.5 * h_e / p * jump_sigma * jump_sigma),
-                            ("eta3", 0.5 * penalty * jump_inner(jump_u, jump_u, n))):
+                            ("eta3", 0.5 * edge_penalty(weight, edge_order(p), h_e) * jump_inner(jump_u, jump_u, n))):
         parts[name] = parts.get(name, 0) + ngs.Integrate(integrand * jump_measure, mesh, element_wise=True).NumPy()
     parts = {name: parts[name] for name in sorted(parts)}
     if weights == "energy":
-        calibration = 1.0 / np.asarray(disc.orders, dtype=float)  # (p_T^(-1/2))^2, see the docstring
+        calibration = 1.0 / np.asarray(disc.orders, dtype=float)  # (p_T^(-1/2))^2, see the module docstring
         residual_weight = calibration * _inverse_stiffness(problem, mesh)
         parts = {name: value * (calibration if name == "eta3" else residual_weight) for name, value in parts.items()}
     element = sum(parts.values())
     return Estimate(element=element, parts={k: float(v.sum()) for k, v in parts.items()},
-                    total=float(np.sqrt(element.sum())), element_parts=parts)
+                    total=float(np.sqrt(element.sum())))
+
+
+def _stress_and_volume_term(sol, weights, q):
+    """(sigma, the neighbour's sigma, the integral of eta_1^2) for the ``weights`` of :func:`estimate`:
+    sigma_h(u_h) for "paper", sigma~_h = 2 mu eps_h(u_h) + p~_h I for "energy"."""
+    problem, u, disc = sol.problem, sol.u, sol.discretization
+    h_T = ngs.GridFunction(ngs.L2(sol.mesh, order=0))
+    h_T.vec.FV().NumPy()[:] = element_diameters(sol.mesh)
+    zero = ngs.CF((0, 0))
+    if weights == "paper":
+        residual = coefficient(problem.f) + (div_stress(problem, u) if disc.order > 1 else zero)
+        volume = (h_T / disc.p) ** 2 * residual * residual * ngs.dx(bonus_intorder=q)
+        return stress(problem, strain(u)), stress(problem, strain(u)).Other(), volume
+    pressure = averaged_pressure(problem, u, disc.order)
+    residual = coefficient(problem.f) + (div_stress(problem, u, lam=0) if disc.order > 1 else zero) + ngs.Grad(pressure)
+    difference = discrete_pressure(problem, u) - pressure
+    volume = ((h_T / disc.p) ** 2 * residual * residual + difference * difference) * ngs.dx(bonus_intorder=q)
+    sigma = 2 * problem.mu * strain(u) + pressure * ngs.Id(2)
+    return sigma, 2 * problem.mu * strain(u).Other() + pressure * ngs.Id(2), volume
 
 
 def _inverse_stiffness(problem, mesh):
