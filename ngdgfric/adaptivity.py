@@ -1,11 +1,29 @@
-"""SOLVE -> ESTIMATE -> MARK -> REFINE (Section 6): Doerfler marking and bisection refinement.
+"""SOLVE -> ESTIMATE -> MARK -> REFINE (Section 6): Doerfler marking, then h refinement by
+bisection (:func:`ngdgfric.meshes.refine`) or the hp decision (:func:`ngdgfric.hp.hp_refine`).
 
-Refinement uses Netgen's bisection (``mesh.Refine(onlyonce=True)``), which is newest vertex
-bisection: on the first refinement every triangle's refinement edge is its longest edge (edges
-are numbered by length, ties broken consistently), a bisected triangle's children get the edge
-opposite the new vertex as their refinement edge, and neighbours are bisected until the mesh is
-conforming again (netgen ``bisect.cpp``: ``BTSortEdges``, ``BTDefineMarkedTri``,
-``BTBisectTri``).  Each marked triangle is bisected once, plus the closure.
+Choice of the defaults of :func:`adapt` (hp, p from 2 to 8, theta = 0.5).  Theta = 0.5 is the
+fastest robust choice measured (results/time_to_accuracy.md; to tol = 5e-4: Example 6.1 in 28
+levels and 10.7 s against 46 levels and 20.3 s with theta = 0.3, Example 6.2 in 29 levels and
+9.3 s against 49 and 14.7 s); theta = 0.7 (best of two runs): 15 % faster on Example 6.2 (tol
+5e-4: 7.1 s against 8.3 s; 1e-4: 12.2 s against 13.3 s) but slower on Example 6.1 (11.5 s
+against 10.4 s; 1e-4: 22.4 s against 18.7 s), whose large hp contact solves it reaches sooner.
+The loop costs about 10 linear solves of its final mesh because the DOFs grow by only ~1.1 per
+level while eta_h falls by ~0.67 (sum_k N_k / N_final = 8.6 on Example 6.1).  Tried for faster
+growth, on Example 6.1 to tol = 5e-4 (against 28 levels, 42k DOFs): Doerfler's set extended
+to a DOF growth of 1.3 per level (the extra elements refined as hp_refine decides: 266k DOFs
+and eta_h still 3.5e-3 after 18 levels; raised in p only: 28 levels and 55-60k DOFs for
+growths 1.2-1.8); marked h elements bisected four times instead of twice (811k DOFs); a second
+Doerfler round on the predicted indicators before each solve (16 levels, 1.5 times the DOFs,
+the same time to the answer); p raised by 2 instead of 1 (28 and 29 levels, as with 1); theta =
+0.7 and 0.85 with p + 1 or p + 2 (21-24 levels, 8.9-10.3 linear solves); the smallest h
+elements bisected 4 or 6 times (24 and 23 levels, 69k and 156k DOFs).  Levels are paced by the
+grading towards the singular points: h_min halves on every level (2.8e-3 at level 8, 5.3e-9
+at level 27) and eta_h falls by about 0.67 per level whatever else is refined.
+
+``gamma_lin`` is not the default: on Example 6.1 gamma_lin = 0.1 left 0-3 Newton iterations per
+level, but the contact indicators eta_4, eta_6 of the inexact solutions steered the hp decisions
+into bisecting Gamma_C (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DOFs and 4.2 s,
+results/time_to_accuracy.md), and gamma_lin = 0.01 kept the path but not the iterations.
 """
 
 import gc
@@ -22,7 +40,8 @@ from .checks import MEMORY_BUDGET, estimated_bytes
 from .estimator import WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
-from .meshes import element_diameters, netgen_mesh, uniform_mesh
+from .linalg import limited_blas
+from .meshes import element_diameters, netgen_mesh, refine, uniform_mesh
 from .solution import finish, solve
 from .transfer import copy_orders, multiplier_snapshot
 
@@ -49,15 +68,6 @@ def dorfler_mark(element_indicators, theta=0.3):
     count = int(np.searchsorted(cumulative, theta * total * (1 - 1e-14))) + 1
     marked[order[:min(count, values.size)]] = True
     return marked
-
-
-def refine(mesh, marked):
-    """Bisect the marked elements of ``mesh`` in place (newest vertex bisection + closure)."""
-    marked = np.asarray(marked, dtype=bool)
-    if marked.size != mesh.ne:
-        raise ValueError(f"marked has {marked.size} entries, the mesh has {mesh.ne} elements")
-    mesh.SetRefinementFlags(list(marked))
-    mesh.Refine(onlyonce=True)
 
 
 def minimum_angle(mesh):
@@ -94,55 +104,33 @@ class Adaptation:
     stopped: str
 
 
+@limited_blas
 def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100, max_ndof=10**6, tol=None,
           solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
-          weights="energy", gamma_lin=None, **options):
+          weights="energy", gamma_lin=None, solver_tol=None, **options):
     """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
 
     Stops as soon as eta_h <= ``tol`` (with the default ``weights="energy"`` eta_h estimates the
     energy error |||u - u_h|||_h, :func:`ngdgfric.estimate`), after ``max_levels`` solves, or when
     the next refined mesh would exceed ``max_ndof`` degrees of freedom or the memory budget of
     :func:`ngdgfric.checks.check_size` (tried on a copy of the mesh, so the returned solution's mesh
-    is never refined after its solve).
-
-    Defaults: hp-adaptive (:func:`ngdgfric.hp.hp_refine`) SIPG from p = ``order`` = 2 up to
-    ``max_order`` = 8, Doerfler theta = 0.5, every level solved to the solver's tolerance; the
-    paper's loop is ``hp=False, order=1, theta=0.3, weights="paper"``.  Theta = 0.5 is the fastest
-    robust choice measured (results/time_to_accuracy.md; to tol = 5e-4: Example 6.1 in 28 levels
-    and 10.7 s against 46 levels and 20.3 s with theta = 0.3, Example 6.2 in 29 levels and 9.3 s
-    against 49 and 14.7 s); theta = 0.7 (best of two runs): 15 % faster on Example 6.2 (tol
-    5e-4: 7.1 s against 8.3 s; 1e-4: 12.2 s against 13.3 s) but slower on Example 6.1 (11.5 s
-    against 10.4 s; 1e-4: 22.4 s against 18.7 s), whose large hp contact solves it reaches sooner.
-    The loop costs about 10 linear solves of its final mesh because the DOFs grow by only ~1.1 per
-    level while eta_h falls by ~0.67 (sum_k N_k / N_final = 8.6 on Example 6.1).  Tried for faster
-    growth, on Example 6.1 to tol = 5e-4 (against 28 levels, 42k DOFs): Doerfler's set extended
-    to a DOF growth of 1.3 per level (the extra elements refined as hp_refine decides: 266k DOFs
-    and eta_h still 3.5e-3 after 18 levels; raised in p only: 28 levels and 55-60k DOFs for
-    growths 1.2-1.8); marked h elements bisected four times instead of twice (811k DOFs); a second
-    Doerfler round on the predicted indicators before each solve (16 levels, 1.5 times the DOFs,
-    the same time to the answer); p raised by 2 instead of 1 (28 and 29 levels, as with 1); theta =
-    0.7 and 0.85 with p + 1 or p + 2 (21-24 levels, 8.9-10.3 linear solves); the smallest h
-    elements bisected 4 or 6 times (24 and 23 levels, 69k and 156k DOFs).  Levels are paced by the
-    grading towards the singular points: h_min halves on every level (2.8e-3 at level 8, 5.3e-9
-    at level 27) and eta_h falls by about 0.67 per level whatever else is refined.
+    is never refined after its solve).  Defaults: hp-adaptive SIPG from p = ``order`` = 2 up to
+    ``max_order`` = 8, Doerfler theta = 0.5 (why: module docstring); the paper's loop is
+    ``hp=False, order=1, theta=0.3, weights="paper"``.  ``eta``, ``solver``, ``solver_tol`` (the
+    solver's tolerance) and further options go to :func:`ngdgfric.solve`.
 
     ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
     linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
     Ern & Vohralik, SISC 35, 2013; :mod:`ngdgfric.newton`), starting from eta_lin <= gamma_lin x the
-    previous level's eta_h; the returned level is solved to the full tolerance.  Not the default:
-    on Example 6.1 gamma_lin = 0.1 left 0-3 Newton iterations per level, but the contact
-    indicators eta_4, eta_6 of the inexact solutions steered the hp decisions into bisecting
-    Gamma_C (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DOFs and 4.2 s,
-    results/time_to_accuracy.md), and gamma_lin = 0.01 kept the path but not the iterations.
+    previous level's eta_h; the returned level is solved to the full tolerance.
 
     mesh: initial mesh (default: uniform h = 1/2 on a rectangle, Netgen maxh = 1/2 otherwise);
     it is refined in place.  Every level after the first starts from the previous solution
     transferred to the refined mesh.  ``progress``: callable receiving one line per level (None
     for silence); ``csv_path``: the CSV of the finished levels is rewritten (atomically) after every
     level, so an interrupted run keeps every finished level and an earlier file is replaced only
-    once the first level is done.  ``keep``: callable(level,
-    solution, estimate) called at every level, e.g. to save a picture.  Further options go to
-    :func:`ngdgfric.solve`.
+    once the first level is done.  ``keep``: callable(level, solution, estimate) called at every
+    level, e.g. to save a picture.
     """
     _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin)
     if mesh is None:
@@ -150,44 +138,77 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
     if csv_path is not None:
         csv_path = Path(csv_path)
         check_writable(csv_path.parent)
-    inexact = gamma_lin if solver == "newton" else None
-    records, previous, predicted = [], None, None  # predicted: the eta_h the next level starts from
-    # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
-    # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
-    carrier_order = max_order if hp else order
-    carrier = ngs.GridFunction(ngs.L2(mesh, order=carrier_order, autoupdate=True) ** 2, autoupdate=True)
-    state = HPState.uniform(mesh, order)
+    loop = _Loop(problem, mesh, order, max_order if hp else None, weights, tol,
+                 gamma_lin if solver == "newton" else None,
+                 dict(method=method, eta=eta, solver=solver, tol=solver_tol, **options))
+    records = []
     for level in range(max_levels):
-        start = time.perf_counter()
-        inexact_options = {} if inexact is None or predicted is None else dict(energy_tol=inexact * predicted)
-        sol = solve(problem, mesh, method=method, order=state.orders if hp else order, eta=eta, solver=solver,
-                    initial=previous, **inexact_options, **options)
-        seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
-        sol, est = _settle(sol, None, weights, tol, inexact, level == max_levels - 1, seconds)
+        sol, est, seconds = loop.solve(level == max_levels - 1)
         stopped = "tol" if tol is not None and est.total <= tol else "max_levels" if level == max_levels - 1 else None
         if stopped is None:
-            refine_start = time.perf_counter()
-            marked = dorfler_mark(est.element, theta)
-            refinement = dict(indicators=est.element, marked=marked, hp=hp, max_order=max_order, order=order)
-            predicted = est.total
-            stopped = _too_large(mesh, state, max_ndof, **refinement)
-            seconds["mark_refine"] += time.perf_counter() - refine_start
+            refinement = dict(indicators=est.element, marked=_timed(seconds, "mark_refine", dorfler_mark,
+                                                                     est.element, theta))
+            stopped = _timed(seconds, "mark_refine", loop.too_large, max_ndof, refinement)
             if stopped is not None:
-                sol, est = _settle(sol, est, weights, tol, inexact, True, seconds)
-        records.append(_record(level, sol, est, state, seconds))
+                sol, est = loop.settle(sol, est, True, seconds)
+        records.append(_record(level, sol, est, loop.state, seconds))
         if keep is not None:
             keep(level, sol, est)
         if stopped is None:
-            refine_start = time.perf_counter()
-            copy_orders(sol.u, state.orders, carrier, np.full(mesh.ne, carrier_order))  # exact: a superspace
-            previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
-            sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
-            gc.collect()  # reference cycles may keep them alive (seen in dask workers)
-            state = _refine(mesh, state, **refinement)
-            records[-1]["mark_refine_seconds"] += time.perf_counter() - refine_start
+            sol = est = None
+            _timed(records[-1], "mark_refine_seconds", loop.refine, refinement)
         _report(records, csv_path, progress, solver)
         if stopped is not None:
             return Adaptation(records, sol, est, stopped)
+
+
+class _Loop:
+    """The state the levels of :func:`adapt` hand on: the mesh and its :class:`HPState`, the previous
+    solution on the refined mesh (a warm start) and the eta_h the next level starts from."""
+
+    def __init__(self, problem, mesh, order, max_order, weights, tol, gamma_lin, solve_options):
+        self.problem, self.mesh, self.order, self.max_order = problem, mesh, order, max_order
+        self.weights, self.tol, self.gamma_lin, self.solve_options = weights, tol, gamma_lin, solve_options
+        self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
+        # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
+        # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
+        self.carrier_order = order if max_order is None else max_order
+        self.carrier = ngs.GridFunction(ngs.L2(mesh, order=self.carrier_order, autoupdate=True) ** 2, autoupdate=True)
+
+    def solve(self, last):
+        """Solve and estimate this level (inexactly unless ``last``); returns (sol, est, seconds)."""
+        start = time.perf_counter()
+        inexact = {} if self.gamma_lin is None or self.predicted is None else dict(energy_tol=self.gamma_lin
+                                                                                    * self.predicted)
+        orders = self.order if self.max_order is None else self.state.orders
+        sol = solve(self.problem, self.mesh, order=orders, initial=self.previous, **inexact, **self.solve_options)
+        seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
+        sol, est = self.settle(sol, None, last, seconds)
+        self.sol, self.predicted = sol, est.total
+        return sol, est, seconds
+
+    def settle(self, sol, est, returned, seconds):
+        """:func:`_settle` with this loop's weights, tolerance and gamma_lin."""
+        return _settle(sol, est, self.weights, self.tol, self.gamma_lin, returned, seconds)
+
+    def too_large(self, max_ndof, refinement):
+        """:func:`_too_large` for this mesh and state."""
+        return _too_large(self.mesh, self.state, max_ndof, self.max_order is not None, self._refine, refinement)
+
+    def refine(self, refinement):
+        """Carry the solution over, then refine the mesh in place (h or hp) and update the state."""
+        copy_orders(self.sol.u, self.state.orders, self.carrier, np.full(self.mesh.ne, self.carrier_order))
+        self.previous = SimpleNamespace(u=self.carrier, mesh=self.mesh, multiplier=multiplier_snapshot(self.sol))
+        self.sol = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
+        gc.collect()  # reference cycles may keep them alive (seen in dask workers)
+        self.state = self._refine(self.mesh, self.state, **refinement)
+
+    def _refine(self, mesh, state, indicators, marked):
+        """Refine ``mesh`` in place (h: one bisection; hp: :func:`hp_refine`); returns the new HPState."""
+        if self.max_order is not None:
+            return hp_refine(mesh, state, indicators, marked, self.max_order)
+        refine(mesh, marked)
+        return HPState.uniform(mesh, self.order)
 
 
 def _record(level, sol, est, state, seconds):
@@ -241,15 +262,7 @@ def _timed(seconds, key, function, *args, **kwargs):
     return result
 
 
-def _refine(mesh, state, indicators, marked, hp, max_order, order):
-    """Refine ``mesh`` in place (h: bisection; hp: :func:`hp_refine`); returns the new HPState."""
-    if hp:
-        return hp_refine(mesh, state, indicators, marked, max_order)
-    refine(mesh, marked)
-    return HPState.uniform(mesh, order)
-
-
-def _too_large(mesh, state, max_ndof, **refinement):
+def _too_large(mesh, state, max_ndof, hp, refine_mesh, refinement):
     """"max_ndof" if the refined mesh would have more than ``max_ndof`` DOFs, "memory" if its solve
     would need more than :data:`ngdgfric.checks.MEMORY_BUDGET` (:func:`ngdgfric.checks.check_size`),
     else None.
@@ -259,10 +272,10 @@ def _too_large(mesh, state, max_ndof, **refinement):
     quadruples its memory n_T (1000 + 270 n_T)); near the limits the refinement is done on a copy
     of the mesh (Netgen's copy keeps the bisection data, so the copy refines exactly as the mesh would).
     """
-    growth, memory_growth = (32, 64) if refinement["hp"] else (4, 4)
+    growth, memory_growth = (32, 64) if hp else (4, 4)
     if state.ndof * growth <= max_ndof and estimated_bytes(state.orders) * memory_growth <= MEMORY_BUDGET:
         return None
-    refined = _refine(ngs.Mesh(mesh.ngmesh.Copy()), state, **refinement)
+    refined = refine_mesh(ngs.Mesh(mesh.ngmesh.Copy()), state, **refinement)
     if refined.ndof > max_ndof:
         return "max_ndof"
     return "memory" if estimated_bytes(refined.orders) > MEMORY_BUDGET else None

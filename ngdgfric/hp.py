@@ -7,7 +7,7 @@ of its indicator, made when it was last changed under the hypothesis that u is s
 there:
 
 * refined in h:        eta_pred^2 = gamma_h n^-(p+1) eta_T^2 for each of its n descendants.  A
-                       marked element is bisected twice (Netgen's ``Refine()``): its four
+                       marked element is bisected twice (:func:`ngdgfric.meshes.refine`): its four
                        grandchildren are similar to it with h/2 and the same orientation, and for
                        a smooth u each carries (1/2)^2p / 4 of the error, Melenk-Wohlmuth's
                        prediction for red refinement.  (After a single bisection the children are
@@ -29,6 +29,8 @@ which the observed reduction decides.  Elements at ``max_order`` are bisected.
 from dataclasses import dataclass
 
 import numpy as np
+
+from .meshes import refine
 
 __all__ = ["HPState", "smooth", "refinement_parents", "hp_refine"]
 
@@ -90,8 +92,7 @@ def hp_refine(mesh, state, indicators, marked, max_order, gamma_h=4.0, gamma_p=0
     predicted = np.where(in_p, gamma_p * indicators, gamma_n * state.predicted)
     ne_old = mesh.ne
     if in_h.any():
-        mesh.SetRefinementFlags(list(in_h))
-        mesh.Refine()
+        refine(mesh, in_h, bisections=2)
     parent, descendants = refinement_parents(mesh, ne_old)
     descendant = gamma_h * descendants ** -(state.orders + 1.0) * indicators
     predicted = np.where(descendants > 1, descendant, predicted)

@@ -14,7 +14,7 @@ import numpy as np
 from .geometry import distances_to_sides
 from .mesher import default_timeout, generate
 
-__all__ = ["uniform_mesh", "netgen_mesh", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
+__all__ = ["uniform_mesh", "netgen_mesh", "refine", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
            "element_diameters", "estimated_elements", "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
@@ -226,3 +226,23 @@ def element_diameters(mesh):
     corners = points[nodes]
     lengths = np.linalg.norm(corners[:, [1, 2, 0]] - corners, axis=2)
     return lengths.max(axis=1)
+
+
+def refine(mesh, marked, bisections=1):
+    """Bisect the marked elements of ``mesh`` in place, ``bisections`` (1 or 2) times, plus the closure.
+
+    Netgen's bisection is newest vertex bisection: on the first refinement every triangle's
+    refinement edge is its longest edge (edges are numbered by length, ties broken consistently),
+    a bisected triangle's children get the edge opposite the new vertex as their refinement edge,
+    and neighbours are bisected until the mesh is conforming again (netgen ``bisect.cpp``:
+    ``BTSortEdges``, ``BTDefineMarkedTri``, ``BTBisectTri``).  One bisection is the paper's h
+    refinement (``Refine(onlyonce=True)``); two (``Refine()``) give each marked triangle four
+    grandchildren similar to it with h/2, what the hp decision predicts for (:mod:`ngdgfric.hp`).
+    """
+    marked = np.asarray(marked, dtype=bool)
+    if marked.shape != (mesh.ne,):
+        raise ValueError(f"marked has {marked.size} entries, the mesh has {mesh.ne} elements")
+    if bisections not in (1, 2):
+        raise ValueError(f"bisections must be 1 or 2, got {bisections!r}")
+    mesh.SetRefinementFlags(list(marked))
+    mesh.Refine(onlyonce=bisections == 1)
