@@ -1,8 +1,8 @@
-"""The two test problems of Section 6, with the data exactly as printed."""
+"""The two test problems of Section 6, loaded from the problem files shipped with the package
+(``ngdgfric/data/example_6_1.toml``, ``example_6_2.toml``: the one source of their data, also what
+``ngdgfric solve 6.1`` reads)."""
 
-import ngsolve as ngs
-
-from .problem import ContactProblem, Polygon
+from .problem_file import example_file, load_problem
 
 __all__ = ["example_6_1", "example_6_2", "EXAMPLES", "example"]
 
@@ -14,11 +14,7 @@ def example_6_1():
     Gamma_C = (0, 1) x {0.05}; E = 2000, nu = 0.4, f = 0, g = (200 (5 - y), -190)
     on all of Gamma_F, c_tau = 450, c_n = 1, m_n = 1, g_a = 0.05.
     """
-    geometry = Polygon.rectangle(0.0, 0.05, 1.0, 1.05,
-                                 bottom="contact", right="dirichlet", top="traction", left="traction")
-    return ContactProblem(E=2000.0, nu=0.4, f=(0.0, 0.0), g=(200 * (5 - ngs.y), -190.0),
-                          c_n=1.0, m_n=1.0, g_a=0.05, c_tau=450.0, geometry=geometry,
-                          name="Example 6.1")
+    return load_problem(example_file("6.1"))
 
 
 def example_6_2():
@@ -28,11 +24,7 @@ def example_6_2():
     E = 2500, nu = 0.2, f = 0, g = (880, 0) on both sides of Gamma_F (taken literally),
     c_tau = 250, c_n = 1, g_a = 0, m_n = 1.
     """
-    geometry = Polygon.rectangle(0.0, 0.0, 1.0, 1.0,
-                                 bottom="contact", right="traction", top="dirichlet", left="traction")
-    return ContactProblem(E=2500.0, nu=0.2, f=(0.0, 0.0), g=(880.0, 0.0),
-                          c_n=1.0, m_n=1.0, g_a=0.0, c_tau=250.0, geometry=geometry,
-                          name="Example 6.2")
+    return load_problem(example_file("6.2"))
 
 
 EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}

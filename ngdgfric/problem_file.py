@@ -39,7 +39,6 @@ import ast
 import math
 import operator
 import warnings
-from dataclasses import fields
 from pathlib import Path
 
 import ngsolve as ngs
@@ -51,9 +50,8 @@ try:
 except ImportError:  # Python 3.10
     import tomli as tomllib
 
-__all__ = ["load_problem", "problem_from_dict", "in_file", "parse_expression", "example_file", "EXAMPLES", "FUNCTIONS"]
+__all__ = ["load_problem", "problem_from_dict", "in_file", "parse_expression", "example_file", "FUNCTIONS"]
 
-EXAMPLES = {"6.1": "example_6_1.toml", "6.2": "example_6_2.toml"}
 DATA = Path(__file__).resolve().parent / "data"
 
 
@@ -95,21 +93,21 @@ SCHEMA = {
     "geometry": {"vertices": "points", "labels": "names"},
     "boundaries": {"dirichlet": "name", "traction": "name", "contact": "name"},
     "loads": {"f": "vector", "g": "vector"},
-    "contact": {"c_n": "scalar", "m_n": "number", "g_a": "scalar", "c_tau": "scalar"},
+    # m_t: optional friction exponent, default 0 (the paper's law)
+    "contact": {"c_n": "scalar", "m_n": "number", "g_a": "scalar", "c_tau": "scalar", "m_t": "number"},
 }
-if "m_t" in {f.name for f in fields(ContactProblem)}:  # optional friction exponent, default 0 (the paper's law)
-    SCHEMA["contact"]["m_t"] = "number"
 REQUIRED = {"material": ("E", "nu"), "geometry": ("vertices", "labels"), "contact": ("c_n", "m_n", "g_a", "c_tau")}
 DEFAULTS = {"f": (0.0, 0.0), "g": (0.0, 0.0)}
 KEYS = {key: f"{section}.{key}" for section, keys in SCHEMA.items() for key in keys}
 
 
 def example_file(name):
-    """Path of the shipped problem file of Example 6.1 or 6.2 (``name``: "6.1" or "6.2")."""
+    """Path of the shipped problem file of Example ``name`` ("6.1" or "6.2": ``data/example_6_1.toml``, ...)."""
     key = str(name).removeprefix("example_").replace("_", ".")
-    if key not in EXAMPLES:
-        raise ValueError(f"no shipped problem file {name!r}; there are {sorted(EXAMPLES)}")
-    return DATA / EXAMPLES[key]
+    shipped = sorted(path.stem.removeprefix("example_").replace("_", ".") for path in DATA.glob("example_*.toml"))
+    if key not in shipped:
+        raise ValueError(f"no shipped problem file {name!r}; there are {shipped}")
+    return DATA / f"example_{key.replace('.', '_')}.toml"
 
 
 def parse_expression(text):
