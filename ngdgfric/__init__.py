@@ -16,10 +16,9 @@ from .hp import HPState, hp_refine
 from .kkt import contact_state, kkt_residuals
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
 from .methods import METHODS
-from .norms import energy_norm
 from .problem import ContactProblem, Polygon
 from .problem_file import example_file, load_problem
-from .reference import Reference, energy_error, load_reference, save_reference
+from .reference import Reference, energy_error, energy_norm, load_reference, save_reference
 from .solution import Solution, solve
 
 __all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_mesh", "netgen_mesh",

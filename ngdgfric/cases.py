@@ -19,9 +19,8 @@ from .kkt import contact_state, kkt_residuals
 from .manufactured import elasticity_manufactured, strain_of
 from .meshes import uniform_mesh
 from .methods import get_method
-from .norms import energy_norm
 from .problem import strain, stress
-from .reference import energy_error, load_reference
+from .reference import energy_error, energy_norm, load_reference
 from .solution import solve
 from .studies import strategy_run
 from .uzawa import default_rho, uzawa

@@ -32,9 +32,9 @@ from .examples import example_6_1, example_6_2
 from .files import atomic_path, check_writable, write_csv, write_text
 from .meshes import estimated_elements, mesh_arrays, netgen_mesh, uniform_mesh
 from .methods import METHODS
-from .norms import energy_norm
 from .problem import von_mises
 from .problem_file import in_file, load_problem
+from .reference import energy_norm
 from .solution import SOLVERS, solve
 from .studies import uniform_study
 

@@ -10,7 +10,9 @@ of another solution u_h (on any mesh of the same domain) is
 
 the volume part by a Gauss rule of degree 2 p + 4 on u_h's elements, with u_ref evaluated at
 those points by point search in its mesh; the jump part is exact for the exact solution u (it
-is continuous and zero on Gamma_D, so [u - u_h] = -[u_h]) and so uses u_h alone.
+is continuous and zero on Gamma_D, so [u - u_h] = -[u_h]) and so uses u_h alone.  The DG energy
+norm |||.|||_h of Section 3 itself (:func:`energy_norm`) measures errors against exact solutions
+given as CoefficientFunctions (manufactured solutions).
 """
 
 import zipfile
@@ -23,33 +25,34 @@ import numpy as np
 
 from .discretization import dg_space
 from .files import atomic_path
-from .meshes import mesh_arrays, mesh_from_arrays
-from .norms import energy_norm_squared_parts
-from .problem import strain
+from .forms import edge_length, jump_inner
+from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
+from .problem import strain, stress
 
-__all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint"]
+__all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
+           "energy_norm", "energy_norm_squared_parts", "difference"]
 
 
 @dataclass
 class Reference:
-    """A stored reference solution: ``u`` (GridFunction on ``mesh``), ``eta`` (its eta_h)."""
+    """A stored reference solution: ``u`` (GridFunction on ``mesh``), ``eta_h`` (its estimator value)."""
 
     problem: object
     mesh: object
     u: object
     orders: np.ndarray
-    eta: float
+    eta_h: float
     description: str
 
 
-def save_reference(sol, path, eta, description=""):
-    """Write Solution ``sol`` with its estimator value ``eta`` to ``path`` (.npz, written atomically),
+def save_reference(sol, path, eta_h, description=""):
+    """Write Solution ``sol`` with its estimator value ``eta_h`` to ``path`` (.npz, written atomically),
     with a fingerprint of its problem (:func:`fingerprint`)."""
     points, triangles, segments, labels = mesh_arrays(sol.mesh)
     with atomic_path(path) as temporary:
         with open(temporary, "wb") as handle:
             np.savez_compressed(handle, points=points, triangles=triangles, segments=segments, labels=labels,
-                                orders=sol.discretization.orders, u=sol.u.vec.FV().NumPy(), eta=eta,
+                                orders=sol.discretization.orders, u=sol.u.vec.FV().NumPy(), eta_h=eta_h,
                                 method=sol.method, description=description,
                                 **fingerprint(sol.problem, sol.mesh, points, triangles, segments))
 
@@ -110,10 +113,10 @@ def load_reference(path, problem):
     if u.space.ndof != data["u"].size:
         raise ValueError(f"{path}: {data['u'].size} coefficients for a space of dimension {u.space.ndof}")
     u.vec.FV().NumPy()[:] = data["u"]
-    return Reference(problem, mesh, u, data["orders"], float(data["eta"]), str(data["description"]))
+    return Reference(problem, mesh, u, data["orders"], float(data["eta_h"]), str(data["description"]))
 
 
-KEYS = ("points", "triangles", "segments", "labels", "orders", "u", "eta", "description", "fp_vertices", "fp_labels",
+KEYS = ("points", "triangles", "segments", "labels", "orders", "u", "eta_h", "description", "fp_vertices", "fp_labels",
         "fp_names", "fp_numbers", "fp_points", "fp_data")
 
 
@@ -158,8 +161,8 @@ def _check_arrays(path, data):
         fail(f"orders: {orders.shape[0]} orders in {orders.min(initial=0)}..{orders.max(initial=0)} for "
              f"{len(data['triangles'])} triangles (need one in 1..30 each)")
     need("u", 1)
-    if need("eta", 0).item() < 0:
-        fail(f"eta = {data['eta'].item()} is negative")
+    if need("eta_h", 0).item() < 0:
+        fail(f"eta_h = {data['eta_h'].item()} is negative")
     need("fp_points", 2, 2)
     if need("fp_data", 2, 8).shape[0] != len(data["fp_points"]):
         fail("fp_data does not match fp_points")
@@ -228,3 +231,58 @@ def reference_errors(sol, reference):
                 relative=energy / float(np.sqrt(np.sum(weights * energy_density(strain_ref)))),
                 h1=float(np.sqrt(np.sum(weights * np.sum(gradient**2, axis=1)))),
                 l2=float(np.sqrt(np.sum(weights * np.sum(displacement**2, axis=1)))))
+
+
+def energy_norm_squared_parts(problem, mesh, w, element_wise=False):
+    """(sum_T |w|_T^2, sum_{e in E_h^o} h_e^-1 ||[w]||_e^2) for a DG function ``w`` (Section 3).
+
+    With ``element_wise`` both are numpy arrays over elements (edge terms of interior edges split
+    half-half between the two neighbours, Dirichlet edges to their element).
+    """
+    n = ngs.specialcf.normal(2)
+    h_e = edge_length(mesh)
+    on_dirichlet = facet_indicator(mesh, problem.dirichlet)
+    jw = w - w.Other()
+    bonus = max(2 * _order(w.space) + 2 - 5, 0)  # quadrature order 2p + 2 (Integrate's default is 5)
+    boundary = ngs.dx(element_boundary=True, bonus_intorder=bonus)
+    volume = ngs.Integrate(ngs.InnerProduct(stress(problem, strain(w)), strain(w)) * ngs.dx(bonus_intorder=bonus),
+                           mesh, element_wise=element_wise)
+    interior = ngs.Integrate(0.5 * jump_inner(jw, jw, n) / h_e * boundary, mesh, element_wise=element_wise)
+    dirichlet = ngs.Integrate(on_dirichlet * jump_inner(w, w, n) / h_e * boundary, mesh, element_wise=element_wise)
+    if element_wise:
+        return volume.NumPy().copy(), interior.NumPy() + dirichlet.NumPy()
+    return volume, interior + dirichlet
+
+
+def difference(u, w, extra_order=2):
+    """u - w as a GridFunction on u's mesh.
+
+    ``w``: a GridFunction on the same mesh (the difference lives in the larger of the two DG
+    spaces, exactly) or a CoefficientFunction (interpolated elementwise in degree p + extra_order).
+    """
+    space_u = u.space
+    if isinstance(w, ngs.GridFunction):
+        target = w.space if _order(w.space) >= _order(space_u) else space_u
+    else:
+        target = ngs.L2(u.space.mesh, order=_order(space_u) + extra_order) ** 2
+    e = ngs.GridFunction(target)
+    e.Set(u)
+    other = ngs.GridFunction(target)
+    other.Set(w)
+    e.vec.data -= other.vec
+    return e
+
+
+def _order(space):
+    return space.globalorder
+
+
+def energy_norm(sol, w=None):
+    """|||u_h|||_h of a Solution, or |||u_h - w|||_h (see :func:`difference` for ``w``).
+
+    |||v|||_h^2 = sum_T int_T C eps(v):eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2
+    (Section 3).
+    """
+    v = sol.u if w is None else difference(sol.u, w)
+    volume, jumps = energy_norm_squared_parts(sol.problem, sol.mesh, v)
+    return (volume + jumps) ** 0.5

@@ -10,8 +10,7 @@ from .adaptivity import adapt
 from .checks import check_size
 from .estimator import estimate
 from .meshes import estimated_elements, uniform_mesh
-from .norms import energy_norm, energy_norm_squared_parts
-from .reference import energy_error
+from .reference import energy_error, energy_norm, energy_norm_squared_parts
 from .solution import solve
 
 __all__ = ["uniform_study", "consecutive_differences", "difference_norms", "rates", "STRATEGIES", "strategy_run"]

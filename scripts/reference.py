@@ -40,7 +40,7 @@ def make_reference(problem, path, tol, max_ndof, max_order, max_levels=80):
 
         def keep(level, sol, est):
             files.append(Path(folder) / f"level_{level}.npz")
-            ndf.save_reference(sol, files[-1], eta=est.total,
+            ndf.save_reference(sol, files[-1], eta_h=est.total,
                                description=f"hp-adaptive SIPG, level {level}, {sol.ndof} dofs, eta_h = {est.total:.4e}")
 
         start = time.perf_counter()

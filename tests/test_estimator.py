@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.norms import energy_norm_squared_parts
+from ngdgfric.reference import energy_norm_squared_parts
 
 
 @pytest.fixture(scope="module")

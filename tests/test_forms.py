@@ -4,7 +4,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.forms import jump_inner
-from ngdgfric.norms import difference
+from ngdgfric.reference import difference
 
 
 def rates(values):

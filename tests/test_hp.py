@@ -109,7 +109,7 @@ def test_hp_adapt_raises_orders_where_smooth_and_bisects_the_corners(tmp_path):
 def test_reference_round_trip_and_true_error(elasticity, tmp_path):
     problem, u_exact = elasticity
     fine = ndf.solve(problem, ndf.uniform_mesh(problem, 1 / 8), order=6)
-    save_reference(fine, tmp_path / "ref.npz", eta=ndf.estimate(fine).total)
+    save_reference(fine, tmp_path / "ref.npz", eta_h=ndf.estimate(fine).total)
     reference = load_reference(tmp_path / "ref.npz", problem)
     assert np.array_equal(reference.u.vec.FV().NumPy(), fine.u.vec.FV().NumPy())
     assert ndf.energy_norm(fine, u_exact) < 1e-6
@@ -124,8 +124,7 @@ def test_reference_errors_agree_with_differences_computed_on_the_mesh(contact_pr
     # P2 against P4 on one mesh: reference_errors finds the P4 solution by point search at its Gauss
     # points (exact here: the rule of degree 2 p + 4 integrates the P3 gradients' squares exactly),
     # difference_norms interpolates P2 into P4 (exact); the volume parts must agree to round-off
-    from ngdgfric.norms import energy_norm_squared_parts
-    from ngdgfric.reference import reference_errors
+    from ngdgfric.reference import energy_norm_squared_parts, reference_errors
     from ngdgfric.studies import difference_norms
 
     problem, _ = contact_problem

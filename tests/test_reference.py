@@ -14,7 +14,7 @@ def saved(tmp_path_factory):
     folder = tmp_path_factory.mktemp("references")
     for name, problem in (("a", ndf.example_6_1()), ("other", ndf.example_6_2())):
         sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5))
-        ndf.save_reference(sol, folder / f"{name}.npz", eta=0.5)
+        ndf.save_reference(sol, folder / f"{name}.npz", eta_h=0.5)
     return folder, ndf.example_6_1()
 
 
@@ -29,7 +29,7 @@ def tampered(folder, change, name="bad.npz"):
 def test_round_trip_keeps_everything(saved):
     folder, problem = saved
     reference = ndf.load_reference(folder / "a.npz", problem)
-    assert reference.eta == 0.5 and reference.mesh.ne == 8
+    assert reference.eta_h == 0.5 and reference.mesh.ne == 8
     assert not list(folder.glob(".*"))  # no temporary file left by the atomic write
 
 
@@ -61,7 +61,7 @@ def _nan_coefficient(data):
     (lambda d: d.update(orders=0 * d["orders"]), "need one in 1..30"),
     (lambda d: d.update(labels=d["labels"][:-1]), "labels for"),
     (lambda d: d.update(u=d["u"][:-1]), "coefficients for a space of dimension"),
-    (lambda d: d.update(eta=np.array(-1.0)), "eta = -1.0 is negative"),
+    (lambda d: d.update(eta_h=np.array(-1.0)), "eta_h = -1.0 is negative"),
     (_nan_coefficient, "u holds non-finite values"),
     (_drop_fingerprint, "no fp_data"),
 ])
