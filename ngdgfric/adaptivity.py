@@ -41,7 +41,7 @@ from .estimator import WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
 from .linalg import limited_blas
-from .meshes import element_diameters, netgen_mesh, refine, uniform_mesh
+from .meshes import element_diameters, netgen_mesh, refine, triangle_corners, uniform_mesh
 from .solution import finish, solve
 from .transfer import copy_orders, multiplier_snapshot
 
@@ -72,8 +72,7 @@ def dorfler_mark(element_indicators, theta=0.3):
 
 def minimum_angle(mesh):
     """The smallest interior angle of the mesh's triangles, in degrees."""
-    points = np.asarray(mesh.ngmesh.Coordinates())
-    corners = points[mesh.ngmesh.Elements2D().NumPy()["nodes"].astype(np.int64) - 1]
+    corners = triangle_corners(mesh)
     smallest = np.full(len(corners), np.inf)
     for i in range(3):
         a = corners[:, (i + 1) % 3] - corners[:, i]

@@ -15,7 +15,7 @@ import netgen.meshing as nm
 import numpy as np
 from netgen.geom2d import SplineGeometry
 
-__all__ = ["generate", "default_timeout"]
+__all__ = ["generate", "default_timeout", "triangles_of"]
 
 
 def default_timeout(elements):
@@ -32,20 +32,25 @@ def _mesh(vertices, labels, maxh):
     return spline.GenerateMesh(maxh=maxh)
 
 
+def triangles_of(ngmesh):
+    """(points (n, 2), triangles (m, 3) of 0-based vertex numbers) of a 2D Netgen mesh, in its element order."""
+    points = np.asarray(ngmesh.Coordinates())[:, :2].copy()  # copies: the mesh may be freed
+    return points, ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
+
+
 def _arrays(ngmesh):
     """The mesh as arrays: coordinates, triangles, segments with their region, region names."""
     segments = ngmesh.Elements1D().NumPy()
     names = [ngmesh.GetBCName(k) for k in range(int(segments["index"].max()))] if len(segments) else []
-    return (np.array(ngmesh.Coordinates()), ngmesh.Elements2D().NumPy()["nodes"][:, :3].copy(),
-            segments["nodes"][:, :2].copy(), segments["index"].copy(), names)  # copies: the mesh is freed
+    return (*triangles_of(ngmesh), segments["nodes"][:, :2].copy(), segments["index"].copy(), names)
 
 
 def _rebuild(points, triangles, segments, regions, names):
     """The Netgen mesh of :func:`_arrays`, numbered as the original (the geometry is not needed:
     the sides are straight)."""
     ngmesh = nm.Mesh(dim=2)
-    ngmesh.AddPoints(points)
-    ngmesh.AddElements(dim=2, index=ngmesh.AddRegion("omega", dim=2), data=triangles.astype(np.int32), base=1)
+    ngmesh.AddPoints(np.column_stack([points, np.zeros(len(points))]))
+    ngmesh.AddElements(dim=2, index=ngmesh.AddRegion("omega", dim=2), data=triangles.astype(np.int32), base=0)
     for name in names:
         ngmesh.AddRegion(name, dim=1)
     for (a, b), region in zip(segments, regions, strict=True):

@@ -12,10 +12,10 @@ import ngsolve as ngs
 import numpy as np
 
 from .geometry import distances_to_sides
-from .mesher import default_timeout, generate
+from .mesher import default_timeout, generate, triangles_of
 
 __all__ = ["uniform_mesh", "netgen_mesh", "refine", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
-           "element_diameters", "estimated_elements", "MAX_ELEMENTS"]
+           "element_diameters", "triangle_corners", "estimated_elements", "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 MAX_ELEMENTS = 10**6
@@ -123,8 +123,7 @@ def mesh_from_arrays(problem, points, triangles, segments, labels):
 def mesh_arrays(mesh):
     """(points, triangles, segments, labels) of a 2D mesh, for :func:`mesh_from_arrays`."""
     ngmesh = mesh.ngmesh
-    points = np.asarray(ngmesh.Coordinates())[:, :2].copy()
-    triangles = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
+    points, triangles = triangles_of(ngmesh)
     edges = ngmesh.Elements1D().NumPy()
     segments = edges["nodes"][:, :2].astype(np.int64) - 1
     names = mesh.GetBoundaries()
@@ -219,11 +218,15 @@ def facet_indicator(mesh, boundary):
     return indicator
 
 
+def triangle_corners(mesh):
+    """(ne, 3, 2) corner coordinates of every triangle, in element order."""
+    points, triangles = triangles_of(mesh.ngmesh)
+    return points[triangles]
+
+
 def element_diameters(mesh):
     """h_T: the longest edge of every triangle (numpy array in element order)."""
-    points = np.asarray(mesh.ngmesh.Coordinates())
-    nodes = mesh.ngmesh.Elements2D().NumPy()["nodes"].astype(np.int64) - 1
-    corners = points[nodes]
+    corners = triangle_corners(mesh)
     lengths = np.linalg.norm(corners[:, [1, 2, 0]] - corners, axis=2)
     return lengths.max(axis=1)
 

@@ -6,6 +6,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.hp import HPState, hp_refine, refinement_parents, smooth
+from ngdgfric.meshes import triangle_corners
 from ngdgfric.reference import energy_error, load_reference, save_reference
 
 
@@ -52,9 +53,7 @@ def test_bad_order_arrays_raise():
 
 def distance_to_corner(mesh):
     """Distance of every element's centroid from the corner (0, 0.05) of Example 6.1."""
-    points = np.asarray(mesh.ngmesh.Coordinates())[:, :2]
-    triangles = mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
-    return np.linalg.norm(points[triangles].mean(axis=1) - [0, 0.05], axis=1)
+    return np.linalg.norm(triangle_corners(mesh).mean(axis=1) - [0, 0.05], axis=1)
 
 
 def projection_errors(mesh, w, order):
