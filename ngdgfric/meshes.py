@@ -56,7 +56,10 @@ def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
     This is the kind of mesh behind the paper's h = 2^-k (Section 6).  ``diagonal`` is
     ``"sw-ne"`` (from the lower-left to the upper-right corner of each square) or ``"nw-se"``.
     Meshes for h and h/2 are nested.  Side lengths must be integer multiples of ``h``.
-    ValueError above ``max_elements`` triangles (None: no limit).
+    ValueError above ``max_elements`` triangles (None: no limit).  Not ``ngsolve.meshes.
+    MakeStructured2DMesh``: it numbers the two triangles of each square together, cuts only along
+    one diagonal and names the sides bottom/right/top/left, and its vertices differ from these in
+    the last bit (1.1e-16 at h = 1/20); every stored result would move in round-off.
     """
     geometry = problem.geometry
     if not geometry.is_rectangle:
