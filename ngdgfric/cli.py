@@ -10,6 +10,9 @@ stderr and exit code 2 before anything is computed where it can be known then (a
 file and data, mesh size, output folder, outputs of an earlier run without ``--overwrite``); a
 solver failure with exit code 1.  Every file is written atomically, each as soon as it is
 finished, so an interrupted run keeps what it completed.
+
+This module parses the arguments and dispatches to the library; the files and plots are made by
+:mod:`ngdgfric.output` (shared with the notebooks).
 """
 
 import argparse
@@ -21,18 +24,15 @@ import time
 import warnings
 from pathlib import Path
 
-import ngsolve as ngs
-import numpy as np
-
 from .adaptivity import adapt
 from .checks import DataError, check_size
 from .errors import SolverError
 from .estimator import estimate
-from .examples import example_6_1, example_6_2
-from .files import atomic_path, check_writable, write_csv, write_text
-from .meshes import estimated_elements, mesh_arrays, netgen_mesh, uniform_mesh
+from .examples import EXAMPLES, example
+from .files import check_writable, write_csv, write_text
+from .meshes import estimated_elements, netgen_mesh, uniform_mesh
 from .methods import METHODS
-from .problem import von_mises
+from .output import rate_text, uniform_markdown, write_adaptive_png, write_deformed_png, write_vtk
 from .problem_file import in_file, load_problem
 from .reference import energy_norm
 from .solution import SOLVERS, solve
@@ -40,8 +40,8 @@ from .studies import uniform_study
 
 __all__ = ["main", "run", "build_parser", "load"]
 
-EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
 DEFAULT_H = 0.125
+MAX_NDOF_HELP = "refuse meshes with more DOFs (default: refuse above an estimated 8 GB of memory)"
 
 
 class UsageError(Exception):
@@ -80,63 +80,71 @@ def build_parser():
                      epilog="Run 'ngdgfric COMMAND --help' for the options of a command.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for add in (_solve_parser, _uniform_parser, _adaptive_parser):
+        add(commands)
+    return parser
 
-    def common(sub, several_methods=False, solver_tol=True):
-        sub.add_argument("problem", metavar="PROBLEM", help="6.1, 6.2 (Section 6) or a TOML problem file")
-        if several_methods:
-            sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=["sipg"],
-                             help="DG methods of Section 3 (default: sipg)")
-        else:
-            sub.add_argument("--method", choices=sorted(METHODS), default="sipg",
-                             help="DG method of Section 3 (default: sipg)")
-        sub.add_argument("--order", type=_number(int), default=1, help="polynomial degree p >= 1 (default: 1)")
-        sub.add_argument("--solver", choices=sorted(SOLVERS), default="newton",
-                         help="nonlinear solver (default: newton, the problem condensed onto Gamma_C and solved by "
-                              "semismooth Newton there; uzawa: the paper's method)")
-        sub.add_argument("--eta", type=_number(float), default=None,
-                         help="penalty parameter (default: 30 mu for the edge penalties, Section 6)")
-        if solver_tol:
-            sub.add_argument("--solver-tol", type=_number(float), default=None,
-                             help="tolerance of the nonlinear solver (default: 1e-13 on the KKT residual for "
-                                  "newton, 1e-8 on the relative change for uzawa as in Section 6)")
-        sub.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out/)")
-        sub.add_argument("--overwrite", action="store_true",
-                         help="replace the output files of an earlier run (default: refuse to)")
 
-    def size_limit(sub):
-        sub.add_argument("--max-ndof", type=_number(int), default=None,
-                         help="refuse meshes with more DOFs (default: refuse above an estimated 8 GB of memory)")
+def _common_options(sub, several_methods=False, solver_tol=True):
+    """PROBLEM, --method, --order, --solver, --eta, --solver-tol (if ``solver_tol``), --out, --overwrite."""
+    sub.add_argument("problem", metavar="PROBLEM", help="6.1, 6.2 (Section 6) or a TOML problem file")
+    if several_methods:
+        sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=["sipg"],
+                         help="DG methods of Section 3 (default: sipg)")
+    else:
+        sub.add_argument("--method", choices=sorted(METHODS), default="sipg",
+                         help="DG method of Section 3 (default: sipg)")
+    sub.add_argument("--order", type=_number(int), default=1, help="polynomial degree p >= 1 (default: 1)")
+    sub.add_argument("--solver", choices=sorted(SOLVERS), default="newton",
+                     help="nonlinear solver (default: newton, the problem condensed onto Gamma_C and solved by "
+                          "semismooth Newton there; uzawa: the paper's method)")
+    sub.add_argument("--eta", type=_number(float), default=None,
+                     help="penalty parameter (default: 30 mu for the edge penalties, Section 6)")
+    if solver_tol:
+        sub.add_argument("--solver-tol", type=_number(float), default=None,
+                         help="tolerance of the nonlinear solver (default: 1e-13 on the KKT residual for "
+                              "newton, 1e-8 on the relative change for uzawa as in Section 6)")
+    sub.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out/)")
+    sub.add_argument("--overwrite", action="store_true",
+                     help="replace the output files of an earlier run (default: refuse to)")
 
-    def meshes(sub, default):
-        group = sub.add_mutually_exclusive_group()
-        group.add_argument("--h", type=_number(float), default=None,
-                           help=f"uniform mesh of squares of side h cut in two (rectangles only; default: {default})")
-        group.add_argument("--maxh", type=_number(float), default=None, help="Netgen mesh with mesh size maxh")
 
+def _mesh_options(sub, default):
+    group = sub.add_mutually_exclusive_group()
+    group.add_argument("--h", type=_number(float), default=None,
+                       help=f"uniform mesh of squares of side h cut in two (rectangles only; default: {default})")
+    group.add_argument("--maxh", type=_number(float), default=None, help="Netgen mesh with mesh size maxh")
+
+
+def _solve_parser(commands):
     sub = commands.add_parser("solve", help="solve once; write CSV, VTK and a PNG of the deformed mesh",
                               description="Solve (3.1) once; print DOFs, iterations, |||u_h|||_h, eta_h and time; "
                                           "write a CSV summary, a VTK file (displacement, von Mises stress) "
                                           "and a PNG of the deformed mesh.")
-    common(sub)
-    meshes(sub, f"h = {DEFAULT_H}, or Netgen maxh = {DEFAULT_H} for other polygons")
-    size_limit(sub)
+    _common_options(sub)
+    _mesh_options(sub, f"h = {DEFAULT_H}, or Netgen maxh = {DEFAULT_H} for other polygons")
+    sub.add_argument("--max-ndof", type=_number(int), default=None, help=MAX_NDOF_HELP)
     sub.add_argument("--scale", type=_number(float), default=None,
                      help="displacement magnification in the PNG (default: largest displacement = 10%% of the "
                           "domain size)")
 
+
+def _uniform_parser(commands):
     sub = commands.add_parser("uniform", help="uniform refinement study (Tables 6.1, 6.2); write CSV and Markdown",
                               description="Solve on uniform meshes h = 2^-1 ... 2^-LEVELS (rectangles only) and "
                                           "report |||u_h - u_{h/2}|||_h, its observed rate and eta_h (Section 6).")
-    common(sub, several_methods=True)
-    size_limit(sub)
+    _common_options(sub, several_methods=True)
+    sub.add_argument("--max-ndof", type=_number(int), default=None, help=MAX_NDOF_HELP)
     sub.add_argument("--levels", type=_number(int, low=1, what="at least 2"), default=5,
                      help="number of meshes, h = 2^-1 ... 2^-LEVELS (default: 5)")
 
+
+def _adaptive_parser(commands):
     sub = commands.add_parser("adaptive", help="adaptive loop of Section 6; write CSV and a PNG of eta_h vs DOFs",
                               description="SOLVE -> ESTIMATE -> MARK (Doerfler) -> REFINE (newest vertex "
                                           "bisection, or h/p with --hp), one progress line per level.")
-    common(sub, solver_tol=False)  # adapt() keeps the solvers' default tolerances
-    meshes(sub, "h = 1/2, or Netgen maxh = 1/2 for other polygons")
+    _common_options(sub, solver_tol=False)  # adapt() keeps the solvers' default tolerances
+    _mesh_options(sub, "h = 1/2, or Netgen maxh = 1/2 for other polygons")
     sub.add_argument("--theta", type=_number(float, high=1.0, what="in (0, 1]"), default=0.3,
                      help="Doerfler parameter (default: 0.3)")
     sub.add_argument("--levels", type=_number(int), default=10, help="maximal number of solves (default: 10)")
@@ -149,7 +157,6 @@ def build_parser():
                           "(Section 4 as printed)")
     sub.add_argument("--hp", action="store_true", help="hp refinement (ngdgfric.hp.hp_refine)")
     sub.add_argument("--max-order", type=_number(int), default=6, help="largest degree with --hp (default: 6)")
-    return parser
 
 
 def _version():
@@ -162,7 +169,7 @@ def _version():
 def load(spec):
     """(problem, tag) for PROBLEM: an example name or the path of a TOML problem file."""
     if spec in EXAMPLES:
-        return EXAMPLES[spec](), spec.replace(".", "_")
+        return example(spec), spec.replace(".", "_")
     path = Path(spec)
     if not path.is_file():
         raise FileNotFoundError(f"no problem file {spec!r} (PROBLEM is 6.1, 6.2 or a TOML file)")
@@ -187,15 +194,6 @@ def _mesh(problem, h, maxh, default, order, max_ndof):
 
 def say(message):
     print(message, flush=True)
-
-
-def _figure(*size):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=size)
-    FigureCanvasAgg(fig)
-    return fig
 
 
 def _uzawa_progress(k, change):
@@ -224,11 +222,8 @@ def cmd_solve(args, problem, tag):
     say(f"  time             {record['solve_seconds']:.2f} s solve, {record['estimate_seconds']:.2f} s estimate")
     csv_path, vtu_path, png_path = outputs(args, tag)
     write_csv(csv_path, [record])
-    stress_cf = von_mises(problem, sol.u)
-    with atomic_path(vtu_path) as temporary:  # VTKOutput appends .vtu to the name it is given
-        ngs.VTKOutput(mesh, coefs=[sol.u, stress_cf], names=["displacement", "von_mises"],
-                      filename=str(temporary.with_suffix("")), subdivision=max(sol.order - 1, 0)).Do()
-    _plot_deformed(problem, sol, stress_cf, args.scale, png_path)
+    write_vtk(vtu_path, sol)
+    write_deformed_png(png_path, sol, args.scale)
     say(f"wrote {csv_path}, {vtu_path}, {png_path}")
     return [record]
 
@@ -242,38 +237,6 @@ def outputs(args, tag):
         return [args.out / f"{tag}_uniform.{suffix}" for suffix in ("csv", "md")]
     stem = args.out / f"{tag}_adaptive_{args.method}_p{args.order}{'_hp' if args.hp else ''}"
     return [Path(f"{stem}.{suffix}") for suffix in ("csv", "png")]
-
-
-def _plot_deformed(problem, sol, stress_cf, scale, path):
-    """Deformed triangles (each element's own vertex values of the DG u_h), coloured by von Mises stress."""
-    from matplotlib.collections import PolyCollection
-
-    mesh = sol.mesh
-    points = mesh.MapToAllElements(ngs.IntegrationRule([(1, 0), (0, 1), (0, 0)], [0, 0, 0]), ngs.VOL)
-    xy = np.column_stack([ngs.x(points).ravel(), ngs.y(points).ravel()]).reshape(mesh.ne, 3, 2)
-    u = np.asarray(sol.u(points)).reshape(mesh.ne, 3, 2)
-    colour = np.asarray(stress_cf(points)).reshape(mesh.ne, 3).mean(axis=1)
-    x0, y0, x1, y1 = problem.geometry.bounds
-    size = max(x1 - x0, y1 - y0)
-    largest = float(np.max(np.linalg.norm(u, axis=2)))
-    if scale is None:
-        scale = 0.1 * size / largest if largest > 0 else 1.0
-    fig = _figure(6, 5)
-    ax = fig.add_subplot()
-    outline = np.array(problem.geometry.vertices + problem.geometry.vertices[:1])
-    ax.plot(outline[:, 0], outline[:, 1], "k--", lw=0.8, label="undeformed")
-    cells = PolyCollection(xy + scale * u, array=colour, cmap="viridis", edgecolors="k",
-                           linewidths=0.2 if mesh.ne <= 5000 else 0)
-    ax.add_collection(cells)
-    ax.autoscale_view()
-    ax.set_aspect("equal")
-    fig.colorbar(cells, ax=ax, label="von Mises stress")
-    ax.set_title(f"{problem.name}: {sol.method} P{sol.order}, {sol.ndof} DOFs, displacement x {scale:.3g}",
-                 fontsize=9)
-    ax.legend(fontsize=8, loc="upper right")
-    fig.tight_layout()
-    with atomic_path(path) as temporary:
-        fig.savefig(temporary, dpi=130)
 
 
 def cmd_uniform(args, problem, tag):
@@ -290,25 +253,13 @@ def cmd_uniform(args, problem, tag):
                                          progress=say, tol=args.solver_tol, max_ndof=args.max_ndof)
         for row, sol in zip(study, solutions, strict=False):
             row = dict(method=method, order=args.order, **row, eta_h=estimate(sol).total)
-            rate = "-" if row["rate"] is None else f"{row['rate']:.3f}"
-            say(f"  h = 2^-{row['k']}: |||u_h - u_h/2|||_h = {row['energy']:.4e}, rate {rate}, "
+            say(f"  h = 2^-{row['k']}: |||u_h - u_h/2|||_h = {row['energy']:.4e}, rate {rate_text(row['rate'])}, "
                 f"eta_h = {row['eta_h']:.4e}")
             rows.append(row)
         write_csv(csv_path, rows)  # each finished study at once: an interrupted run keeps it
-        write_text(md_path, _uniform_markdown(problem, args, rows))
+        write_text(md_path, uniform_markdown(f"{problem.name}: uniform meshes, P{args.order}, {args.solver}", rows))
         say(f"wrote {csv_path}, {md_path}")
     return rows
-
-
-def _uniform_markdown(problem, args, rows):
-    header = ["method", "h", "DOFs", "|||u_h - u_{h/2}|||_h", "rate", "eta_h", "iterations", "seconds"]
-    lines = [f"# {problem.name}: uniform meshes, P{args.order}, {args.solver}", "",
-             "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for r in rows:
-        rate = "-" if r["rate"] is None else f"{r['rate']:.3f}"
-        lines.append(f"| {r['method']} | 2^-{r['k']} | {r['ndof']} | {r['energy']:.4e} | {rate} | {r['eta_h']:.4e} "
-                     f"| {r['iterations']} | {r['seconds']:.2f} |")
-    return "\n".join(lines) + "\n"
 
 
 def cmd_adaptive(args, problem, tag):
@@ -316,41 +267,15 @@ def cmd_adaptive(args, problem, tag):
     kind = "hp" if args.hp else "h"
     say(f"{problem.name}: {args.method} P{args.order}, {kind}-adaptive from {described}, theta = {args.theta:g}")
     csv_path, png_path = outputs(args, tag)
-    final = {}
-
-    def keep(level, sol, est):
-        final["mesh"] = mesh_arrays(sol.mesh)[:2]
-
-    records = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta, max_levels=args.levels,
-                    max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
-                    csv_path=csv_path, progress=say, keep=keep, hp=args.hp, max_order=args.max_order,
-                    weights=args.weights).levels
-    _plot_adaptive(problem, args, records, final["mesh"], png_path)
+    adaptation = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta,
+                       max_levels=args.levels, max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
+                       csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights)
+    records = adaptation.levels
+    slope = (records, args.order) if not args.hp and len(records) > 1 else None
+    write_adaptive_png(png_path, f"{problem.name}: theta = {args.theta:g}", f"{args.method} {kind}-adaptive",
+                       records, adaptation.solution.mesh, slope)
     say(f"wrote {csv_path}, {png_path}")
     return records
-
-
-def _plot_adaptive(problem, args, records, final_mesh, path):
-    fig = _figure(10, 4.5)
-    ax, mesh_ax = fig.subplots(1, 2)
-    ndof = np.array([r["ndof"] for r in records], dtype=float)
-    eta = np.array([r["eta"] for r in records])
-    ax.loglog(ndof, eta, "o-", ms=3, label=f"{args.method} {'hp' if args.hp else 'h'}-adaptive")
-    if not args.hp and len(records) > 1:
-        ends = ndof[[0, -1]]
-        ax.loglog(ends, eta[0] * (ends / ends[0]) ** (-args.order / 2), "k:", label=f"slope -{args.order}/2")
-    ax.set_xlabel("degrees of freedom")
-    ax.set_ylabel(r"estimator $\eta_h$")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    points, triangles = final_mesh
-    mesh_ax.triplot(points[:, 0], points[:, 1], triangles, lw=0.3, color="k")
-    mesh_ax.set_aspect("equal")
-    mesh_ax.set_title(f"level {records[-1]['level']}: {len(triangles)} elements", fontsize=9)
-    fig.suptitle(f"{problem.name}: theta = {args.theta:g}")
-    fig.tight_layout()
-    with atomic_path(path) as temporary:
-        fig.savefig(temporary, dpi=120)
 
 
 COMMANDS = {"solve": cmd_solve, "uniform": cmd_uniform, "adaptive": cmd_adaptive}

@@ -3,9 +3,6 @@
 import csv
 import dataclasses
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
@@ -163,14 +160,6 @@ def test_general_polygon(tmp_path, capsys):
     assert (tmp_path / "lshape_sipg_p1.png").stat().st_size > 0
     capsys.readouterr()
     check_one_line_error(main(["solve", str(path), "--h", "0.5", "--out", str(tmp_path)]), capsys, "--maxh")
-
-
-def test_module_help():
-    root = Path(__file__).resolve().parent.parent
-    done = subprocess.run([sys.executable, "-m", "ngdgfric", "--help"], capture_output=True, text=True, cwd=root,
-                          timeout=120)
-    assert done.returncode == 0
-    assert "solve" in done.stdout and "adaptive" in done.stdout
 
 
 BAD_ARGUMENTS = {

@@ -1,0 +1,204 @@
+"""Output: VTK and PNG files, Markdown tables and the plots of the command line and the notebooks.
+
+Files are written atomically through :mod:`ngdgfric.files` (a temporary file renamed into place;
+CSV and plain text: :func:`ngdgfric.files.write_csv`, :func:`ngdgfric.files.write_text`).  The
+plots draw into matplotlib Axes that the caller makes: the command line with :func:`figure` (no
+pyplot, nothing displayed), a notebook with ``plt.subplots``.  They show u_h and its von Mises
+stress (1.3), the estimator eta_h of Section 4 against the number of DOFs, and the contact
+quantities along Gamma_C with the laws (1.8) and (1.9) that they satisfy.
+"""
+
+import ngsolve as ngs
+import numpy as np
+
+from .files import atomic_path
+from .kkt import contact_state
+from .meshes import mesh_arrays
+from .problem import von_mises
+
+__all__ = ["figure", "write_png", "write_vtk", "markdown_table", "uniform_markdown", "rate_text", "colour_cap",
+           "vertex_values", "plot_deformed", "write_deformed_png", "estimator_curve", "plot_estimator", "plot_mesh",
+           "write_adaptive_png", "plot_contact"]
+
+
+def figure(width, height):
+    """A matplotlib Figure of ``width`` x ``height`` inches on an Agg canvas, without pyplot's global state."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height))
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def write_png(fig, path, dpi):
+    """Lay out ``fig`` and write it as the PNG file ``path`` atomically."""
+    fig.tight_layout()
+    with atomic_path(path) as temporary:
+        fig.savefig(temporary, dpi=dpi)
+
+
+def write_vtk(path, sol):
+    """Write u_h and its von Mises stress (1.3) as the VTK file ``path`` (.vtu) atomically.
+
+    Point data ``displacement`` and ``von_mises``; every element subdivided p - 1 times, so that
+    P_p is drawn by its values on a finer lattice.
+    """
+    with atomic_path(path) as temporary:  # VTKOutput appends .vtu to the name it is given
+        ngs.VTKOutput(sol.mesh, coefs=[sol.u, von_mises(sol.problem, sol.u)], names=["displacement", "von_mises"],
+                      filename=str(temporary.with_suffix("")), subdivision=max(sol.order - 1, 0)).Do()
+
+
+def markdown_table(header, rows):
+    """A Markdown table: the cells ``header`` and one line per row of ``rows`` (each cell as str())."""
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(str(cell) for cell in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def rate_text(rate):
+    """An observed convergence rate with three decimals, "-" where there is none (the first mesh)."""
+    return "-" if rate is None else f"{rate:.3f}"
+
+
+def uniform_markdown(title, rows):
+    """The Markdown report of a uniform refinement study (Tables 6.1, 6.2), headed ``title``.
+
+    ``rows``: the rows of :func:`ngdgfric.studies.uniform_study` with ``method`` and ``eta_h`` added.
+    """
+    header = ["method", "h", "DOFs", "|||u_h - u_{h/2}|||_h", "rate", "eta_h", "iterations", "seconds"]
+    cells = [(r["method"], f"2^-{r['k']}", r["ndof"], f"{r['energy']:.4e}", rate_text(r["rate"]), f"{r['eta_h']:.4e}",
+              r["iterations"], f"{r['seconds']:.2f}") for r in rows]
+    return f"# {title}\n\n" + markdown_table(header, cells) + "\n"
+
+
+def colour_cap(cf, mesh, fraction=0.99):
+    """The element mean of ``cf`` below which lie the means of a ``fraction`` of the area of ``mesh``.
+
+    A colour range [0, cap] that the few elements at a singular corner, where the stress grows
+    without bound, do not swamp.
+    """
+    area = ngs.Integrate(ngs.CF(1), mesh, element_wise=True).NumPy()
+    means = ngs.Integrate(cf, mesh, element_wise=True).NumPy() / area
+    by_value = np.argsort(means)
+    return float(means[by_value][np.searchsorted(np.cumsum(area[by_value]), fraction * area.sum())])
+
+
+def vertex_values(mesh, *cfs):
+    """Each element's own values at its three vertices: (xy, values of each of ``cfs``) as arrays (ne, 3, dim).
+
+    A DG function has one value per element at a vertex; these are the values of the element's polynomial.
+    """
+    points = mesh.MapToAllElements(ngs.IntegrationRule([(1, 0), (0, 1), (0, 0)], [0, 0, 0]), ngs.VOL)
+    xy = np.column_stack([ngs.x(points).ravel(), ngs.y(points).ravel()]).reshape(mesh.ne, 3, 2)
+    return (xy, *(np.asarray(cf(points)).reshape(mesh.ne, 3, cf.dim) for cf in cfs))
+
+
+def plot_deformed(ax, sol, scale=None):
+    """The triangles moved by ``scale`` u_h (each by its own vertex values), coloured by the element's mean
+    von Mises stress (1.3), over the undeformed outline.  Default scale: the largest displacement drawn
+    as 10 % of the domain's size.  Returns the scale."""
+    from matplotlib.collections import PolyCollection
+
+    problem, mesh = sol.problem, sol.mesh
+    xy, u, stress = vertex_values(mesh, sol.u, von_mises(problem, sol.u))
+    x0, y0, x1, y1 = problem.geometry.bounds
+    largest = float(np.max(np.linalg.norm(u, axis=2)))
+    if scale is None:
+        scale = 0.1 * max(x1 - x0, y1 - y0) / largest if largest > 0 else 1.0
+    outline = np.array(problem.geometry.vertices + problem.geometry.vertices[:1])
+    ax.plot(outline[:, 0], outline[:, 1], "k--", lw=0.8, label="undeformed")
+    cells = PolyCollection(xy + scale * u, array=stress[:, :, 0].mean(axis=1), cmap="viridis", edgecolors="k",
+                           linewidths=0.2 if mesh.ne <= 5000 else 0)
+    ax.add_collection(cells)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.figure.colorbar(cells, ax=ax, label="von Mises stress")
+    ax.set_title(f"{problem.name}: {sol.method} P{sol.order}, {sol.ndof} DOFs, displacement x {scale:.3g}",
+                 fontsize=9)
+    ax.legend(fontsize=8, loc="upper right")
+    return scale
+
+
+def write_deformed_png(path, sol, scale=None):
+    """The PNG of ``ngdgfric solve``: :func:`plot_deformed` of ``sol`` with displacement magnification ``scale``."""
+    fig = figure(6, 5)
+    plot_deformed(fig.add_subplot(), sol, scale)
+    write_png(fig, path, dpi=130)
+
+
+def estimator_curve(records):
+    """(N, eta_h): the DOFs and the estimator of the levels of :func:`ngdgfric.adapt`, as float arrays."""
+    return np.array([r["ndof"] for r in records], dtype=float), np.array([r["eta"] for r in records])
+
+
+def plot_estimator(ax, curves, slope=None, **line):
+    """eta_h (Section 4) against the number of DOFs N on log-log axes (legend left to the caller).
+
+    ``curves``: {label: records of :func:`ngdgfric.adapt`}, drawn with the markers o, s, ^, v in
+    turn and the matplotlib options ``line``; ``slope=(records, p)``: the optimal rate N^{-p/2} of
+    adaptive P_p elements (Section 6) through the first level of ``records``.
+    """
+    for (label, records), marker in zip(curves.items(), "os^v", strict=False):
+        ax.loglog(*estimator_curve(records), f"{marker}-", label=label, **line)
+    if slope is not None:
+        (ndof, eta), p = estimator_curve(slope[0]), slope[1]
+        ax.loglog(ndof, eta[0] * (ndof / ndof[0]) ** (-p / 2), "k--", label=rf"$N^{{-{p}/2}}$")
+    ax.set_xlabel("degrees of freedom $N$")
+    ax.set_ylabel(r"$\eta_h$")
+    ax.grid(True, which="both", alpha=0.3)
+
+
+def plot_mesh(ax, mesh, title):
+    """The triangles of ``mesh``, titled ``title``."""
+    points, triangles = mesh_arrays(mesh)[:2]
+    ax.triplot(points[:, 0], points[:, 1], triangles, lw=0.3, color="k")
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+
+
+def write_adaptive_png(path, title, label, records, mesh, slope=None):
+    """The PNG of ``ngdgfric adaptive``: :func:`plot_estimator` of ``records`` (one curve, ``label``;
+    ``slope`` as there) beside the last level's ``mesh``, under ``title``."""
+    fig = figure(10, 4.5)
+    ax, mesh_ax = fig.subplots(1, 2)
+    plot_estimator(ax, {label: records}, slope, ms=3)
+    ax.legend(fontsize=8)
+    plot_mesh(mesh_ax, mesh, f"level {records[-1]['level']}: {mesh.ne} elements")
+    fig.suptitle(title)
+    write_png(fig, path, dpi=120)
+
+
+def plot_contact(axes, sol):
+    """The contact quantities of ``sol`` at the Gauss points of Gamma_C, left to right, on four Axes.
+
+    Top to bottom: the normal compliance law (1.8), -sigma_n(u_h) against c_n (u_hn - g_a)_+^{m_n};
+    the friction law (1.9), sigma_tau(u_h) and the discrete friction traction -c_tau l against the
+    bound +-c_tau; the slip u_htau; the zones: contact where u_hn > g_a, slip where u_htau != 0
+    (relative to the largest displacement on Gamma_C; there |l| = 1), stick elsewhere.
+    """
+    state = contact_state(sol)
+    order = np.argsort(state["x"])
+    s = {k: np.asarray(v)[order] for k, v in state.items()}
+    x = s["x"]
+    slip = np.abs(s["u_tau"]) > 1e-8 * np.abs(np.r_[s["u_n"], s["u_tau"]]).max()
+    axes[0].plot(x, -s["sigma_n"], ".-", label=r"$-\sigma_n(u_h)$")
+    axes[0].plot(x, s["pressure"], ".-", label=r"$c_n\,(u_{hn} - g_a)_+^{m_n}$")
+    axes[0].set_title("normal compliance (1.8)")
+    axes[1].plot(x, s["sigma_tau"], ".-", label=r"$\sigma_\tau(u_h)$")
+    axes[1].plot(x, -s["c_tau"] * s["l"], ".-", label=r"$-c_\tau l$")
+    axes[1].plot(x, s["c_tau"], "k--", lw=1, label=r"$\pm c_\tau$")
+    axes[1].plot(x, -s["c_tau"], "k--", lw=1)
+    axes[1].set_title("friction (1.9)")
+    axes[2].plot(x, s["u_tau"], ".-", label=r"$u_{h\tau}$")
+    axes[2].set_title("slip")
+    zones = {"contact": s["gap"] > 0, "slip": slip, "stick": ~slip}
+    for k, mask in enumerate(zones.values()):
+        axes[3].plot(x[mask], np.full(mask.sum(), k), "s", ms=5)
+    axes[3].set_yticks(range(len(zones)), list(zones))
+    axes[3].set_ylim(-0.5, len(zones) - 0.5)
+    axes[3].set_title("zones")
+    axes[3].set_xlabel(r"$x$ on $\Gamma_C$")
+    for ax in axes[:3]:
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize=8)

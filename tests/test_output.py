@@ -1,0 +1,161 @@
+"""Output files and plots (ngdgfric.output): what they show is what the solution says."""
+
+import xml.etree.ElementTree as ET
+
+import matplotlib.image
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+from ngdgfric.meshes import mesh_arrays
+from ngdgfric.output import (
+    colour_cap,
+    figure,
+    plot_contact,
+    plot_deformed,
+    plot_estimator,
+    uniform_markdown,
+    vertex_values,
+    write_png,
+    write_vtk,
+)
+from ngdgfric.problem import von_mises
+
+
+@pytest.fixture(scope="module")
+def solution():
+    """SIPG P1 on Example 6.1, h = 1/4: Gamma_C has both slipping and sticking Gauss points."""
+    problem = ndf.example_6_1()
+    return ndf.solve(problem, ndf.uniform_mesh(problem, 0.25))
+
+
+def triangle_areas(mesh):
+    points, triangles = mesh_arrays(mesh)[:2]
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    (x1, y1), (x2, y2) = (b - a).T, (c - a).T
+    return 0.5 * np.abs(x1 * y2 - x2 * y1)
+
+
+@pytest.mark.parametrize("fraction", [0.5, 0.9, 0.99])
+def test_colour_cap_leaves_the_fraction_of_the_area_below(fraction):
+    mesh = ngs.Mesh(ngs.unit_square.GenerateMesh(maxh=0.15))  # triangles of different areas
+    values = ngs.GridFunction(ngs.L2(mesh, order=0))
+    values.vec.FV().NumPy()[:] = np.random.default_rng(1).permutation(mesh.ne)  # element means, all distinct
+    cap = colour_cap(values, mesh, fraction)
+    value = round(cap)  # the mean of one element (integrated, so up to round-off)
+    assert cap == pytest.approx(value, abs=1e-9)
+    area, means = triangle_areas(mesh), values.vec.FV().NumPy()
+    assert area[means < value].sum() < fraction * area.sum() <= area[means <= value].sum()
+    assert colour_cap(ngs.CF(7.5), mesh, fraction) == pytest.approx(7.5, rel=1e-12)
+
+
+def test_vertex_values_are_each_elements_own_values():
+    mesh = ndf.uniform_mesh(ndf.example_6_2(), 0.25)
+    jump = ngs.GridFunction(ngs.L2(mesh, order=0))  # a different affine function on every element
+    jump.vec.FV().NumPy()[:] = np.arange(mesh.ne)
+    u = ngs.GridFunction(ngs.VectorL2(mesh, order=1))
+    u.Set(ngs.CF((ngs.x + 2 * ngs.y + jump, jump * ngs.x)))
+    xy, values = vertex_values(mesh, u)
+    points, triangles = mesh_arrays(mesh)[:2]
+    assert np.allclose(np.sort(xy, axis=1), np.sort(points[triangles], axis=1), atol=1e-14)
+    element = np.arange(mesh.ne)[:, None]
+    assert np.allclose(values[..., 0], xy[..., 0] + 2 * xy[..., 1] + element, atol=1e-10)
+    assert np.allclose(values[..., 1], element * xy[..., 0], atol=1e-10)
+
+
+def test_default_deformation_draws_the_largest_displacement_as_a_tenth_of_the_domain(solution):
+    ax = figure(6, 5).add_subplot()
+    scale = plot_deformed(ax, solution)
+    (cells,) = ax.collections
+    xy, u = vertex_values(solution.mesh, solution.u)
+    drawn = np.array([path.vertices[:3] for path in cells.get_paths()])
+    assert np.allclose(drawn, xy + scale * u, rtol=1e-12, atol=1e-12)
+    assert np.max(np.linalg.norm(drawn - xy, axis=2)) == pytest.approx(0.1 * 1.0, rel=1e-12)  # Omega: 1 x 1
+    assert plot_deformed(figure(6, 5).add_subplot(), solution, scale=2.0) == 2.0
+
+
+@pytest.mark.parametrize("p", [1, 2, 3])
+def test_the_reference_slope_is_the_optimal_rate(p):
+    ndof = np.array([50.0, 200.0, 800.0, 3200.0])
+    optimal = [dict(ndof=n, eta=3.0 * n ** (-p / 2)) for n in ndof]  # eta_h ~ N^{-p/2} exactly
+    slower = [dict(ndof=n, eta=3.0 * n ** (-p / 4)) for n in ndof]
+    ax = figure(5, 4).add_subplot()
+    plot_estimator(ax, {"optimal": optimal, "slower": slower}, slope=(optimal, p))
+    curve, other, reference = ax.get_lines()
+    assert [line.get_marker() for line in (curve, other)] == ["o", "s"]
+    assert np.array_equal(curve.get_xdata(), ndof) and np.array_equal(other.get_xdata(), ndof)
+    assert np.allclose(reference.get_ydata(), curve.get_ydata(), rtol=1e-12)
+    assert np.polyfit(np.log(other.get_xdata()), np.log(other.get_ydata()), 1)[0] == pytest.approx(-p / 4)
+    assert reference.get_label() == f"$N^{{-{p}/2}}$"
+
+
+def test_contact_plot_shows_the_friction_law(solution):
+    axes = figure(7, 9).subplots(4, 1, sharex=True)
+    plot_contact(axes, solution)
+    _, traction, bound, minus_bound = axes[1].get_lines()
+    c_tau = solution.problem.c_tau
+    assert np.all(bound.get_ydata() == c_tau) and np.all(minus_bound.get_ydata() == -c_tau)
+    assert np.all(np.diff(traction.get_xdata()) >= 0)  # left to right
+    assert np.all(np.abs(traction.get_ydata()) <= c_tau * (1 + 1e-12))  # |l| <= 1 (Lemma 3.1)
+    contact, slip, stick = axes[3].get_lines()
+    assert len(slip.get_xdata()) + len(stick.get_xdata()) == len(traction.get_xdata())
+    assert len(slip.get_xdata()) > 0 and len(stick.get_xdata()) > 0
+    slipping = np.isin(traction.get_xdata(), slip.get_xdata())
+    assert np.allclose(np.abs(traction.get_ydata()[slipping]), c_tau, rtol=1e-8)  # slip: |l| = 1
+    assert np.all(np.abs(traction.get_ydata()[~slipping]) < c_tau)
+
+
+def read_vtu(path):
+    """{name: array (entries, components)} of a VTK file as NGSolve's VTKOutput writes it (raw appended data,
+    each array preceded by its size in bytes as UInt32)."""
+    header, _, appended = path.read_bytes().partition(b'<AppendedData encoding="raw">')
+    start = appended.index(b"_") + 1
+    arrays = {}
+    for array in ET.fromstring(header + b"</VTKFile>").iter("DataArray"):
+        offset = start + int(array.get("offset"))
+        dtype = np.dtype({"Float64": np.float64, "Int32": np.int32, "UInt8": np.uint8}[array.get("type")])
+        size = int(np.frombuffer(appended, np.uint32, 1, offset)[0])
+        values = np.frombuffer(appended, dtype, size // dtype.itemsize, offset + 4)
+        arrays[array.get("Name")] = values.reshape(-1, int(array.get("NumberOfComponents", 1)))
+    return arrays
+
+
+def test_vtk_file_holds_the_displacement_and_its_von_mises_stress(solution, tmp_path):
+    write_vtk(tmp_path / "u.vtu", solution)
+    assert [p.name for p in tmp_path.iterdir()] == ["u.vtu"]
+    arrays = read_vtu(tmp_path / "u.vtu")
+    mesh = solution.mesh
+    cells = arrays["connectivity"].reshape(mesh.ne, 3)  # P1: no subdivision, one triangle per element
+    area = ngs.Integrate(ngs.CF(1), mesh, element_wise=True).NumPy()[:, None]
+    # the points of each cell are its element's vertices, the point data that element's own values
+    mean_u = np.column_stack([ngs.Integrate(solution.u[k], mesh, element_wise=True).NumPy() for k in (0, 1)]) / area
+    assert np.allclose(arrays["displacement"][cells].mean(axis=1), mean_u, rtol=1e-10, atol=1e-12)  # P1
+    vm = ngs.Integrate(von_mises(solution.problem, solution.u), mesh, element_wise=True).NumPy()[:, None] / area
+    assert np.allclose(arrays["von_mises"][cells][..., 0], vm, rtol=1e-10)  # constant strain on P1 triangles
+    corners = np.sort(arrays["Points"][cells][..., :2], axis=1)
+    points, triangles = mesh_arrays(mesh)[:2]
+    assert np.allclose(corners, np.sort(points[triangles], axis=1), atol=1e-14)
+
+
+def test_png_has_the_size_asked_for(tmp_path):
+    fig = figure(3, 2)
+    fig.add_subplot().plot([0, 1], [1, 0])
+    write_png(fig, tmp_path / "f.png", dpi=50)
+    assert matplotlib.image.imread(tmp_path / "f.png").shape[:2] == (100, 150)
+    assert [p.name for p in tmp_path.iterdir()] == ["f.png"]
+
+
+def test_uniform_markdown_table():
+    rows = [dict(method="sipg", k=k, ndof=48 * 4**k, energy=2.0**-k, rate=None if k == 1 else 1.0,
+                 eta_h=3.0 * 2.0**-k, iterations=k + 3, seconds=1.5 * k) for k in (1, 2)]
+    title, blank, header, rule, *lines = uniform_markdown("Example 6.2: uniform meshes", rows).splitlines()
+    assert (title, blank) == ("# Example 6.2: uniform meshes", "")
+    assert header.startswith("| method | h | DOFs |") and rule == "|---" * 8 + "|"
+    cells = [line.strip("| ").split(" | ") for line in lines]
+    assert [c[:3] for c in cells] == [["sipg", "2^-1", "192"], ["sipg", "2^-2", "768"]]
+    assert [c[4] for c in cells] == ["-", "1.000"]
+    for row, c in zip(rows, cells, strict=True):
+        assert float(c[3]) == pytest.approx(row["energy"], rel=1e-4)
+        assert float(c[5]) == pytest.approx(row["eta_h"], rel=1e-4)
+        assert (int(c[6]), float(c[7])) == (row["iterations"], pytest.approx(row["seconds"], abs=0.005))
