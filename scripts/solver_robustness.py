@@ -51,8 +51,8 @@ import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
 from ngdgfric.files import write_text
 from ngdgfric.kkt import rounding_residual
-from ngdgfric.manufactured import contact_manufactured, friction_manufactured
 from ngdgfric.reduced import ReducedContact
+from ngdgfric.studies.manufactured import contact_manufactured, friction_manufactured
 
 # ============================================================================ PARAMETERS
 SEED = 20261112

@@ -23,9 +23,9 @@ from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_c
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
-from ngdgfric.paper import TABLES
 from ngdgfric.reference import reference_errors
 from ngdgfric.studies import rates, uniform_study
+from ngdgfric.studies.paper import TABLES
 
 NORMS = ("energy", "relative", "h1", "l2")
 METHODS = ("sipg", "nipg")

@@ -20,9 +20,9 @@ from common import EXAMPLES, RESULTS, command_line, fmt, markdown_table, say, wr
 import ngdgfric as ndf
 from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS
-from ngdgfric.paper import TABLES
 from ngdgfric.reference import reference_errors
 from ngdgfric.studies import rates, uniform_study
+from ngdgfric.studies.paper import TABLES
 
 
 def parse(argv=None):

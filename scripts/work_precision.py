@@ -5,7 +5,7 @@ time and against DOFs for the five methods, P1-P3, uniform / h-adaptive / hp-ada
 (:func:`ngdgfric.studies.strategy_run`) and Newton / Uzawa; the Pareto front (no other run is both
 faster and more accurate) marked.  What each tolerance on the paper's eta_h (``weights="paper"``) costs
 per strategy.
-Cases run through dask.distributed with a cache (:mod:`ngdgfric.runner`).  Writes
+Cases run through dask.distributed with a cache (:mod:`ngdgfric.studies.runner`).  Writes
 results/work_precision_<example>.png / _dofs.png / .csv and results/work_precision.md.
 
     python scripts/work_precision.py [--quick] [--scheduler ADDRESS] [--workers N]
@@ -18,10 +18,10 @@ import matplotlib
 import numpy as np
 from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
-from ngdgfric.cases import precision_case
 from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS
-from ngdgfric.runner import run_cases
+from ngdgfric.studies.cases import precision_case
+from ngdgfric.studies.runner import run_cases
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -1,6 +1,6 @@
-"""Manufactured solutions used by the tests (they live in :mod:`ngdgfric.manufactured`)."""
+"""Manufactured solutions used by the tests (they live in :mod:`ngdgfric.studies.manufactured`)."""
 
-from ngdgfric.manufactured import (  # noqa: F401
+from ngdgfric.studies.manufactured import (  # noqa: F401
     body_force_and_traction,
     contact_manufactured,
     elasticity_manufactured,

@@ -6,9 +6,9 @@ import warnings
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.cases import coercivity, penalty_threshold, rho_case
 from ngdgfric.forms import SIPG_THRESHOLD, PenaltyWarning, coercivity_threshold, get_method
-from ngdgfric.runner import run_cases
+from ngdgfric.studies.cases import coercivity, penalty_threshold, rho_case
+from ngdgfric.studies.runner import run_cases
 
 
 @pytest.mark.parametrize("order", [1, 2, 3])

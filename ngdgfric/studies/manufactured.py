@@ -11,7 +11,7 @@ import math
 
 import ngsolve as ngs
 
-from .problem import ContactProblem, Polygon, stress
+from ..problem import ContactProblem, Polygon, stress
 
 __all__ = ["strain_of", "body_force_and_traction", "elasticity_manufactured", "contact_manufactured",
            "incompressible_contact_manufactured",

@@ -1,7 +1,7 @@
 """Single cases of the stability and work-precision studies: plain dict in, plain dict out.
 
 Each function builds everything from the case's parameters, so it can run in any dask worker
-(:mod:`ngdgfric.runner`).  A solver that fails is a result, not an error: ``status`` records it.
+(:mod:`ngdgfric.studies.runner`).  A solver that fails is a result, not an error: ``status`` records it.
 """
 
 import dataclasses
@@ -10,20 +10,20 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import normal_tangent
-from .discretization import Discretization
-from .errors import SolverError
-from .examples import example_6_1, example_6_2
-from .forms import edge_length, get_method, jump_inner
-from .kkt import contact_state, kkt_residuals
+from ..contact import normal_tangent
+from ..discretization import Discretization
+from ..errors import SolverError
+from ..examples import example_6_1, example_6_2
+from ..forms import edge_length, get_method, jump_inner
+from ..kkt import contact_state, kkt_residuals
+from ..meshes import uniform_mesh
+from ..norms import energy_norm
+from ..problem import strain, stress
+from ..reference import energy_error, load_reference
+from ..solution import solve
+from ..uzawa import default_rho, uzawa
 from .manufactured import elasticity_manufactured, strain_of
-from .meshes import uniform_mesh
-from .norms import energy_norm
-from .problem import strain, stress
-from .reference import energy_error, load_reference
-from .solution import solve
-from .studies import strategy_run
-from .uzawa import default_rho, uzawa
+from .strategies import strategy_run
 
 __all__ = ["EXAMPLES", "penalty_value", "coercivity", "penalty_case", "locking_case", "compliance_case",
            "friction_case", "rho_case", "precision_case"]
@@ -97,7 +97,7 @@ def _contact_summary(sol):
 def compliance_case(case):
     """case: example, c_n, solver, h.  Iterations, penetration, eta_h (the paper's weights), and the condition number of
     A + c_n (u.n, v.n)_{Gamma_C}, the Jacobian with the whole of Gamma_C in contact (m_n = 1)."""
-    from .estimator import estimate
+    from ..estimator import estimate
 
     problem = dataclasses.replace(EXAMPLES[case["example"]](), c_n=case["c_n"])
     mesh = uniform_mesh(problem, case["h"])
