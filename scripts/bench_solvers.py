@@ -30,6 +30,7 @@ from common import EXAMPLES, RESULTS, best, command_line, contact_free, markdown
 import ngdgfric as ndf
 from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
+from ngdgfric.studies import max_rel_diff
 from ngdgfric.transfer import multiplier_snapshot
 
 matplotlib.use("Agg")
@@ -76,9 +77,8 @@ def measure(problem, mesh, method, order, repeat, initial=None):
     if initial is not None:
         warm_seconds, warm = best(repeat, lambda: ndf.solve(problem, mesh, method=method, order=order,
                                                             initial=initial))
-        difference = np.abs(warm.u.vec.FV().NumPy() - cold.u.vec.FV().NumPy()).max()
         row.update(warm=warm_seconds, warm_ratio=warm_seconds / linear_seconds, warm_its=warm.iterations,
-                   warm_difference=difference / np.abs(cold.u.vec.FV().NumPy()).max())
+                   warm_difference=max_rel_diff(warm, cold))
     return row, cold
 
 

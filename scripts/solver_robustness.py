@@ -52,6 +52,7 @@ from ngdgfric.condensation import Condensation
 from ngdgfric.files import write_text
 from ngdgfric.kkt import rounding_residual
 from ngdgfric.reduced import ReducedContact
+from ngdgfric.studies import max_rel_diff
 from ngdgfric.studies.manufactured import contact_manufactured, friction_manufactured
 
 # ============================================================================ PARAMETERS
@@ -347,11 +348,6 @@ def time_budget(seconds):
     return check
 
 
-def _max_rel_diff(a, b):
-    a, b = a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy()
-    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
-
-
 def _message(error):
     return f"{type(error).__name__}: {error}".replace("\n", " ").replace("|", "/")
 
@@ -391,7 +387,7 @@ def run_case(spec, uzawa_seconds=UZAWA_SECONDS):
                                   progress=time_budget(uzawa_seconds))
                 uzawa_kkt = ndf.kkt_residuals(uzawa)
                 row.update(uzawa_status="converged", uzawa_iterations=uzawa.iterations,
-                           uzawa_difference=_max_rel_diff(sol, uzawa),
+                           uzawa_difference=max_rel_diff(sol, uzawa),
                            uzawa_complementarity=uzawa_kkt["complementarity"],
                            uzawa_equilibrium=uzawa_kkt["equilibrium"])
             except OverBudget as error:

@@ -10,16 +10,9 @@ from ..checks import check_size
 from ..meshes import estimated_elements, uniform_mesh
 from ..norms import energy_norm, energy_norm_squared_parts
 from ..solution import solve
+from .measures import rates
 
-__all__ = ["uniform_study", "consecutive_differences", "difference_norms", "rates"]
-
-
-def rates(errors, hs):
-    """Observed orders log(e_k-1 / e_k) / log(h_k-1 / h_k) (None for the first entry)."""
-    out = [None]
-    for k in range(1, len(errors)):
-        out.append(math.log(errors[k - 1] / errors[k]) / math.log(hs[k - 1] / hs[k]))
-    return out
+__all__ = ["uniform_study", "consecutive_differences", "difference_norms"]
 
 
 def difference_norms(coarse, fine):
