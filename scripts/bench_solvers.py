@@ -25,9 +25,10 @@ from types import SimpleNamespace
 import matplotlib
 import ngsolve as ngs
 import numpy as np
-from common import EXAMPLES, RESULTS, best, command_line, contact_free, markdown_table, save_figure, say, write_csv
+from common import RESULTS, best, command_line, contact_free, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
 from ngdgfric.studies import max_rel_diff

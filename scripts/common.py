@@ -1,4 +1,4 @@
-"""Helpers shared by the scripts: examples by name, results folder, Markdown/CSV writers."""
+"""Helpers shared by the scripts: results folder, timing, Markdown/CSV/figure writers, a process pool."""
 
 import dataclasses
 import multiprocessing
@@ -8,11 +8,9 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-import ngdgfric as ndf
 from ngdgfric import files
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
-EXAMPLES = {"6.1": ndf.example_6_1, "6.2": ndf.example_6_2}
 
 
 def contact_free(problem):

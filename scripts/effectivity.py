@@ -75,12 +75,13 @@ def tasks(quick):
 def setup(task):
     """(problem, error function of a Solution, initial mesh) of a task."""
     import ngdgfric as ndf
+    from ngdgfric.examples import example
     from ngdgfric.reference import reference_errors
     from ngdgfric.studies import manufactured
 
     family = task["family"]
     if family in ("6.1", "6.2"):
-        problem = ndf.example_6_1() if family == "6.1" else ndf.example_6_2()
+        problem = example(family)
         reference = ndf.load_reference(RESULTS / f"reference_{family.replace('.', '_')}.npz", problem)
         return problem, lambda sol: reference_errors(sol, reference)["energy"], 0.5
     build = (manufactured.incompressible_contact_manufactured if family == "divergence-free"

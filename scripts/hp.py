@@ -15,9 +15,10 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.meshes import mesh_arrays
 from ngdgfric.studies import strategy_run

@@ -15,9 +15,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say
+from common import RESULTS, command_line, markdown_table, say
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import atomic_path, write_text
 
 

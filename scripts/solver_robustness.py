@@ -49,6 +49,7 @@ from common import RESULTS, command_line, in_processes, markdown_table, say, wri
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.kkt import rounding_residual
 from ngdgfric.reduced import ReducedContact
@@ -96,7 +97,7 @@ def corner():
     return dataclasses.replace(ndf.example_6_2(), geometry=CORNER, name="corner")
 
 
-BASES = {"6.1": ndf.example_6_1, "6.2": ndf.example_6_2, "L-shape": l_shape, "corner": corner}
+BASES = {**EXAMPLES, "L-shape": l_shape, "corner": corner}
 G_A = {"0.05": lambda: 0.05, "0": lambda: 0.0, "-0.01": lambda: -0.01, "0.02": lambda: 0.02,
        "0.01*x": lambda: 0.01 * ngs.x, "0.001*(x-1)^2": lambda: 0.001 * (ngs.x - 1) ** 2}
 BASE_G_A = {"6.1": "0.05", "6.2": "0", "L-shape": "0.001*(x-1)^2", "corner": "0"}

@@ -19,9 +19,10 @@ import math
 from pathlib import Path
 
 import ngsolve as ngs
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.reference import reference_errors
 from ngdgfric.studies import rates, uniform_study

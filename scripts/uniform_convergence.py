@@ -16,9 +16,10 @@ import argparse
 import time
 from pathlib import Path
 
-from common import EXAMPLES, RESULTS, command_line, fmt, markdown_table, say, write_csv
+from common import RESULTS, command_line, fmt, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS
 from ngdgfric.reference import reference_errors
