@@ -15,7 +15,7 @@ STRATEGIES = ("uniform", "h", "hp")
 
 
 def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", reference=None, max_ndof=10**5,
-                 max_levels=60, tol=None, max_order=6, progress=None, keep=None, weights="energy", **options):
+                 max_levels=60, max_order=6, progress=None, keep=None, weights="energy", **options):
     """Records (ndof, eta, error, seconds, iterations per level) of one refinement strategy.
 
     ``strategy``: "uniform" (uniform meshes h = 2^-1, 2^-2, ... up to ``max_ndof``; ``seconds`` is
@@ -45,8 +45,6 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
             seconds = time.perf_counter() - start
             records.append(dict(level=k, seconds=seconds, **measure(sol, estimate(sol, weights))))
             _say(progress, strategy, records[-1])
-            if tol is not None and records[-1]["eta"] <= tol:
-                break
             k += 1
         return records
     errors = {}
@@ -57,7 +55,7 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
             keep(level, sol, est)
 
     levels = adapt(problem, method=method, order=order, solver=solver, max_levels=max_levels, max_ndof=max_ndof,
-                   tol=tol, hp=strategy == "hp", max_order=max_order, progress=progress, keep=measure_and_keep,
+                   hp=strategy == "hp", max_order=max_order, progress=progress, keep=measure_and_keep,
                    weights=weights, **options).levels
     elapsed = 0.0
     for record in levels:

@@ -42,7 +42,7 @@ def consecutive_differences(solutions):
 
 
 def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), solver="newton",
-                  diagonal="sw-ne", eta=None, warm_start=False, progress=None, **options):
+                  diagonal="sw-ne", eta=None, progress=None, **options):
     """Solve on uniform meshes h = 2^-k, k in ``levels``, and compare consecutive solutions.
 
     Returns (rows, solutions): one row per level but the last, with h, ndof, iterations,
@@ -57,8 +57,7 @@ def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), so
         h = 2.0**-k
         mesh = uniform_mesh(problem, h, diagonal=diagonal, max_elements=None)
         start = time.perf_counter()
-        initial = solutions[-1] if (warm_start and solutions) else None
-        sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, initial=initial, **options)
+        sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, **options)
         seconds.append(time.perf_counter() - start)
         solutions.append(sol)
         if progress is not None:
