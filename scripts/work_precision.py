@@ -11,12 +11,11 @@ results/work_precision_<example>.png / _dofs.png / .csv and results/work_precisi
     python scripts/work_precision.py [--quick] [--scheduler ADDRESS] [--workers N]
 """
 
-import argparse
 from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, examples_parser, markdown_table, save_figure, say, write_csv
 
 from ngdgfric.files import write_text
 from ngdgfric.forms import METHODS
@@ -32,15 +31,12 @@ TOLERANCES = (100.0, 10.0, 1.0)
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--example", nargs="+", default=["6.1", "6.2"], choices=["6.1", "6.2"])
-    parser.add_argument("--quick", action="store_true", help="SIPG P1 with small budgets (smoke test)")
+    parser = examples_parser(__doc__, quick="SIPG P1 with small budgets (smoke test)")
     parser.add_argument("--newton-ndof", type=int, default=30_000, help="DOF budget per Newton run")
     parser.add_argument("--uzawa-ndof", type=int, default=5_000, help="DOF budget per Uzawa run")
     parser.add_argument("--scheduler", default=None)
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--cache", type=Path, default=Path(".cache/work_precision"))
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 
