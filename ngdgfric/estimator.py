@@ -39,7 +39,7 @@ unknown weighted by 1/mu) and Wihler (Math. Comp. 75, 2006); the averaging is th
 interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using p~_h
 instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an oscillating
 discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
-error (measured on :func:`ngdgfric.manufactured.incompressible_contact_manufactured`, NIPG, P3,
+error (measured on :func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured`, NIPG, P3,
 nu = 0.4999, h = 1/16, before the calibration below: effectivity 12.5 with p_h, 5.5 with p~_h).
 Calibrated constant: every element indicator is multiplied by p_T^(-1/2).  The hp weights h/p
 make residual estimators reliable with a constant independent of p but efficient only up to

@@ -11,17 +11,18 @@ uniform_<example>_<method>.csv) and results/adaptivity_<example>.md.
 """
 
 import argparse
-import math
 from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.meshes import mesh_arrays
 from ngdgfric.methods import METHODS
+from ngdgfric.studies import slope
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -37,13 +38,6 @@ def parse(argv=None):
     parser.add_argument("--quick", action="store_true", help="6 adaptive levels, 3 uniform meshes (smoke test)")
     parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
-
-
-def slope(records, last=10):
-    """Least-squares slope of log eta against log DOFs over the last ``last`` records."""
-    n = np.log([r["ndof"] for r in records[-last:]])
-    e = np.log([r["eta"] for r in records[-last:]])
-    return float(np.polyfit(n, e, 1)[0]) if len(n) > 1 else math.nan
 
 
 def where_refined(problem, points, triangles, fraction=0.1):
@@ -100,10 +94,11 @@ def main(argv=None):
         say(f"Example {args.example}, {method.upper()}: uniform")
         uniform[method] = uniform_curve(problem, method, range(1, 4) if args.quick else range(1, 7))
         write_csv(args.out / f"uniform_{tag}_{method}.csv", uniform[method])
-        last = adaptive[method][-1]
+        last, tail, coarse = adaptive[method][-1], adaptive[method][-10:], uniform[method][-3:]
         corner, contact, either = where_refined(problem, *meshes[method])
         rows.append(dict(method=method, levels=len(adaptive[method]), ndof=last["ndof"], eta=last["eta"],
-                         slope=slope(adaptive[method]), uniform_slope=slope(uniform[method], last=3),
+                         slope=slope([r["ndof"] for r in tail], [r["eta"] for r in tail]),
+                         uniform_slope=slope([r["ndof"] for r in coarse], [r["eta"] for r in coarse]),
                          min_angle=min(r["min_angle"] for r in adaptive[method]),
                          overhead=(last["estimate_seconds"] + adaptive[method][-2]["mark_refine_seconds"])
                          / last["solve_seconds"],

@@ -25,11 +25,13 @@ from types import SimpleNamespace
 import matplotlib
 import ngsolve as ngs
 import numpy as np
-from common import EXAMPLES, RESULTS, best, command_line, contact_free, markdown_table, save_figure, say, write_csv
+from common import RESULTS, best, command_line, contact_free, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
+from ngdgfric.studies import max_rel_diff
 from ngdgfric.transfer import multiplier_snapshot
 
 matplotlib.use("Agg")
@@ -76,9 +78,8 @@ def measure(problem, mesh, method, order, repeat, initial=None):
     if initial is not None:
         warm_seconds, warm = best(repeat, lambda: ndf.solve(problem, mesh, method=method, order=order,
                                                             initial=initial))
-        difference = np.abs(warm.u.vec.FV().NumPy() - cold.u.vec.FV().NumPy()).max()
         row.update(warm=warm_seconds, warm_ratio=warm_seconds / linear_seconds, warm_its=warm.iterations,
-                   warm_difference=difference / np.abs(cold.u.vec.FV().NumPy()).max())
+                   warm_difference=max_rel_diff(warm, cold))
     return row, cold
 
 

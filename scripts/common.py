@@ -1,5 +1,7 @@
-"""Helpers shared by the scripts: examples by name, results folder, Markdown/CSV writers."""
+"""Helpers shared by the scripts: the common options, results folder, timing, Markdown/CSV/figure writers, a
+process pool."""
 
+import argparse
 import dataclasses
 import multiprocessing
 import os
@@ -8,11 +10,20 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-import ngdgfric as ndf
 from ngdgfric import files
+from ngdgfric.examples import EXAMPLES
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
-EXAMPLES = {"6.1": ndf.example_6_1, "6.2": ndf.example_6_2}
+
+
+def examples_parser(doc, quick):
+    """The argument parser of a script over the paper's examples, described by the first paragraph of ``doc``:
+    --example (one or more, default both), --quick (the smoke test; ``quick``: its help), --out (default results/)."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--example", nargs="+", choices=sorted(EXAMPLES), default=sorted(EXAMPLES))
+    parser.add_argument("--quick", action="store_true", help=quick)
+    parser.add_argument("--out", type=Path, default=RESULTS)
+    return parser
 
 
 def contact_free(problem):

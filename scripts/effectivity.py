@@ -2,11 +2,11 @@
 
 Cases (all five methods, p = 1..4, uniform and h-adaptive levels):
 
-* ``divergence-free``: :func:`ngdgfric.manufactured.incompressible_contact_manufactured` (contact and
+* ``divergence-free``: :func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured` (contact and
   no-contact, stick and slip zones, div u = 0, data independent of nu) at E = 1, 1e3, 1e6 (c_n
   scaled with E: the same displacement) and nu = 0.3, 0.49, 0.4999; uniform h = 2^-2..2^-4, and
   at E = 1e3 six h-adaptive levels from h = 1/4.  True error against the exact u.
-* ``lam-scaled``: :func:`ngdgfric.manufactured.contact_manufactured` (stresses grow like lam as
+* ``lam-scaled``: :func:`ngdgfric.studies.manufactured.contact_manufactured` (stresses grow like lam as
   nu -> 1/2) at E = 1e3, nu = 0.3, 0.49, 0.4999, p = 1..3, uniform (reported, outside the
   robustness claim: see results/effectivity.md).
 * ``6.1``, ``6.2``: the paper's examples, uniform h = 2^-2..2^-4 and eight h-adaptive levels from
@@ -75,12 +75,13 @@ def tasks(quick):
 def setup(task):
     """(problem, error function of a Solution, initial mesh) of a task."""
     import ngdgfric as ndf
-    from ngdgfric import manufactured
+    from ngdgfric.examples import example
     from ngdgfric.reference import reference_errors
+    from ngdgfric.studies import manufactured
 
     family = task["family"]
     if family in ("6.1", "6.2"):
-        problem = ndf.example_6_1() if family == "6.1" else ndf.example_6_2()
+        problem = example(family)
         reference = ndf.load_reference(RESULTS / f"reference_{family.replace('.', '_')}.npz", problem)
         return problem, lambda sol: reference_errors(sol, reference)["energy"], 0.5
     build = (manufactured.incompressible_contact_manufactured if family == "divergence-free"

@@ -10,14 +10,14 @@ error against DOFs), hp_exponential_<example>.png (log eta_h against N^(1/3)), h
     python scripts/hp.py [--example 6.1 6.2] [--quick]
 """
 
-import argparse
 from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import EXAMPLES, RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, examples_parser, markdown_table, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.meshes import mesh_arrays
 from ngdgfric.studies import strategy_run
@@ -30,14 +30,11 @@ STYLE = {"uniform": ("s", "--"), "h": ("o", "-"), "hp": ("D", "-")}
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--example", nargs="+", choices=sorted(EXAMPLES), default=sorted(EXAMPLES))
+    parser = examples_parser(__doc__, quick="small runs against a coarse reference (smoke test)")
     parser.add_argument("--max-ndof", type=int, default=200_000, help="for uniform and h-adaptive runs")
     parser.add_argument("--hp-max-ndof", type=int, default=30_000)
     parser.add_argument("--max-order", type=int, default=8)
-    parser.add_argument("--quick", action="store_true", help="small runs against a coarse reference (smoke test)")
     parser.add_argument("--reference", type=Path, default=RESULTS, help="folder of reference_<example>.npz")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 

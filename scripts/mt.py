@@ -27,6 +27,7 @@ from common import RESULTS, command_line, markdown_table, save_figure, say
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
+from ngdgfric.studies import max_rel_diff, slope
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -123,8 +124,7 @@ def solver_study(cases):
                             f"{fixed.info['factorizations']})")
             row["contraction"] = contraction(fixed.history)
             if newton is not None:
-                a, b = fixed.u.vec.FV().NumPy(), newton.u.vec.FV().NumPy()
-                row["difference"] = float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+                row["difference"] = max_rel_diff(fixed, newton)
         else:
             row["contraction"] = contraction(fixed_error.history) if len(fixed_error.history) > 2 else float("nan")
             row["fixed"] = ("failed: inner solve" if "inner" in str(fixed_error) else
@@ -136,12 +136,6 @@ def solver_study(cases):
             f"{newton_seconds:.2f} s, fixed point {row['fixed']} {fixed_seconds:.2f} s, "
             f"contraction factor {row['contraction']:.2f}")
     return rows
-
-
-def slope(records, last=10):
-    n = np.log([r["ndof"] for r in records[-last:]])
-    e = np.log([r["eta"] for r in records[-last:]])
-    return float(np.polyfit(n, e, 1)[0])
 
 
 def adaptive_study(levels, max_ndof):
@@ -219,10 +213,12 @@ def report(zone_h, zone_rows, solver_rows, curves):
           f"{r['newton_seconds']:.2f}", r["fixed"], f"{r['fixed_seconds']:.2f}",
           "-" if np.isnan(r["contraction"]) else f"{r['contraction']:.2f}",
           "-" if r["difference"] is None else f"{r['difference']:.1e}"] for r in solver_rows])
+    slopes = {m_t: slope([r["ndof"] for r in records[-10:]], [r["eta"] for r in records[-10:]])
+              for m_t, records in curves.items()}
     adaptive_table = markdown_table(
         ["m_t", "levels", "final DOFs", "final eta_h", "eta_4 (final)", "slope (last 10)", "Newton its per level"],
         [[f"{m_t:g}", len(records), records[-1]["ndof"], f"{records[-1]['eta']:.4e}",
-          f"{records[-1]['eta4']:.3e}", f"{slope(records):.3f}",
+          f"{records[-1]['eta4']:.3e}", f"{slopes[m_t]:.3f}",
           f"{min(r['iterations'] for r in records)}-{max(r['iterations'] for r in records)}"]
          for m_t, records in curves.items()])
     coupled = [r for r in solver_rows if r["m_t"] > 0]

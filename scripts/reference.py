@@ -9,26 +9,23 @@ last of them times their last ratio.
     python scripts/reference.py [--example 6.1 6.2] [--quick]
 """
 
-import argparse
 import shutil
 import tempfile
 import time
 from pathlib import Path
 
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say
+from common import command_line, examples_parser, markdown_table, say
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import atomic_path, write_text
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--example", nargs="+", choices=sorted(EXAMPLES), default=sorted(EXAMPLES))
+    parser = examples_parser(__doc__, quick="a coarse reference (smoke test)")
     parser.add_argument("--tol", type=float, default=0.02, help="stop at eta_h <= tol (default 0.02)")
     parser.add_argument("--max-ndof", type=int, default=150_000)
     parser.add_argument("--max-order", type=int, default=8)
-    parser.add_argument("--quick", action="store_true", help="a coarse reference (smoke test)")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 

@@ -49,10 +49,12 @@ from common import RESULTS, command_line, in_processes, markdown_table, say, wri
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.kkt import rounding_residual
-from ngdgfric.manufactured import contact_manufactured, friction_manufactured
 from ngdgfric.reduced import ReducedContact
+from ngdgfric.studies import max_rel_diff
+from ngdgfric.studies.manufactured import contact_manufactured, friction_manufactured
 
 # ============================================================================ PARAMETERS
 SEED = 20261112
@@ -95,7 +97,7 @@ def corner():
     return dataclasses.replace(ndf.example_6_2(), geometry=CORNER, name="corner")
 
 
-BASES = {"6.1": ndf.example_6_1, "6.2": ndf.example_6_2, "L-shape": l_shape, "corner": corner}
+BASES = {**EXAMPLES, "L-shape": l_shape, "corner": corner}
 G_A = {"0.05": lambda: 0.05, "0": lambda: 0.0, "-0.01": lambda: -0.01, "0.02": lambda: 0.02,
        "0.01*x": lambda: 0.01 * ngs.x, "0.001*(x-1)^2": lambda: 0.001 * (ngs.x - 1) ** 2}
 BASE_G_A = {"6.1": "0.05", "6.2": "0", "L-shape": "0.001*(x-1)^2", "corner": "0"}
@@ -347,11 +349,6 @@ def time_budget(seconds):
     return check
 
 
-def _max_rel_diff(a, b):
-    a, b = a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy()
-    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
-
-
 def _message(error):
     return f"{type(error).__name__}: {error}".replace("\n", " ").replace("|", "/")
 
@@ -391,7 +388,7 @@ def run_case(spec, uzawa_seconds=UZAWA_SECONDS):
                                   progress=time_budget(uzawa_seconds))
                 uzawa_kkt = ndf.kkt_residuals(uzawa)
                 row.update(uzawa_status="converged", uzawa_iterations=uzawa.iterations,
-                           uzawa_difference=_max_rel_diff(sol, uzawa),
+                           uzawa_difference=max_rel_diff(sol, uzawa),
                            uzawa_complementarity=uzawa_kkt["complementarity"],
                            uzawa_equilibrium=uzawa_kkt["equilibrium"])
             except OverBudget as error:

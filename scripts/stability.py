@@ -1,7 +1,7 @@
 """Where each method fails: penalty, near incompressibility, stiff compliance, friction extremes, Uzawa's rho.
 
-Every case is one independent solve (:mod:`ngdgfric.cases`) run through dask.distributed
-(:mod:`ngdgfric.runner`: a LocalCluster with one worker per core, or ``--scheduler ADDRESS``),
+Every case is one independent solve (:mod:`ngdgfric.studies.cases`) run through dask.distributed
+(:mod:`ngdgfric.studies.runner`: a LocalCluster with one worker per core, or ``--scheduler ADDRESS``),
 cached in ``--cache`` so a restarted study recomputes nothing.  Writes results/stability.md,
 stability.png and stability_<section>.csv; ``--speedup`` also times the locking section with one
 and with two workers (no cache).
@@ -19,10 +19,10 @@ import matplotlib
 import numpy as np
 from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
 
-from ngdgfric import cases
 from ngdgfric.files import write_text
 from ngdgfric.methods import METHODS, SIPG_THRESHOLD
-from ngdgfric.runner import run_cases
+from ngdgfric.studies import cases
+from ngdgfric.studies.runner import run_cases
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -117,8 +117,8 @@ def report(results, speedup):
               "here.)", ""]
     locking = results["locking"]
     lines += ["## Near incompressibility (volumetric locking)", "",
-              "Smooth manufactured solution (`ngdgfric.manufactured.elasticity_manufactured`, E = 1000), h = 1/8,",
-              "relative energy error.", "",
+              "Smooth manufactured solution (`ngdgfric.studies.manufactured.elasticity_manufactured`, E = 1000),",
+              "h = 1/8, relative energy error.", "",
               markdown_table(["method", "p"] + [f"nu = {nu}" for nu in sorted({r['nu'] for r in locking})],
                              [[m, p] + [fmt(r["relative_error"]) for r in sorted(
                                  (r for r in locking if r["method"] == m and r["order"] == p), key=lambda r: r["nu"])]

@@ -19,13 +19,14 @@ import math
 from pathlib import Path
 
 import ngsolve as ngs
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
-from ngdgfric.paper import TABLES
 from ngdgfric.reference import reference_errors
 from ngdgfric.studies import rates, uniform_study
+from ngdgfric.studies.paper import TABLES
 
 NORMS = ("energy", "relative", "h1", "l2")
 METHODS = ("sipg", "nipg")

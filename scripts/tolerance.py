@@ -12,9 +12,10 @@ import argparse
 import time
 from pathlib import Path
 
-from common import EXAMPLES, RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 
 TOLERANCES = (1e-1, 1e-2, 1e-3)

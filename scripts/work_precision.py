@@ -5,23 +5,22 @@ time and against DOFs for the five methods, P1-P3, uniform / h-adaptive / hp-ada
 (:func:`ngdgfric.studies.strategy_run`) and Newton / Uzawa; the Pareto front (no other run is both
 faster and more accurate) marked.  What each tolerance on the paper's eta_h (``weights="paper"``) costs
 per strategy.
-Cases run through dask.distributed with a cache (:mod:`ngdgfric.runner`).  Writes
+Cases run through dask.distributed with a cache (:mod:`ngdgfric.studies.runner`).  Writes
 results/work_precision_<example>.png / _dofs.png / .csv and results/work_precision.md.
 
     python scripts/work_precision.py [--quick] [--scheduler ADDRESS] [--workers N]
 """
 
-import argparse
 from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, examples_parser, markdown_table, save_figure, say, write_csv
 
-from ngdgfric.cases import precision_case
 from ngdgfric.files import write_text
 from ngdgfric.methods import METHODS
-from ngdgfric.runner import run_cases
+from ngdgfric.studies.cases import precision_case
+from ngdgfric.studies.runner import run_cases
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -32,15 +31,12 @@ TOLERANCES = (100.0, 10.0, 1.0)
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--example", nargs="+", default=["6.1", "6.2"], choices=["6.1", "6.2"])
-    parser.add_argument("--quick", action="store_true", help="SIPG P1 with small budgets (smoke test)")
+    parser = examples_parser(__doc__, quick="SIPG P1 with small budgets (smoke test)")
     parser.add_argument("--newton-ndof", type=int, default=30_000, help="DOF budget per Newton run")
     parser.add_argument("--uzawa-ndof", type=int, default=5_000, help="DOF budget per Uzawa run")
     parser.add_argument("--scheduler", default=None)
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--cache", type=Path, default=Path(".cache/work_precision"))
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 

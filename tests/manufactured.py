@@ -1,10 +1,8 @@
-"""Manufactured solutions used by the tests (they live in :mod:`ngdgfric.manufactured`)."""
+"""Manufactured solutions used by the tests (they live in :mod:`ngdgfric.studies.manufactured`)."""
 
-from ngdgfric.manufactured import (  # noqa: F401
-    body_force_and_traction,
+from ngdgfric.studies.manufactured import (  # noqa: F401
     contact_manufactured,
     elasticity_manufactured,
     friction_manufactured,
     incompressible_contact_manufactured,
-    strain_of,
 )

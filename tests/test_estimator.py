@@ -23,7 +23,7 @@ def test_element_indicators_sum_to_eta_squared(solution):
 
 
 def test_eta3_equals_penalty_times_the_jump_part_of_the_energy_norm(solution):
-    # eta_3^2 = eta / h_e ||[u]||^2 over E_h^o (p = 1): computed independently by norms.py
+    # eta_3^2 = eta / h_e ||[u]||^2 over E_h^o (p = 1): computed independently by reference.energy_norm_squared_parts
     _, jumps = energy_norm_squared_parts(solution.problem, solution.mesh, solution.u)
     assert ndf.estimate(solution).parts["eta3"] == pytest.approx(solution.eta * jumps, rel=1e-10)
 

@@ -3,7 +3,7 @@
 import ngsolve as ngs
 import numpy as np
 import pytest
-from manufactured import incompressible_contact_manufactured
+from manufactured import contact_manufactured, friction_manufactured, incompressible_contact_manufactured
 
 import ngdgfric as ndf
 
@@ -45,3 +45,25 @@ def test_divergence_free_solution_converges_at_the_optimal_rate(order):
     errors = [ndf.energy_norm(ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k), method="nipg", order=order), u)
               for k in (3, 4)]
     assert np.log2(errors[0] / errors[1]) == pytest.approx(order, abs=0.1)
+
+
+@pytest.mark.parametrize("build", [contact_manufactured, lambda: friction_manufactured(m_t=1),
+                                   lambda: friction_manufactured(m_t=2)])
+def test_contact_solutions_satisfy_compliance_and_friction_pointwise(build):
+    problem, u = build()
+    grad = ngs.CF((u[0].Diff(ngs.x), u[0].Diff(ngs.y), u[1].Diff(ngs.x), u[1].Diff(ngs.y)), dims=(2, 2))
+    eps = 0.5 * (grad + grad.trans)
+    sigma = 2 * problem.mu * eps + problem.lam * (eps[0, 0] + eps[1, 1]) * ngs.Id(2)
+    xs = np.linspace(0.005, 0.995, 199)
+    sigma_n, sigma_tau = _on_contact(sigma[1, 1], xs), _on_contact(-sigma[0, 1], xs)  # n = (0, -1), t = (1, 0)
+    u_n, u_tau = _on_contact(-u[1], xs), _on_contact(u[0], xs)
+    penetration = np.maximum(u_n - _on_contact(problem.g_a, xs), 0)
+    c_tau = _on_contact(problem.c_tau, xs) if isinstance(problem.c_tau, ngs.CoefficientFunction) else problem.c_tau
+    bound = c_tau * penetration**problem.m_t
+    scale = np.max(np.abs(sigma_n))
+    np.testing.assert_allclose(sigma_n, -problem.c_n * penetration, atol=1e-12 * scale)
+    assert np.all(np.abs(sigma_tau) <= bound + 1e-12 * scale)
+    slip = np.abs(u_tau) > 1e-12
+    np.testing.assert_allclose(sigma_tau[slip], -bound[slip] * np.sign(u_tau[slip]), atol=1e-12 * scale)
+    # contact and no contact, stick and slip all occur along Gamma_C
+    assert (penetration > 0).any() and (penetration == 0).any() and slip.any() and (~slip & (penetration > 0)).any()

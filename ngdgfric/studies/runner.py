@@ -1,7 +1,7 @@
 """Run many independent study cases through dask.distributed, with a cache on disk.
 
 A case is a dict of plain parameters; a case function (importable by the workers, e.g. from
-:mod:`ngdgfric.cases`) maps it to a dict of results.  Every finished case is written at once to
+:mod:`ngdgfric.studies.cases`) maps it to a dict of results.  Every finished case is written at once to
 ``<cache>/<key>.json`` (key: hash of the function's name and the case), so a restarted study
 never recomputes it, whatever executor ran it.  ``scheduler``: address of a running dask
 scheduler (``tcp://host:8786``) to use its cluster; default: a ``LocalCluster`` with one

@@ -1,7 +1,7 @@
 """Single cases of the stability and work-precision studies: plain dict in, plain dict out.
 
 Each function builds everything from the case's parameters, so it can run in any dask worker
-(:mod:`ngdgfric.runner`).  A solver that fails is a result, not an error: ``status`` records it.
+(:mod:`ngdgfric.studies.runner`).  A solver that fails is a result, not an error: ``status`` records it.
 """
 
 import dataclasses
@@ -10,25 +10,23 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import normal_tangent
-from .discretization import Discretization
-from .errors import SolverError
-from .examples import example_6_1, example_6_2
-from .forms import edge_length, jump_inner
-from .kkt import contact_state, kkt_residuals
+from .. import contact_state, kkt_residuals
+from ..contact import normal_tangent
+from ..discretization import Discretization
+from ..errors import SolverError
+from ..estimator import estimate
+from ..examples import example
+from ..meshes import uniform_mesh
+from ..methods import get_method
+from ..problem import stress
+from ..reference import energy_error, energy_norm, load_reference
+from ..solution import solve
+from ..uzawa import default_rho, uzawa
 from .manufactured import elasticity_manufactured, strain_of
-from .meshes import uniform_mesh
-from .methods import get_method
-from .problem import strain, stress
-from .reference import energy_error, energy_norm, load_reference
-from .solution import solve
-from .studies import strategy_run
-from .uzawa import default_rho, uzawa
+from .strategies import strategy_run
 
-__all__ = ["EXAMPLES", "penalty_value", "coercivity", "penalty_case", "locking_case", "compliance_case",
-           "friction_case", "rho_case", "precision_case"]
-
-EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
+__all__ = ["penalty_value", "energy_gram", "coercivity", "penalty_threshold", "threshold_case", "penalty_case",
+           "locking_case", "compliance_case", "friction_case", "rho_case", "precision_case"]
 
 
 def penalty_value(problem, method, ratio):
@@ -37,19 +35,29 @@ def penalty_value(problem, method, ratio):
     return ratio * get_method(method).eta_scale(problem)
 
 
-def coercivity(problem, mesh, method, order, eta):
-    """min over v of B_h(v, v) / |||v|||_h^2 for the linear part of B_h (generalised eigenvalue)."""
-    disc = Discretization(problem, mesh, method, order, eta, penalty_check="ignore")
-    A = disc.A.ToDense().NumPy()
-    u, v = disc.V.TnT()
-    n = ngs.specialcf.normal(2)
-    h_e = edge_length(mesh)
-    norm = ngs.BilinearForm(disc.V)
-    norm += ngs.InnerProduct(stress(problem, strain(u)), strain(v)) * ngs.dx
-    norm += jump_inner(u - u.Other(), v - v.Other(), n) / h_e * ngs.dx(skeleton=True)
-    norm += jump_inner(u, v, n) / h_e * ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.dirichlet))
-    norm.Assemble()
-    lower = np.linalg.cholesky(norm.mat.ToDense().NumPy())
+def _dense(problem, mesh, method, order, eta):
+    """The matrix of the linear part of B_h (Section 3) as a dense array."""
+    return Discretization(problem, mesh, method, order, eta, penalty_check="ignore").A.ToDense().NumPy()
+
+
+def energy_gram(problem, mesh, order):
+    """The matrix of the inner product of |||.|||_h (Section 3, :func:`ngdgfric.reference.energy_norm`) on V_h.
+
+    It is the symmetric part of NIPG's B_h^(2) with eta p^2 = 1: the consistency terms of NIPG,
+    <[u], {sigma_h(v)}> - <[v], {sigma_h(u)}>, are antisymmetric, which leaves (sigma_h(u), eps_h(v)) +
+    sum_{e in E_h^o} h_e^-1 <[u], [v]>_e.
+    """
+    nipg = _dense(problem, mesh, "nipg", order, 1.0 / order**2)
+    return 0.5 * (nipg + nipg.T)
+
+
+def coercivity(problem, mesh, method, order, eta, gram=None):
+    """min over v of B_h(v, v) / |||v|||_h^2 for the linear part of B_h (generalised eigenvalue).
+
+    ``gram``: :func:`energy_gram` of (problem, mesh, order), if it is at hand.
+    """
+    A = _dense(problem, mesh, method, order, eta)
+    lower = np.linalg.cholesky(energy_gram(problem, mesh, order) if gram is None else gram)
     scaled = np.linalg.solve(lower, np.linalg.solve(lower, 0.5 * (A + A.T)).T)
     return float(np.linalg.eigvalsh(0.5 * (scaled + scaled.T))[0])
 
@@ -61,12 +69,17 @@ def _solve(problem, mesh, **kwargs):
         sol = solve(problem, mesh, penalty_check="ignore", **kwargs)
         return sol, "converged", time.perf_counter() - start
     except SolverError as error:
-        return None, f"failed: {str(error).splitlines()[0][:120]}", time.perf_counter() - start
+        return None, _failed(error), time.perf_counter() - start
+
+
+def _failed(error):
+    """The status of a case whose solver raised ``error``."""
+    return f"failed: {str(error).splitlines()[0][:120]}"
 
 
 def penalty_case(case):
     """case: example, method, order, ratio (eta/mu), h_eig, h, reference (path)."""
-    problem = EXAMPLES[case["example"]]()
+    problem = example(case["example"])
     eta = penalty_value(problem, case["method"], case["ratio"])
     lam_min = coercivity(problem, uniform_mesh(problem, case["h_eig"]), case["method"], case["order"], eta)
     sol, status, seconds = _solve(problem, uniform_mesh(problem, case["h"]), method=case["method"],
@@ -97,12 +110,10 @@ def _contact_summary(sol):
 def compliance_case(case):
     """case: example, c_n, solver, h.  Iterations, penetration, eta_h (the paper's weights), and the condition number of
     A + c_n (u.n, v.n)_{Gamma_C}, the Jacobian with the whole of Gamma_C in contact (m_n = 1)."""
-    from .estimator import estimate
-
-    problem = dataclasses.replace(EXAMPLES[case["example"]](), c_n=case["c_n"])
+    problem = dataclasses.replace(example(case["example"]), c_n=case["c_n"])
     mesh = uniform_mesh(problem, case["h"])
     sol, status, seconds = _solve(problem, mesh, solver=case["solver"], maxit=case.get("maxit", 5000))
-    disc = Discretization(problem, mesh)
+    disc = Discretization(problem, mesh) if sol is None else sol.discretization
     n, _ = normal_tangent()
     u, v = disc.V.TnT()
     stiff = ngs.BilinearForm(disc.V)
@@ -117,7 +128,7 @@ def compliance_case(case):
 
 def friction_case(case):
     """case: example, c_tau, solver, h.  Iterations, stick/slip shares, KKT residuals."""
-    problem = dataclasses.replace(EXAMPLES[case["example"]](), c_tau=case["c_tau"])
+    problem = dataclasses.replace(example(case["example"]), c_tau=case["c_tau"])
     sol, status, seconds = _solve(problem, uniform_mesh(problem, case["h"]), solver=case["solver"],
                                   maxit=case.get("maxit", 5000))
     out = dict(case, status=status, seconds=seconds)
@@ -128,7 +139,7 @@ def friction_case(case):
 
 def rho_case(case):
     """case: example, factor, h.  Uzawa with rho = factor * default_rho (the paper's solver)."""
-    problem = EXAMPLES[case["example"]]()
+    problem = example(case["example"])
     disc = Discretization(problem, uniform_mesh(problem, case["h"]))
     rho = case["factor"] * default_rho(disc)
     start = time.perf_counter()
@@ -136,7 +147,7 @@ def rho_case(case):
         _, _, info = uzawa(disc, rho=rho, maxit=case.get("maxit", 3000))
         status, iterations = "converged", info["iterations"]
     except SolverError as error:
-        status, iterations = f"failed: {str(error).splitlines()[0][:120]}", len(error.history)
+        status, iterations = _failed(error), len(error.history)
     return dict(case, rho=rho, status=status, iterations=iterations, seconds=time.perf_counter() - start)
 
 
@@ -144,7 +155,7 @@ def precision_case(case):
     """case: example, method, order, strategy, solver, max_ndof, reference.  The records of
     :func:`ngdgfric.studies.strategy_run` (DOFs, eta_h with the paper's weights, true error, seconds per
     level)."""
-    problem = EXAMPLES[case["example"]]()
+    problem = example(case["example"])
     reference = load_reference(case["reference"], problem)
     try:
         records = strategy_run(problem, case["strategy"], method=case["method"], order=case["order"],
@@ -152,15 +163,17 @@ def precision_case(case):
                                max_order=case.get("max_order", 8), weights="paper")
         status = "converged"
     except SolverError as error:
-        records, status = [], f"failed: {str(error).splitlines()[0][:120]}"
+        records, status = [], _failed(error)
     return dict(case, status=status, records=records)
 
 
 def penalty_threshold(problem, mesh, method, order, low=1e-2, high=1e3, steps=14):
     """The smallest eta/mu (see :func:`penalty_value`) with a coercive linear part on ``mesh``, by
     bisection in log eta between ``low`` and ``high`` (``low`` if already coercive there)."""
+    gram = energy_gram(problem, mesh, order)
+
     def coercive(ratio):
-        return coercivity(problem, mesh, method, order, penalty_value(problem, method, ratio)) > 0
+        return coercivity(problem, mesh, method, order, penalty_value(problem, method, ratio), gram) > 0
 
     if coercive(low):
         return low
@@ -175,7 +188,7 @@ def penalty_threshold(problem, mesh, method, order, low=1e-2, high=1e3, steps=14
 def threshold_case(case):
     """case: example, method, order, h, nu (optional: overrides the example's).  The measured
     threshold as eta/mu and as eta/(2 mu + lam)."""
-    problem = EXAMPLES[case["example"]]()
+    problem = example(case["example"])
     if case.get("nu") is not None:
         problem = dataclasses.replace(problem, nu=case["nu"])
     ratio = penalty_threshold(problem, uniform_mesh(problem, case["h"]), case["method"], case["order"])

@@ -11,11 +11,10 @@ import math
 
 import ngsolve as ngs
 
-from .problem import ContactProblem, Polygon, stress
+from ..problem import ContactProblem, Polygon, stress
 
 __all__ = ["strain_of", "body_force_and_traction", "elasticity_manufactured", "contact_manufactured",
-           "incompressible_contact_manufactured",
-           "friction_manufactured"]
+           "incompressible_contact_manufactured", "friction_manufactured"]
 
 
 def _grad(u):
@@ -37,6 +36,29 @@ def body_force_and_traction(problem, u):
     return f, sigma * ngs.specialcf.normal(2)
 
 
+def _with_loads(problem, u):
+    """(problem with f = -div sigma(u) and g = sigma(u) n, u): u solves it where the contact conditions hold."""
+    f, g = body_force_and_traction(problem, u)
+    return dataclasses.replace(problem, f=f, g=g), u
+
+
+def _square_on_foundation(E, nu, c_n, c_tau=0.0, m_t=0.0):
+    """Omega = (0, 1)^2 with Gamma_C = bottom (n = (0, -1), t = (1, 0)), Gamma_D = top, Gamma_F = left and
+    right; m_n = 1, no loads and no gap yet (set from the chosen u)."""
+    geometry = Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="traction", top="dirichlet", left="traction")
+    return ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=0.0, c_tau=c_tau, geometry=geometry,
+                          m_t=m_t)
+
+
+def _positive_part(z):
+    return ngs.IfPos(z, z, 0)
+
+
+def _fourth(z):
+    """z^4 as a product: Diff of a power of IfPos gives NaN at 0."""
+    return z * z * z * z
+
+
 def elasticity_manufactured(E=1000.0, nu=0.3):
     """Smooth u with u = 0 on Gamma_D = {x = 1} and sigma(u) n = 0 on Gamma_C = {y = 0}.
 
@@ -46,16 +68,9 @@ def elasticity_manufactured(E=1000.0, nu=0.3):
     """
     x, y = ngs.x, ngs.y
     u = ngs.CF((y**2 * (1 - x) * ngs.sin(x + y), y**2 * (1 - x) * ngs.cos(2 * x - y)))
-    geometry = Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="dirichlet", top="traction",
-                                     left="traction")
-    base = ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=1.0, m_n=1, g_a=1.0, c_tau=0.0,
-                              geometry=geometry)
-    f, g = body_force_and_traction(base, u)
-    return dataclasses.replace(base, f=f, g=g), u
-
-
-def positive_part(z):
-    return ngs.IfPos(z, z, 0)
+    geometry = Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="dirichlet", top="traction", left="traction")
+    return _with_loads(ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=1.0, m_n=1, g_a=1.0, c_tau=0.0,
+                                      geometry=geometry), u)
 
 
 def contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=50.0):
@@ -88,29 +103,24 @@ def contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=50.0):
     The solution has contact and no-contact zones and stick and slip zones on Gamma_C.
     """
     x = ngs.x
-    geometry = Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="traction", top="dirichlet",
-                                     left="traction")
-    base = ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=0.0, c_tau=0.0,
-                              geometry=geometry)
+    base = _square_on_foundation(E, nu, c_n)
     mu, lam = base.mu, base.lam
     s = x - 0.5
-    s_plus = positive_part(s)
+    s_plus = _positive_part(s)
     psi = s_plus * s_plus * s_plus
     dpsi = 3 * s_plus * s_plus
     d2psi = 6 * s_plus
-    r = positive_part(0.25 - x)
+    r = _positive_part(0.25 - x)
     chi = K * r * r * r
     dchi = -3 * K * r * r
     phi = (lam * dpsi + chi) / (2 * mu + lam)
     dphi = (lam * d2psi + dchi) / (2 * mu + lam)
     u = (1 - ngs.y) * ngs.CF((psi, phi))
     u_n = -phi
-    q = positive_part(x - 0.25)
+    q = _positive_part(x - 0.25)
     g_a = u_n - chi / c_n + q * q * q
     c_tau = ngs.IfPos(s, mu * (dphi - psi), mu * (ngs.IfPos(dphi, dphi, -dphi) - s))
-    problem = dataclasses.replace(base, g_a=g_a, c_tau=c_tau)
-    f, g = body_force_and_traction(problem, u)
-    return dataclasses.replace(problem, f=f, g=g), u
+    return _with_loads(dataclasses.replace(base, g_a=g_a, c_tau=c_tau), u)
 
 
 def friction_manufactured(m_t=1, E=1000.0, nu=0.3, c_n=10.0, c_tau=100.0, K=50.0, M=32.0):
@@ -144,24 +154,18 @@ def friction_manufactured(m_t=1, E=1000.0, nu=0.3, c_n=10.0, c_tau=100.0, K=50.0
     f = -div sigma(u) in Omega, g = sigma(u) n on Gamma_F.
     """
     x, y = ngs.x, ngs.y
-    geometry = Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="traction", top="dirichlet",
-                                     left="traction")
-    base = ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=0.0, c_tau=c_tau,
-                              geometry=geometry, m_t=m_t)
+    base = _square_on_foundation(E, nu, c_n, c_tau=c_tau, m_t=m_t)
     mu, lam = base.mu, base.lam
-    fourth = lambda z: z * z * z * z  # products: Diff of a power of IfPos gives NaN at 0  # noqa: E731
-    r, s, q = positive_part(0.5 - x), positive_part(x - 0.25), positive_part(x - 0.5)
-    w = 1 - M * fourth(positive_part(0.25 - x))
-    penetration = K / c_n * fourth(r)
+    r, s, q = _positive_part(0.5 - x), _positive_part(x - 0.25), _positive_part(x - 0.5)
+    w = 1 - M * _fourth(_positive_part(0.25 - x))
+    penetration = K / c_n * _fourth(r)
     traction = -c_tau * math.prod([penetration] * m_t, start=ngs.CF(1)) * w
-    psi, dpsi = fourth(s), 4 * s * s * s
+    psi, dpsi = _fourth(s), 4 * s * s * s
     phi, dphi = x * x / 4, x / 2
     alpha = psi - dphi - traction / mu
     beta = phi + (-c_n * penetration - lam * dpsi) / (2 * mu + lam)
     u = ngs.CF(((1 - y) * psi + y * (1 - y) * alpha, (1 - y) * phi + y * (1 - y) * beta))
-    problem = dataclasses.replace(base, g_a=-phi - penetration + fourth(q))
-    f, g = body_force_and_traction(problem, u)
-    return dataclasses.replace(problem, f=f, g=g), u
+    return _with_loads(dataclasses.replace(base, g_a=-phi - penetration + _fourth(q)), u)
 
 
 def incompressible_contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=16.0):
@@ -188,22 +192,17 @@ def incompressible_contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=16.0):
     g = sigma(u) n on Gamma_F.  Every function is C^3 and not a polynomial (no p gives u exactly).
     """
     x, y = ngs.x, ngs.y
-    geometry = Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="traction", top="dirichlet",
-                                 left="traction")
-    base = ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=0.0, c_tau=0.0,
-                          geometry=geometry)
+    base = _square_on_foundation(E, nu, c_n)
     mu = base.mu
-    fourth = lambda z: z * z * z * z  # products: Diff of a power of IfPos gives NaN at 0  # noqa: E731
-    s, r = positive_part(x - 0.5), positive_part(0.25 - x)
+    s, r = _positive_part(x - 0.5), _positive_part(0.25 - x)
     ex = ngs.exp(x)
-    T = ex * (fourth(s) - K * fourth(r))
-    dT = ex * (fourth(s) + 4 * s * s * s + K * r * r * r * (4 - r))
-    d2T = ex * (fourth(s) + 8 * s * s * s + 12 * s * s + K * r * r * (-r * r + 8 * r - 12))
+    T = ex * (_fourth(s) - K * _fourth(r))
+    dT = ex * (_fourth(s) + 4 * s * s * s + K * r * r * r * (4 - r))
+    d2T = ex * (_fourth(s) + 8 * s * s * s + 12 * s * s + K * r * r * (-r * r + 8 * r - 12))
     phi = -(1 - y) * (1 - y) * ngs.exp(y)
     u = ngs.CF((phi.Diff(y) * T, -phi * dT))
-    middle = positive_part(x - 0.25) * positive_part(0.5 - x)
+    middle = _positive_part(x - 0.25) * _positive_part(0.5 - x)
     slip = T + d2T
     c_tau = mu * (ngs.IfPos(slip, slip, -slip) + 256 * middle * middle)
-    problem = dataclasses.replace(base, g_a=-dT - 2 * mu * dT / c_n + 4096 * fourth(middle), c_tau=c_tau)
-    f, g = body_force_and_traction(problem, u)
-    return dataclasses.replace(problem, f=f, g=g), u
+    return _with_loads(dataclasses.replace(base, g_a=-dT - 2 * mu * dT / c_n + 4096 * _fourth(middle), c_tau=c_tau),
+                       u)

@@ -1,10 +1,8 @@
 """Numbers printed in Porwal & Tanvi, Section 6 (targets to compare with, never inputs)."""
 
-__all__ = ["TABLES", "TABLE_H_EXPONENTS"]
+__all__ = ["TABLES"]
 
-TABLE_H_EXPONENTS = (1, 2, 3, 4, 5)  # rows h = 2^-1 ... 2^-5
-
-# Tables 6.1 (Example 6.1) and 6.2 (Example 6.2): error and order of convergence per row.
+# Tables 6.1 (Example 6.1) and 6.2 (Example 6.2): error and order of convergence per row h = 2^-1 ... 2^-5.
 TABLES = {
     "6.1": {
         "sipg": {"error": (4.7518e-1, 2.9620e-1, 1.7708e-1, 1.0731e-1, 6.7152e-2),

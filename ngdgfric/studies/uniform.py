@@ -1,0 +1,71 @@
+"""Convergence on uniform meshes h = 2^-k (Tables 6.1, 6.2): solutions, the norms of the differences of
+consecutive solutions and the observed rates, as plain records."""
+
+import math
+import time
+
+import ngsolve as ngs
+
+from ..checks import check_size
+from ..meshes import estimated_elements, uniform_mesh
+from ..reference import energy_norm, energy_norm_squared_parts
+from ..solution import solve
+from .measures import rates
+
+__all__ = ["uniform_study", "consecutive_differences", "difference_norms"]
+
+
+def difference_norms(coarse, fine):
+    """Norms of u_coarse - u_fine on the finer mesh (coarse interpolated: exact for nested meshes).
+
+    Returns a dict with ``energy`` (|||.|||_h of Section 3 on the fine mesh), its parts
+    ``energy_volume`` and ``energy_jumps``, ``h1`` (broken H1 seminorm), ``l2``, and ``relative``
+    (energy / |||u_fine|||_h).
+    """
+    w = ngs.GridFunction(fine.u.space)
+    w.Set(coarse.u)
+    w.vec.data -= fine.u.vec
+    dx = ngs.dx(bonus_intorder=max(2 * w.space.globalorder + 2 - 5, 0))  # exact: degree 2 p + 2 (default 5)
+    volume, jumps = energy_norm_squared_parts(fine.problem, fine.mesh, w)
+    energy = math.sqrt(volume + jumps)
+    return dict(
+        energy=energy, energy_volume=math.sqrt(volume), energy_jumps=math.sqrt(jumps),
+        h1=math.sqrt(ngs.Integrate(ngs.InnerProduct(ngs.Grad(w), ngs.Grad(w)) * dx, fine.mesh)),
+        l2=math.sqrt(ngs.Integrate(w * w * dx, fine.mesh)),
+        relative=energy / energy_norm(fine),
+    )
+
+
+def consecutive_differences(solutions):
+    """:func:`difference_norms` of each pair of consecutive solutions (coarse, fine)."""
+    return [difference_norms(c, f) for c, f in zip(solutions[:-1], solutions[1:], strict=True)]
+
+
+def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), solver="newton",
+                  diagonal="sw-ne", eta=None, progress=None, **options):
+    """Solve on uniform meshes h = 2^-k, k in ``levels``, and compare consecutive solutions.
+
+    Returns (rows, solutions): one row per level but the last, with h, ndof, iterations,
+    seconds, the norms of :func:`consecutive_differences` and the observed ``rate`` of the
+    energy error.  ``progress``: callable(str) for one line per solved level.  The finest mesh's
+    size is checked before the first solve (:func:`ngdgfric.checks.check_size`, ``max_ndof`` in
+    ``options``).
+    """
+    check_size(order, options.get("max_ndof"), elements=estimated_elements(problem, h=2.0**-max(levels)))
+    solutions, seconds = [], []
+    for k in levels:
+        h = 2.0**-k
+        mesh = uniform_mesh(problem, h, diagonal=diagonal, max_elements=None)
+        start = time.perf_counter()
+        sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, **options)
+        seconds.append(time.perf_counter() - start)
+        solutions.append(sol)
+        if progress is not None:
+            progress(f"  h = 2^-{k}: {sol.ndof} dofs, {solver} {sol.iterations} iterations, {seconds[-1]:.2f} s")
+    diffs = consecutive_differences(solutions)
+    hs = [2.0**-k for k in levels]
+    observed = rates([d["energy"] for d in diffs], hs[:-1])
+    rows = []
+    for k, h, sol, sec, diff, rate in zip(levels, hs, solutions, seconds, diffs, observed, strict=False):
+        rows.append(dict(k=k, h=h, ndof=sol.ndof, iterations=sol.iterations, seconds=sec, rate=rate, **diff))
+    return rows, solutions
