@@ -82,7 +82,7 @@ def minimum_angle(mesh):
     return float(smallest.min())
 
 
-FIELDS = ["level", "ndof", "elements", "eta", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",
+FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",
           "iterations", "solve_seconds", "estimate_seconds", "mark_refine_seconds", "h_min", "min_angle",
           "p_min", "p_max"]
 
@@ -143,10 +143,10 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
     records = []
     for level in range(max_levels):
         sol, est, seconds = loop.solve(level == max_levels - 1)
-        stopped = "tol" if tol is not None and est.total <= tol else "max_levels" if level == max_levels - 1 else None
+        stopped = "tol" if tol is not None and est.eta_h <= tol else "max_levels" if level == max_levels - 1 else None
         if stopped is None:
-            refinement = dict(indicators=est.element, marked=_timed(seconds, "mark_refine", dorfler_mark,
-                                                                     est.element, theta))
+            refinement = dict(indicators=est.eta_T_squared, marked=_timed(seconds, "mark_refine", dorfler_mark,
+                                                                     est.eta_T_squared, theta))
             stopped = _timed(seconds, "mark_refine", loop.too_large, max_ndof, refinement)
             if stopped is not None:
                 sol, est = loop.settle(sol, est, True, seconds)
@@ -183,7 +183,7 @@ class _Loop:
         sol = solve(self.problem, self.mesh, order=orders, initial=self.previous, **inexact, **self.solve_options)
         seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
         sol, est = self.settle(sol, None, last, seconds)
-        self.sol, self.predicted = sol, est.total
+        self.sol, self.predicted = sol, est.eta_h
         return sol, est, seconds
 
     def settle(self, sol, est, returned, seconds):
@@ -213,8 +213,8 @@ class _Loop:
 def _record(level, sol, est, state, seconds):
     """The CSV row of a level (keys ``FIELDS``)."""
     mesh = sol.mesh
-    return dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta=est.total,
-                **{k: math.sqrt(v) for k, v in est.parts.items()}, eta_lin=sol.info.get("linearization", 0.0),
+    return dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta_h=est.eta_h,
+                **{k: math.sqrt(v) for k, v in est.terms_squared.items()}, eta_lin=sol.info.get("linearization", 0.0),
                 iterations=sol.iterations, solve_seconds=seconds["solve"], estimate_seconds=seconds["estimate"],
                 mark_refine_seconds=seconds["mark_refine"], h_min=float(element_diameters(mesh).min()),
                 min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()))
@@ -245,10 +245,10 @@ def _settle(sol, est, weights, tol, gamma_lin, returned, seconds):
     for partial in (True, False):
         if sol.state is None:
             break
-        full = not partial or returned or (tol is not None and est.total <= tol)
-        if not full and sol.info["linearization"] <= gamma_lin * est.total:
+        full = not partial or returned or (tol is not None and est.eta_h <= tol)
+        if not full and sol.info["linearization"] <= gamma_lin * est.eta_h:
             break
-        sol = _timed(seconds, "solve", finish, sol, energy_tol=None if full else gamma_lin * est.total)
+        sol = _timed(seconds, "solve", finish, sol, energy_tol=None if full else gamma_lin * est.eta_h)
         est = _timed(seconds, "estimate", estimate, sol, weights)
     return sol, est
 
@@ -286,6 +286,6 @@ def _report(records, csv_path, progress, solver):
         write_csv(csv_path, records, FIELDS)
     if progress is not None:
         orders = f"p {record['p_min']}..{record['p_max']}, " if record["p_max"] > record["p_min"] else ""
-        progress(f"level {record['level']:3d}: {record['ndof']:7d} dofs, {orders}eta_h = {record['eta']:.4e}, "
+        progress(f"level {record['level']:3d}: {record['ndof']:7d} dofs, {orders}eta_h = {record['eta_h']:.4e}, "
                  f"{solver} {record['iterations']} iterations, {record['solve_seconds']:.2f} s solve, "
                  f"{record['estimate_seconds'] + record['mark_refine_seconds']:.2f} s estimate+refine")

@@ -213,7 +213,8 @@ def cmd_solve(args, problem, tag):
     estimated = time.perf_counter()
     record = dict(problem=problem.name, mesh=described, elements=mesh.ne, method=sol.method, order=sol.order,
                   penalty=sol.eta, solver=sol.solver, ndof=sol.ndof, iterations=sol.iterations,
-                  energy_norm=energy_norm(sol), eta_h=est.total, **{k: math.sqrt(v) for k, v in est.parts.items()},
+                  energy_norm=energy_norm(sol), eta_h=est.eta_h,
+                  **{k: math.sqrt(v) for k, v in est.terms_squared.items()},
                   solve_seconds=solved - start, estimate_seconds=estimated - solved)
     say(f"  DOFs             {record['ndof']}")
     say(f"  iterations       {record['iterations']}")
@@ -252,7 +253,7 @@ def cmd_uniform(args, problem, tag):
         study, solutions = uniform_study(problem, method, args.order, levels, solver=args.solver, eta=args.eta,
                                          progress=say, tol=args.solver_tol, max_ndof=args.max_ndof)
         for row, sol in zip(study, solutions, strict=False):
-            row = dict(method=method, order=args.order, **row, eta_h=estimate(sol).total)
+            row = dict(method=method, order=args.order, **row, eta_h=estimate(sol).eta_h)
             say(f"  h = 2^-{row['k']}: |||u_h - u_h/2|||_h = {row['energy']:.4e}, rate {rate_text(row['rate'])}, "
                 f"eta_h = {row['eta_h']:.4e}")
             rows.append(row)

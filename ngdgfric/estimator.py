@@ -73,11 +73,12 @@ __all__ = ["Estimate", "estimate", "div_stress"]
 
 @dataclass
 class Estimate:
-    """element: eta_T^2 per element (numpy); parts: global eta_1^2 ... eta_6^2; total: eta_h."""
+    """The estimator of a solution: ``eta_T_squared``, eta_T^2 per element (numpy); ``terms_squared``,
+    the global eta_1^2 ... eta_6^2 (keys "eta1" ... "eta6"); ``eta_h`` = (sum_T eta_T^2)^(1/2)."""
 
-    element: np.ndarray
-    parts: dict
-    total: float
+    eta_T_squared: np.ndarray
+    terms_squared: dict
+    eta_h: float
 
 
 def div_stress(problem, u, lam=None):
@@ -171,8 +172,8 @@ def estimate(sol, weights="energy"):
         residual_weight = calibration * _inverse_stiffness(problem, mesh)
         parts = {name: value * (calibration if name == "eta3" else residual_weight) for name, value in parts.items()}
     element = sum(parts.values())
-    return Estimate(element=element, parts={k: float(v.sum()) for k, v in parts.items()},
-                    total=float(np.sqrt(element.sum())))
+    return Estimate(eta_T_squared=element, terms_squared={k: float(v.sum()) for k, v in parts.items()},
+                    eta_h=float(np.sqrt(element.sum())))
 
 
 def _stress_and_volume_term(sol, weights, q):

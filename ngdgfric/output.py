@@ -129,7 +129,7 @@ def write_deformed_png(path, sol, scale=None):
 
 def estimator_curve(records):
     """(N, eta_h): the DOFs and the estimator of the levels of :func:`ngdgfric.adapt`, as float arrays."""
-    return np.array([r["ndof"] for r in records], dtype=float), np.array([r["eta"] for r in records])
+    return np.array([r["ndof"] for r in records], dtype=float), np.array([r["eta_h"] for r in records])
 
 
 def plot_estimator(ax, curves, slope=None, **line):

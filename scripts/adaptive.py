@@ -66,8 +66,8 @@ def uniform_curve(problem, method, levels):
     rows = []
     for k in levels:
         sol = ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k), method=method)
-        rows.append(dict(h=2.0**-k, ndof=sol.ndof, eta=ndf.estimate(sol).total, iterations=sol.iterations))
-        say(f"  uniform h = 2^-{k}: {sol.ndof} dofs, eta_h = {rows[-1]['eta']:.4e}")
+        rows.append(dict(h=2.0**-k, ndof=sol.ndof, eta_h=ndf.estimate(sol).eta_h, iterations=sol.iterations))
+        say(f"  uniform h = 2^-{k}: {sol.ndof} dofs, eta_h = {rows[-1]['eta_h']:.4e}")
     return rows
 
 
@@ -96,9 +96,9 @@ def main(argv=None):
         write_csv(args.out / f"uniform_{tag}_{method}.csv", uniform[method])
         last, tail, coarse = adaptive[method][-1], adaptive[method][-10:], uniform[method][-3:]
         corner, contact, either = where_refined(problem, *meshes[method])
-        rows.append(dict(method=method, levels=len(adaptive[method]), ndof=last["ndof"], eta=last["eta"],
-                         slope=slope([r["ndof"] for r in tail], [r["eta"] for r in tail]),
-                         uniform_slope=slope([r["ndof"] for r in coarse], [r["eta"] for r in coarse]),
+        rows.append(dict(method=method, levels=len(adaptive[method]), ndof=last["ndof"], eta_h=last["eta_h"],
+                         slope=slope([r["ndof"] for r in tail], [r["eta_h"] for r in tail]),
+                         uniform_slope=slope([r["ndof"] for r in coarse], [r["eta_h"] for r in coarse]),
                          min_angle=min(r["min_angle"] for r in adaptive[method]),
                          overhead=(last["estimate_seconds"] + adaptive[method][-2]["mark_refine_seconds"])
                          / last["solve_seconds"],
@@ -114,13 +114,13 @@ def plot_curves(args, adaptive, uniform, path):
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for i, method in enumerate(adaptive):
         color = f"C{i}"
-        ax.loglog([r["ndof"] for r in adaptive[method]], [r["eta"] for r in adaptive[method]], "o-", color=color,
+        ax.loglog([r["ndof"] for r in adaptive[method]], [r["eta_h"] for r in adaptive[method]], "o-", color=color,
                   ms=3, label=f"{method.upper()} adaptive")
-        ax.loglog([r["ndof"] for r in uniform[method]], [r["eta"] for r in uniform[method]], "s--", color=color,
+        ax.loglog([r["ndof"] for r in uniform[method]], [r["eta_h"] for r in uniform[method]], "s--", color=color,
                   ms=4, label=f"{method.upper()} uniform")
     first = next(iter(adaptive.values()))
     n = np.array([first[0]["ndof"], first[-1]["ndof"]], dtype=float)
-    ax.loglog(n, first[0]["eta"] * (n / n[0]) ** -0.5, "k:", label="slope -1/2")
+    ax.loglog(n, first[0]["eta_h"] * (n / n[0]) ** -0.5, "k:", label="slope -1/2")
     ax.set_xlabel("degrees of freedom")
     ax.set_ylabel(r"estimator $\eta_h$")
     ax.set_title(f"Example {args.example}: estimator, theta = 0.3")
@@ -145,7 +145,7 @@ def report(args, rows, curve_png, mesh_png, mesh_level):
     header = ["method", "levels", "final DOFs", "final eta_h", "adaptive slope (last 10)",
               "uniform slope (last 3)", "min angle (deg)", "(estimate+mark+refine)/solve, finest",
               "smallest 10%: near corners", "near Gamma_C", "either"]
-    table = [[r["method"], r["levels"], r["ndof"], f"{r['eta']:.4e}", f"{r['slope']:.3f}",
+    table = [[r["method"], r["levels"], r["ndof"], f"{r['eta_h']:.4e}", f"{r['slope']:.3f}",
               f"{r['uniform_slope']:.3f}", f"{r['min_angle']:.1f}", f"{r['overhead']:.2f}",
               f"{100 * r['near_corner']:.0f}%", f"{100 * r['near_contact']:.0f}%", f"{100 * r['near_either']:.0f}%"]
              for r in rows]

@@ -34,7 +34,7 @@ YOUNG = (1.0, 1e3, 1e6)
 POISSON = (0.3, 0.49, 0.4999)
 LOCKING_RATIO = 1.5
 MIN_EXAMPLE_ERROR = 1e-3  # 30 times the hp references' estimated error
-FIELDS = ["family", "E", "nu", "method", "order", "mode", "level", "ndof", "error", "eta", "eta_paper",
+FIELDS = ["family", "E", "nu", "method", "order", "mode", "level", "ndof", "error", "eta_h", "eta_paper",
           "effectivity", "effectivity_paper", "seconds", "failure"]
 
 
@@ -102,9 +102,9 @@ def run_task(task):
 
     def record(level, sol, est, seconds):
         error = error_of(sol)
-        paper = ndf.estimate(sol, weights="paper").total
-        rows.append(dict(task, level=level, ndof=sol.ndof, error=error, eta=est.total, eta_paper=paper,
-                         effectivity=est.total / error, effectivity_paper=paper / error, seconds=seconds))
+        paper = ndf.estimate(sol, weights="paper").eta_h
+        rows.append(dict(task, level=level, ndof=sol.ndof, error=error, eta_h=est.eta_h, eta_paper=paper,
+                         effectivity=est.eta_h / error, effectivity_paper=paper / error, seconds=seconds))
 
     start = time.perf_counter()
     try:

@@ -453,7 +453,7 @@ def reference_cases():
         "points-nan": ("NaN vertex coordinates", 'd["points"][0, 0] = nan', False),
         "object-array": ("labels stored as a pickled object array",
                          'd["labels"] = np.array(list(d["labels"]), dtype=object)', False),
-        "eta-string": ("eta stored as a string", 'd["eta"] = np.array("abc")', False),
+        "eta-string": ("eta_h stored as a string", 'd["eta_h"] = np.array("abc")', False),
     }
     cases = []
     for kind, (description, change, issue) in tampered.items():

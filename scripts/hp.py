@@ -45,7 +45,7 @@ def label(strategy, order):
 def exponential_fit(records, last=5):
     """Least-squares line log eta_h = a + b N^(1/3) over the last levels; (b, max residual)."""
     n = np.array([r["ndof"] for r in records[-last:]]) ** (1 / 3)
-    e = np.log([r["eta"] for r in records[-last:]])
+    e = np.log([r["eta_h"] for r in records[-last:]])
     b, a = np.polyfit(n, e, 1)
     return float(b), float(np.max(np.abs(a + b * n - e)))
 
@@ -82,7 +82,7 @@ def plot(example, runs, final, out):
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
     for name, records in runs.items():
         marker, line = STYLE[name.split()[0].split("-")[0]]
-        for ax, key in zip(axes, ("eta", "error"), strict=True):
+        for ax, key in zip(axes, ("eta_h", "error"), strict=True):
             ax.loglog([r["ndof"] for r in records], [r[key] for r in records], marker=marker, linestyle=line,
                       markersize=3, label=name)
     for ax, title in zip(axes, ("estimator $\\eta_h$", "true error $|||u_{ref} - u_h|||_h$"), strict=True):
@@ -96,10 +96,10 @@ def plot(example, runs, final, out):
     b, residual = exponential_fit(hp)
     n = np.array([r["ndof"] for r in hp]) ** (1 / 3)
     fig, ax = plt.subplots(figsize=(6, 4.5))
-    ax.semilogy(n, [r["eta"] for r in hp], "D-", markersize=3, label="$\\eta_h$")
+    ax.semilogy(n, [r["eta_h"] for r in hp], "D-", markersize=3, label="$\\eta_h$")
     ax.semilogy(n, [r["error"] for r in hp], "o-", markersize=3, label="true error")
     tail = n[-5:]
-    ax.semilogy(tail, np.exp(np.log(hp[-1]["eta"]) + b * (tail - tail[-1])), "k:", label=f"fit, slope {b:.3f}")
+    ax.semilogy(tail, np.exp(np.log(hp[-1]["eta_h"]) + b * (tail - tail[-1])), "k:", label=f"fit, slope {b:.3f}")
     ax.set_xlabel("$N^{1/3}$")
     ax.set_title(f"Example {example}: hp-adaptive, exponential convergence")
     ax.legend()
@@ -118,7 +118,7 @@ def plot(example, runs, final, out):
 
 
 def effectivity_range(runs, floor=1e-3):
-    values = [r["eta"] / r["error"] for records in runs.values() for r in records if r["error"] >= floor]
+    values = [r["eta_h"] / r["error"] for records in runs.values() for r in records if r["error"] >= floor]
     return f"{min(values):.2f} - {max(values):.2f}" if values else "-"
 
 
@@ -138,12 +138,12 @@ def main(argv=None):
         runs, final, reference = run_example(example, args, budget)
         rows = [dict(run=name, **r) for name, records in runs.items() for r in records]
         write_csv(args.out / f"hp_{example.replace('.', '_')}.csv", rows,
-                  ["run", "level", "ndof", "eta", "error", "seconds", "iterations", "p_max"])
+                  ["run", "level", "ndof", "eta_h", "error", "seconds", "iterations", "p_max"])
         b, residual = plot(example, runs, final, args.out)
         target = runs["h-adaptive P1"][-1]
         needed = dofs_to_reach(runs["hp-adaptive"], target["error"])
         factor = target["ndof"] / needed if needed else None
-        table = [[name, len(records), records[-1]["ndof"], f"{records[-1]['eta']:.3e}", f"{records[-1]['error']:.3e}",
+        table = [[name, len(records), records[-1]["ndof"], f"{records[-1]['eta_h']:.3e}", f"{records[-1]['error']:.3e}",
                   f"{records[-1]['seconds']:.1f}"] for name, records in runs.items()]
         lines += [f"## Example {example}", "",
                   f"![estimator and error](hp_{example.replace('.', '_')}.png)", "",

@@ -145,7 +145,7 @@ def adaptive_study(levels, max_ndof):
         curves[m_t] = ndf.adapt(problem_with(m_t), order=1, hp=False, theta=0.3, max_levels=levels, max_ndof=max_ndof,
                                 weights="paper", progress=None).levels
         last = curves[m_t][-1]
-        say(f"  {len(curves[m_t])} levels, {last['ndof']} dofs, eta_h = {last['eta']:.4e}")
+        say(f"  {len(curves[m_t])} levels, {last['ndof']} dofs, eta_h = {last['eta_h']:.4e}")
     return curves
 
 
@@ -159,7 +159,7 @@ def plot(states, curves, path):
         bound.plot(state["x"], np.abs(state["sigma_tau"]), ":", color=color, label=f"{label}: |sigma_tau|")
         tangential.plot(state["x"], state["u_tau"], color=color, label=label)
         records = curves[m_t]
-        adaptive.loglog([r["ndof"] for r in records], [r["eta"] for r in records], "o-", ms=3, color=color,
+        adaptive.loglog([r["ndof"] for r in records], [r["eta_h"] for r in records], "o-", ms=3, color=color,
                         label=label)
     pen.axhline(0, color="k", lw=0.5)
     pen.set_title(r"penetration $u_n - g_a$ on $\Gamma_C$ (contact where > 0)")
@@ -171,7 +171,7 @@ def plot(states, curves, path):
         ax.legend(fontsize=7)
     first = next(iter(curves.values()))
     n = np.array([first[0]["ndof"], first[-1]["ndof"]], dtype=float)
-    adaptive.loglog(n, first[0]["eta"] * (n / n[0]) ** -0.5, "k:", label="slope -1/2")
+    adaptive.loglog(n, first[0]["eta_h"] * (n / n[0]) ** -0.5, "k:", label="slope -1/2")
     adaptive.set_title(r"adaptive: estimator $\eta_h$")
     adaptive.set_xlabel("degrees of freedom")
     adaptive.grid(True, which="both", alpha=0.3)
@@ -213,11 +213,11 @@ def report(zone_h, zone_rows, solver_rows, curves):
           f"{r['newton_seconds']:.2f}", r["fixed"], f"{r['fixed_seconds']:.2f}",
           "-" if np.isnan(r["contraction"]) else f"{r['contraction']:.2f}",
           "-" if r["difference"] is None else f"{r['difference']:.1e}"] for r in solver_rows])
-    slopes = {m_t: slope([r["ndof"] for r in records[-10:]], [r["eta"] for r in records[-10:]])
+    slopes = {m_t: slope([r["ndof"] for r in records[-10:]], [r["eta_h"] for r in records[-10:]])
               for m_t, records in curves.items()}
     adaptive_table = markdown_table(
         ["m_t", "levels", "final DOFs", "final eta_h", "eta_4 (final)", "slope (last 10)", "Newton its per level"],
-        [[f"{m_t:g}", len(records), records[-1]["ndof"], f"{records[-1]['eta']:.4e}",
+        [[f"{m_t:g}", len(records), records[-1]["ndof"], f"{records[-1]['eta_h']:.4e}",
           f"{records[-1]['eta4']:.3e}", f"{slopes[m_t]:.3f}",
           f"{min(r['iterations'] for r in records)}-{max(r['iterations'] for r in records)}"]
          for m_t, records in curves.items()])

@@ -37,8 +37,8 @@ def make_reference(problem, path, tol, max_ndof, max_order, max_levels=80):
 
         def keep(level, sol, est):
             files.append(Path(folder) / f"level_{level}.npz")
-            ndf.save_reference(sol, files[-1], eta_h=est.total,
-                               description=f"hp-adaptive SIPG, level {level}, {sol.ndof} dofs, eta_h = {est.total:.4e}")
+            ndf.save_reference(sol, files[-1], eta_h=est.eta_h,
+                               description=f"hp-adaptive SIPG, level {level}, {sol.ndof} dofs, eta_h = {est.eta_h:.4e}")
 
         start = time.perf_counter()
         records = ndf.adapt(problem, method="sipg", order=2, hp=True, max_order=max_order, tol=tol,
@@ -73,9 +73,9 @@ def main(argv=None):
         own = distances[-1] ** 2 / distances[-2] if len(distances) > 1 else float("nan")
         lines += [f"## Example {example}", "",
                   f"`{path.name}`: {last['ndof']} dofs, p = {last['p_min']}..{last['p_max']}, {len(records)} levels, "
-                  f"eta_h = {last['eta']:.3e}, {seconds:.0f} s; estimated error {own:.1e}.", "",
+                  f"eta_h = {last['eta_h']:.3e}, {seconds:.0f} s; estimated error {own:.1e}.", "",
                   markdown_table(["level", "ndof", "eta_h", "|||u_ref - u_level|||"],
-                                 [[r["level"], r["ndof"], f"{r['eta']:.3e}", f"{r['distance']:.3e}"]
+                                 [[r["level"], r["ndof"], f"{r['eta_h']:.3e}", f"{r['distance']:.3e}"]
                                   for r in records if "distance" in r]), ""]
     lines += [f"Regenerate: `{command_line()}`", ""]
     write_text(args.out / "reference.md", "\n".join(lines))

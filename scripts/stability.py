@@ -131,7 +131,7 @@ def report(results, speedup):
               markdown_table(["c_n", "solver", "iterations", "seconds", "max penetration", "eta_h", "cond(A + c_n N)",
                               "status"],
                              [[fmt(r["c_n"]), r["solver"], fmt(r.get("iterations")), fmt(r["seconds"]),
-                               fmt(r.get("penetration")), fmt(r.get("eta")), fmt(r["condition"]), r["status"][:40]]
+                               fmt(r.get("penetration")), fmt(r.get("eta_h")), fmt(r["condition"]), r["status"][:40]]
                               for r in results["compliance"]]), ""]
     lines += ["## Friction extremes", "",
               markdown_table(["c_tau", "solver", "iterations", "seconds", "stick share", "max |u_tau|",

@@ -38,10 +38,10 @@ def main(argv=None):
         error = ndf.energy_error(run.solution, reference)
         last = run.levels[-1]
         rows.append(dict(example=example, tol=tol, stopped=run.stopped, levels=len(run.levels), ndof=last["ndof"],
-                         p_max=last["p_max"], eta=run.estimate.total, error=error, error_over_tol=error / tol,
-                         effectivity=run.estimate.total / error, seconds=seconds))
+                         p_max=last["p_max"], eta_h=run.estimate.eta_h, error=error, error_over_tol=error / tol,
+                         effectivity=run.estimate.eta_h / error, seconds=seconds))
         say(f"Example {example}, tol {tol:g}: {run.stopped} after {len(run.levels)} levels, {last['ndof']} DOFs, "
-            f"eta_h {run.estimate.total:.3e}, true error {error:.3e} = {error / tol:.2f} tol, {seconds:.1f} s")
+            f"eta_h {run.estimate.eta_h:.3e}, true error {error:.3e} = {error / tol:.2f} tol, {seconds:.1f} s")
     write_csv(args.out / "tolerance.csv", rows)
     write_text(args.out / "tolerance.md", report(rows))
     say(f"wrote {args.out / 'tolerance.md'}")
@@ -49,7 +49,7 @@ def main(argv=None):
 
 
 def report(rows):
-    table = [[r["example"], f"{r['tol']:g}", r["stopped"], r["levels"], r["ndof"], r["p_max"], f"{r['eta']:.3e}",
+    table = [[r["example"], f"{r['tol']:g}", r["stopped"], r["levels"], r["ndof"], r["p_max"], f"{r['eta_h']:.3e}",
               f"{r['error']:.3e}", f"{r['error_over_tol']:.2f}", f"{r['effectivity']:.2f}", f"{r['seconds']:.1f}"]
              for r in rows]
     ratios = [r["error_over_tol"] for r in rows]

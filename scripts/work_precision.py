@@ -126,7 +126,7 @@ def summary(example, runs):
     for strategy in ("uniform", "h", "hp"):
         for tol in TOLERANCES:
             mine = [run for run in runs if run["strategy"] == strategy and run["solver"] == "newton"]
-            best = cheapest(mine, "eta", tol)
+            best = cheapest(mine, "eta_h", tol)
             tol_rows.append([strategy, f"{tol:g}"] + (["-", "-", "-"] if best is None else
                                                       [best[0], best[2], f"{best[3]:.2f}"]))
     lines += ["What `adapt(tol=..., weights=\"paper\")` (or a uniform mesh fine enough) costs for eta_h <= tol "
@@ -151,7 +151,7 @@ def main(argv=None):
                          progress=say)
         write_csv(args.out / f"work_precision_{example.replace('.', '_')}.csv",
                   [dict(run=name(run), **r) for run in runs for r in run["records"]],
-                  ["run", "level", "ndof", "eta", "error", "seconds", "iterations", "p_max"])
+                  ["run", "level", "ndof", "eta_h", "error", "seconds", "iterations", "p_max"])
         failed = [name(run) + ": " + run["status"] for run in runs if run["status"] != "converged"]
         plot(example, runs, args.out)
         section, _ = summary(example, runs)

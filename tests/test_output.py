@@ -78,8 +78,8 @@ def test_default_deformation_draws_the_largest_displacement_as_a_tenth_of_the_do
 @pytest.mark.parametrize("p", [1, 2, 3])
 def test_the_reference_slope_is_the_optimal_rate(p):
     ndof = np.array([50.0, 200.0, 800.0, 3200.0])
-    optimal = [dict(ndof=n, eta=3.0 * n ** (-p / 2)) for n in ndof]  # eta_h ~ N^{-p/2} exactly
-    slower = [dict(ndof=n, eta=3.0 * n ** (-p / 4)) for n in ndof]
+    optimal = [dict(ndof=n, eta_h=3.0 * n ** (-p / 2)) for n in ndof]  # eta_h ~ N^{-p/2} exactly
+    slower = [dict(ndof=n, eta_h=3.0 * n ** (-p / 4)) for n in ndof]
     ax = figure(5, 4).add_subplot()
     plot_estimator(ax, {"optimal": optimal, "slower": slower}, slope=(optimal, p))
     curve, other, reference = ax.get_lines()

@@ -103,9 +103,9 @@ def test_time_to_accuracy(tmp_path):
     assert {r["variant"] for r in rows} == {"defaults (theta 0.5)", "theta 0.3 (old default)", "theta 0.7",
                                             "gamma_lin 0.1"}
     for row in rows:
-        assert row["stopped"] == "tol" and row["eta"] <= 0.1
+        assert row["stopped"] == "tol" and row["eta_h"] <= 0.1
         # eta_h is reliable: the true error (against the hp reference) is below it
-        assert row["error"] <= row["eta"]
+        assert row["error"] <= row["eta_h"]
         assert row["ratio"] == pytest.approx(row["loop_seconds"] / row["linear_seconds"])
     for name in ("time_to_accuracy.csv", "time_to_accuracy.md", "time_to_accuracy.png"):
         assert (tmp_path / name).stat().st_size > 0

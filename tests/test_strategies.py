@@ -27,7 +27,7 @@ def test_errors_fall_and_the_estimator_bounds_them(example_and_reference, strate
                            keep=lambda level, sol, est: kept.append(level))
     errors = [r["error"] for r in records]
     assert all(a > b for a, b in zip(errors, errors[1:], strict=False))
-    assert all(1 < r["eta"] / r["error"] < 5 for r in records)  # reliable, efficient (energy weights)
+    assert all(1 < r["eta_h"] / r["error"] < 5 for r in records)  # reliable, efficient (energy weights)
     if strategy != "uniform":  # the adaptive loop's cumulative time; keep sees every level
         assert kept == [r["level"] for r in records]
         assert all(a["seconds"] < b["seconds"] for a, b in zip(records, records[1:], strict=False))

@@ -122,7 +122,7 @@ def compliance_case(case):
     condition = float(np.linalg.cond(disc.A.ToDense().NumPy() + stiff.mat.ToDense().NumPy()))
     out = dict(case, status=status, seconds=seconds, condition=condition)
     if sol is not None:
-        out.update(iterations=sol.iterations, eta=estimate(sol, weights="paper").total, **_contact_summary(sol))
+        out.update(iterations=sol.iterations, eta_h=estimate(sol, weights="paper").eta_h, **_contact_summary(sol))
     return out
 
 

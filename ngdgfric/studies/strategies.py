@@ -31,7 +31,7 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
     records = []
 
     def measure(sol, est):
-        return dict(ndof=sol.ndof, eta=est.total, iterations=sol.iterations,
+        return dict(ndof=sol.ndof, eta_h=est.eta_h, iterations=sol.iterations,
                     error=None if reference is None else energy_error(sol, reference))
 
     if strategy == "uniform":
@@ -68,5 +68,5 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
 def _say(progress, strategy, record):
     if progress is not None:
         error = "" if record["error"] is None else f", error {record['error']:.4e}"
-        progress(f"  {strategy} level {record['level']}: {record['ndof']} dofs, eta_h {record['eta']:.4e}{error}, "
+        progress(f"  {strategy} level {record['level']}: {record['ndof']} dofs, eta_h {record['eta_h']:.4e}{error}, "
                  f"{record['seconds']:.2f} s")
