@@ -147,6 +147,14 @@ class Polygon:
         return min(xs), min(ys), max(xs), max(ys)
 
 
+# the data of ContactProblem in the order they are checked: (kind, low, low_open, high); kind "scalar"
+# (a number or a scalar CoefficientFunction), "number" (a number only) or "vector"; a number must lie
+# in [low, high) ((low, high) if low_open; None: no bound), a CoefficientFunction is checked pointwise later
+_DATA = {"E": ("scalar", 0, True, None), "nu": ("number", -1, True, 0.5), "f": ("vector", None, False, None),
+         "g": ("vector", None, False, None), "c_n": ("scalar", 0, False, None), "m_n": ("number", 1, False, None),
+         "g_a": ("scalar", None, False, None), "c_tau": ("scalar", 0, False, None), "m_t": ("number", 0, False, None)}
+
+
 @dataclass(frozen=True)
 class ContactProblem:
     """Data of problem (1.4): the reduced law (1.10) for m_t = 0 (Section 1).
@@ -181,24 +189,16 @@ class ContactProblem:
     name: str = field(default="contact problem", compare=False)
 
     def __post_init__(self):
-        _check_scalar("E", self.E)
-        _check_number("E", self.E, low=0, low_open=True, high=None)
-        if not _is_number(self.nu):
-            raise ValueError(f"nu must be a number, got {self.nu!r}")
-        _check_number("nu", self.nu, low=-1, low_open=True, high=0.5, high_open=True)
-        _check_vector("f", self.f)
-        _check_vector("g", self.g)
-        _check_scalar("c_n", self.c_n)
-        _check_number("c_n", self.c_n, low=0, high=None)
-        if not _is_number(self.m_n):
-            raise ValueError(f"m_n must be a number, got {self.m_n!r}")
-        _check_number("m_n", self.m_n, low=1, high=None)
-        _check_scalar("g_a", self.g_a)
-        _check_scalar("c_tau", self.c_tau)
-        _check_number("c_tau", self.c_tau, low=0, high=None)
-        if not _is_number(self.m_t):
-            raise ValueError(f"m_t must be a number, got {self.m_t!r}")
-        _check_number("m_t", self.m_t, low=0, high=None)
+        for name, (kind, low, low_open, high) in _DATA.items():
+            value = getattr(self, name)
+            if kind == "vector":
+                _check_vector(name, value)
+                continue
+            if kind == "scalar":
+                _check_scalar(name, value)
+            elif not _is_number(value):
+                raise ValueError(f"{name} must be a number, got {value!r}")
+            _check_number(name, value, low=low, low_open=low_open, high=high)
         if not isinstance(self.geometry, Polygon):
             raise ValueError(f"geometry must be a Polygon, got {self.geometry!r}")
         names = (self.dirichlet, self.traction, self.contact)
