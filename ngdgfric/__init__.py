@@ -11,13 +11,13 @@ cores (:func:`ngdgfric.linalg.limit_blas_threads`).
 import os
 
 from .adaptivity import Adaptation, adapt, dorfler_mark, minimum_angle, refine
+from .contact import contact_state, kkt_residuals
 from .discretization import Discretization
 from .errors import SolverError
 from .estimator import Estimate, estimate
 from .examples import example_6_1, example_6_2
 from .forms import METHODS
 from .hp import HPState, hp_refine
-from .kkt import contact_state, kkt_residuals
 from .linalg import limit_blas_threads
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
 from .norms import energy_norm

@@ -10,12 +10,11 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import normal_tangent
+from .contact import contact_state, kkt_residuals, normal_tangent
 from .discretization import Discretization
 from .errors import SolverError
 from .examples import example_6_1, example_6_2
 from .forms import edge_length, get_method, jump_inner
-from .kkt import contact_state, kkt_residuals
 from .manufactured import elasticity_manufactured, strain_of
 from .meshes import uniform_mesh
 from .norms import energy_norm
@@ -88,7 +87,7 @@ def locking_case(case):
 
 def _contact_summary(sol):
     state = contact_state(sol)
-    stick = np.abs(state["l"]) < 1 - 1e-8
+    stick = np.abs(state["lam_tau"]) < 1 - 1e-8
     return dict(penetration=float(np.max(np.maximum(state["gap"], 0.0), initial=0.0)),
                 contact_fraction=float(np.mean(state["gap"] > 0)), stick_fraction=float(np.mean(stick)),
                 max_slip=float(np.max(np.abs(state["u_tau"]))), **kkt_residuals(sol))

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import compliance, normal_tangent
+from .contact import compliance, friction_bound, normal_tangent
 from .forms import edge_order, jump_inner, jump_penalty
 from .linalg import threads
 from .meshes import element_diameters, facet_indicator
@@ -177,7 +177,7 @@ def estimate(sol, weights="energy"):
     parts = element_integrals(mesh, {
         "eta1": volume,
         "eta3": on[problem.dirichlet] * boundary_penalty * jump_inner(u, u, n) * boundary,
-        "eta4": contact * h_e / p * (sigma_n * t + disc.bound(u) * sol.lam_tau) ** 2 * boundary,
+        "eta4": contact * h_e / p * (sigma_n * t + friction_bound(problem, u) * sol.lam_tau) ** 2 * boundary,
         "eta5": on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual) * boundary,
         "eta6": contact * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
     })

@@ -22,6 +22,7 @@ import time
 import ngsolve as ngs
 import numpy as np
 
+from .contact import frozen_bound
 from .errors import SolverError
 from .newton import OPTIONS as NEWTON_OPTIONS
 from .newton import newton
@@ -61,7 +62,8 @@ def fixed_point(disc, tol=1e-8, maxit=100, initial=None, inner="newton", progres
     history, inner_iterations, factorizations = [], [], 0
     for k in range(1, maxit + 1):
         try:
-            u_new, lam_new, info = inner_solver(disc.frozen_bound(u), tol=tol, initial=(u, lam), **options)
+            u_new, lam_new, info = inner_solver(disc, tol=tol, initial=(u, lam), problem=frozen_bound(disc.problem, u),
+                                                **options)
         except SolverError as error:
             raise SolverError(f"fixed point: the inner {inner} solve {k} failed: {error}", history=history,
                               solver="fixed_point") from error

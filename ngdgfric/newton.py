@@ -38,6 +38,7 @@ import ngsolve as ngs
 from .condensation import LINEAR_SOLVERS, Condensation
 from .options import callback, choice, positive_integer, positive_number, validate
 from .reduced import ReducedContact
+from .traces import ContactTraces
 
 __all__ = ["newton", "NewtonState", "OPTIONS"]
 
@@ -50,10 +51,10 @@ class NewtonState:
     """One discretisation's condensed problem (:class:`~ngdgfric.condensation.Condensation`, one
     factorisation) and :class:`~ngdgfric.reduced.ReducedContact`, with the current forces f."""
 
-    def __init__(self, disc, linear_solver="auto"):
+    def __init__(self, disc, linear_solver="auto", problem=None):
         start = time.perf_counter()
         self.disc = disc
-        traces = disc.traces
+        self.traces = traces = disc.traces if problem is None else ContactTraces(disc, problem)
         self.condensation = Condensation(disc.A, disc.F, traces, disc.symmetric, linear_solver)
         self.reduced = ReducedContact(self.condensation.W, self.condensation.w0, traces.omega, traces.g_a,
                                       traces.c_n, traces.c_tau, traces.m_n, traces.m_t, disc.symmetric,
@@ -63,13 +64,13 @@ class NewtonState:
 
     def start_from(self, initial):
         """f from (u, lam) GridFunctions on ``disc.V``, ``disc.Q``: the forces of the laws at u, with l."""
-        w = self.disc.traces.apply(initial[0].vec.FV().NumPy())
+        w = self.traces.apply(initial[0].vec.FV().NumPy())
         self.f = self.reduced.forces(w, self.disc.gauss.values(initial[1]).ravel())
 
     def run(self, tol=1e-13, maxit=100, progress=None, energy_tol=None):
         """Newton from the current f (zero if none) to ``tol`` (or ``energy_tol``), recover u; (u, lam, info)."""
         start = time.perf_counter()
-        reduced, condensation, traces = self.reduced, self.condensation, self.disc.traces
+        reduced, condensation, traces = self.reduced, self.condensation, self.traces
         f, info = reduced.solve(self.f, tol=tol, maxit=maxit, progress=progress, energy_tol=energy_tol)
         newton_seconds = time.perf_counter() - start
         start_recover = time.perf_counter()
@@ -107,7 +108,8 @@ class NewtonState:
         return u, lam, info
 
 
-def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solver="auto", energy_tol=None):
+def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solver="auto", energy_tol=None,
+           problem=None):
     """Solve (3.3)-(3.4) on ``disc`` (module docstring); returns (u, lam, info).
 
     tol: relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points (:mod:`ngdgfric.reduced`;
@@ -126,7 +128,7 @@ def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solve
     """
     validate(OPTIONS, "newton", tol=tol, maxit=maxit, progress=progress, linear_solver=linear_solver,
              energy_tol=energy_tol)
-    state = NewtonState(disc, linear_solver)
+    state = NewtonState(disc, linear_solver, problem)
     if initial is not None:
         state.start_from(initial)
     return state.run(tol, maxit, progress, energy_tol)

@@ -34,6 +34,9 @@ def _point_values(value, points):
 class ContactTraces:
     """B, the weights and the data of the contact laws at the M Gauss points of Gamma_C.
 
+    ``disc``: a :class:`~ngdgfric.discretization.Discretization`; ``problem``: the problem whose contact
+    law is evaluated at the points (``disc.problem``, or the problem of a fixed-point step,
+    :func:`ngdgfric.contact.frozen_bound`, which differs from it in c_tau and m_t only).
     Attributes: ``rows``, ``cols``, ``values`` (B as COO triplets, shape ``(2 M, ndof)``),
     ``omega``, ``g_a``, ``c_n``, ``c_tau`` (arrays of length M, in the point order of
     ``disc.gauss``: edge by edge), ``m_n``, ``m_t``, and ``redundant``: True if some element's
@@ -42,8 +45,8 @@ class ContactTraces:
     the forces at those points are not unique (u is).
     """
 
-    def __init__(self, disc):
-        problem, gauss = disc.problem, disc.gauss
+    def __init__(self, disc, problem):
+        gauss = disc.gauss
         self.ndof = disc.V.ndof
         self.M = gauss.dofs.size
         q = gauss.q

@@ -3,7 +3,7 @@
 import ngsolve as ngs
 import numpy as np
 
-from .contact import normal_tangent, project_unit
+from .contact import friction_bound, normal_tangent, project_unit
 from .nonlinear import multiplier_update
 from .problem import strain, stress
 
@@ -78,7 +78,7 @@ def initial_guess(sol, disc):
         return u, lam
     n, t = normal_tangent()
     sigma_tau = stress(disc.problem, strain(u)) * n * t
-    bound = disc.bound(u)
+    bound = friction_bound(disc.problem, u)
     estimate = ngs.IfPos(bound, -sigma_tau / ngs.IfPos(bound, bound, 1), 0)
     multiplier_update(disc, lam, project_unit(estimate))()
     return u, lam

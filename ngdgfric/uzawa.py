@@ -15,16 +15,17 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import evaluate_on_contact, normal_tangent, project_unit
+from .contact import evaluate_on_contact, friction_matrix, normal_tangent, project_unit
 from .errors import SolverError
 from .linalg import direct_inverse, threads
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
 from .options import callback, positive_integer, positive_number, validate
+from .problem import coefficient
 
 __all__ = ["uzawa", "default_rho", "complementarity", "OPTIONS"]
 
 
-def default_rho(disc, iterations=30, safety=1.5):
+def default_rho(disc, problem=None, iterations=30, safety=1.5):
     """rho = safety / L with L the largest eigenvalue of the linearised Uzawa map.
 
     The map l -> c_tau u_tau(l) of the linear problem (compliance inactive) has the matrix
@@ -34,6 +35,7 @@ def default_rho(disc, iterations=30, safety=1.5):
     """
     if disc.Q.ndof == 0:
         return 1.0
+    G = friction_matrix(disc, (disc.problem if problem is None else problem).c_tau)
     with threads(disc.V.ndof):
         inverse = direct_inverse(disc.A, disc.symmetric)
     x = ngs.GridFunction(disc.Q).vec
@@ -42,7 +44,7 @@ def default_rho(disc, iterations=30, safety=1.5):
     y = x.CreateVector()
     estimate = 0.0
     for _ in range(iterations):
-        y.data = disc.M_inv * (disc.G.T * (inverse * (disc.G * x)))
+        y.data = disc.M_inv * (G.T * (inverse * (G * x)))
         norm_y = np.linalg.norm(y.FV().NumPy())
         norm_x = np.linalg.norm(x.FV().NumPy())
         if norm_y == 0 or norm_x == 0:
@@ -81,7 +83,7 @@ def complementarity(disc, u, lam):
     return float(np.max(np.abs(lam_tau * u_tau - np.abs(u_tau)), initial=0.0)) / scale
 
 
-def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None, kkt_tol=1e-6):
+def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None, kkt_tol=1e-6, problem=None):
     """Uzawa's method of Section 6; returns (u, lam, info) with info a dict of diagnostics.
 
     Stops when the relative change of u is <= ``tol`` (the paper's test) and the complementarity
@@ -106,20 +108,22 @@ def uzawa(disc, tol=1e-8, rho=None, maxit=100000, initial=None, progress=None, k
     :mod:`ngdgfric.fixed_point` runs it with the friction bound frozen).
     """
     validate(OPTIONS, "uzawa", tol=tol, maxit=maxit, progress=progress, rho=rho, kkt_tol=kkt_tol)
-    if disc.problem.m_t != 0:
-        raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {disc.problem.m_t!r}: use "
+    problem = disc.problem if problem is None else problem
+    if problem.m_t != 0:
+        raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {problem.m_t!r}: use "
                          "solver='newton', or solver='fixed_point' with inner='uzawa'")
     start = time.perf_counter()
     u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
     if initial is not None:
         u.vec.data, lam.vec.data = initial[0].vec, initial[1].vec
     if rho is None:
-        rho = default_rho(disc)
+        rho = default_rho(disc, problem)
     _, t = normal_tangent()
-    op = ContactOperator(disc, u, lambda trial: disc.c_tau * lam)
+    c_tau = coefficient(problem.c_tau)
+    op = ContactOperator(disc, u, lambda trial: c_tau * lam)
     linear_solver = ReusedFactorization(disc.symmetric)
     u_tau = u * t
-    update = multiplier_update(disc, lam, ngs.IfPos(disc.c_tau, project_unit(lam + rho * disc.c_tau * u_tau),
+    update = multiplier_update(disc, lam, ngs.IfPos(c_tau, project_unit(lam + rho * c_tau * u_tau),
                                                     ngs.IfPos(u_tau, 1, -1)))
     du, u_old = u.vec.CreateVector(), u.vec.CreateVector()
     history, kkt = [], []

@@ -8,7 +8,7 @@ the discrete KKT system (3.3)-(3.4) of Lemma 3.1 at round-off (``ndf.kkt_residua
     equilibrium <= 10 max(rounding, 1e-14),
 
 where ``rounding`` is the equilibrium residual of u rounded once more, u (1 +- eps) (what
-round-off alone leaves; ``ngdgfric.kkt.rounding_residual``), and, for m_t = 0 and
+round-off alone leaves; ``ngdgfric.contact.rounding_residual``), and, for m_t = 0 and
 at most ``UZAWA_MAX_NDOF`` unknowns, where the paper's Uzawa iteration (Section 6; the full sparse
 system, an independent solver) converges with tol = 1e-11, the two solutions agree:
 max|u_newton - u_uzawa| / max|u_uzawa| <= 1e-7.  Uzawa failing (slow convergence; stopped after
@@ -49,8 +49,8 @@ from common import RESULTS, command_line, in_processes, markdown_table, say, wri
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
+from ngdgfric.contact import rounding_residual
 from ngdgfric.files import write_text
-from ngdgfric.kkt import rounding_residual
 from ngdgfric.manufactured import contact_manufactured, friction_manufactured
 from ngdgfric.reduced import ReducedContact
 

@@ -9,7 +9,7 @@ from manufactured import contact_manufactured
 
 import ngdgfric as ndf
 from ngdgfric import pardiso
-from ngdgfric.kkt import rounding_residual
+from ngdgfric.contact import rounding_residual
 from ngdgfric.solution import finish
 
 

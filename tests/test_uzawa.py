@@ -16,7 +16,7 @@ def solution_6_1():
 def test_kkt_conditions_of_example_6_1(solution_6_1):
     state = ndf.contact_state(solution_6_1)
     kkt = ndf.kkt_residuals(solution_6_1)
-    assert np.max(np.abs(state["l"])) <= 1 + 1e-12
+    assert np.max(np.abs(state["lam_tau"])) <= 1 + 1e-12
     assert kkt["complementarity"] < 1e-8
     assert kkt["equilibrium"] < 1e-10
     # the example has both stick and slip points
@@ -47,7 +47,7 @@ def test_huge_friction_bound_sticks():
     sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), solver="uzawa", tol=1e-10)
     state = ndf.contact_state(sol)
     assert np.max(np.abs(state["u_tau"])) <= 1e-7 * np.max(np.abs(sol.u.vec.FV().NumPy()))
-    assert np.max(np.abs(state["l"])) < 1
+    assert np.max(np.abs(state["lam_tau"])) < 1
 
 
 def test_spatially_varying_data_work():
