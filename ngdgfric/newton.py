@@ -6,10 +6,10 @@ The nonlinearity of (3.3)-(3.4) lives at the M Gauss points of Gamma_C.  The sol
    the linear part onto them: W = B A^-1 B^T and w0 = B A^-1 F, by one partial factorisation
    (:class:`ngdgfric.condensation.Condensation`);
 2. solves the contact laws at the points for the forces f with a globalised semismooth Newton
-   method on the dense 2M x 2M problem (:class:`ngdgfric.reduced.ReducedContact`: energy descent for
-   the symmetric methods with m_t = 0, inside a proximal point method where W is singular (redundant
-   points on hp meshes), a merit function with Levenberg-Marquardt safeguards for NIPG and m_t > 0;
-   stopping test on the KKT residual of Lemma 3.1);
+   method on the dense 2M x 2M problem (:class:`ngdgfric.reduced.ReducedContact`,
+   :func:`ngdgfric.semismooth.solve`: energy descent for the symmetric methods with m_t = 0, inside a
+   proximal point method where W is singular (redundant points on hp meshes), a merit function with
+   Levenberg-Marquardt safeguards for NIPG and m_t > 0; stopping test on the KKT residual of Lemma 3.1);
 3. recovers u = A^-1 (F - B^T f) by one substitution, and the multiplier l = f_t / beta
    (beta = c_tau (u_n - g_a)_+^{m_t} omega; l = sign(u_tau) where beta = 0).  The traces of the
    computed u differ from w0 - W f by the solve's round-off times cond(A), which a stiff compliance
@@ -35,6 +35,7 @@ import time
 
 import ngsolve as ngs
 
+from . import semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
 from .options import callback, choice, positive_integer, positive_number, validate
 from .reduced import ReducedContact
@@ -71,7 +72,7 @@ class NewtonState:
         """Newton from the current f (zero if none) to ``tol`` (or ``energy_tol``), recover u; (u, lam, info)."""
         start = time.perf_counter()
         reduced, condensation, traces = self.reduced, self.condensation, self.traces
-        f, info = reduced.solve(self.f, tol=tol, maxit=maxit, progress=progress, energy_tol=energy_tol)
+        f, info = semismooth.solve(reduced, self.f, tol, maxit, progress, energy_tol)
         newton_seconds = time.perf_counter() - start
         start_recover = time.perf_counter()
         u_vec = condensation.displacement(f)
@@ -85,7 +86,7 @@ class NewtonState:
             if consistency == MAX_CONSISTENCY or reduced.done(reduced.evaluate(f), tol, energy_tol):
                 break
             start_newton = time.perf_counter()
-            f_new, more = reduced.solve(f, tol=tol, maxit=maxit, energy_tol=energy_tol)
+            f_new, more = semismooth.solve(reduced, f, tol, maxit, energy_tol=energy_tol)
             for key in ("iterations", "history", "steps"):
                 info[key] += more[key]
             info.update(linearization=more["linearization"], converged=more["converged"])
@@ -115,7 +116,8 @@ def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solve
     tol: relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points (:mod:`ngdgfric.reduced`;
     round-off sets its floor).  maxit: Newton iterations.  initial: optional (u, lam) GridFunctions
     on ``disc.V``, ``disc.Q`` (a warm start: the forces of the laws at u, with l).
-    progress: callable(iteration, residual) after each iteration, or None.
+    progress: None, or callable(message) called after each iteration with a line such as
+    "newton 3: KKT residual 1.2e-09".
     linear_solver: "auto" (MKL PARDISO if installed, else NGSolve), "pardiso" or "ngsolve"
     (:class:`ngdgfric.condensation.Condensation`).
     energy_tol: also stop once the linearisation estimate eta_lin <= energy_tol (module docstring);
