@@ -22,7 +22,7 @@ from .problem import strain, stress
 from .reference import energy_error, load_reference
 from .solution import solve
 from .studies import strategy_run
-from .uzawa import default_rho, uzawa
+from .uzawa import UzawaOptions, default_rho, uzawa
 
 __all__ = ["EXAMPLES", "penalty_value", "coercivity", "penalty_case", "locking_case", "compliance_case",
            "friction_case", "rho_case", "precision_case"]
@@ -132,7 +132,7 @@ def rho_case(case):
     rho = case["factor"] * default_rho(disc)
     start = time.perf_counter()
     try:
-        _, _, info = uzawa(disc, rho=rho, maxit=case.get("maxit", 3000))
+        _, _, info = uzawa(disc, UzawaOptions(rho=rho, maxit=case.get("maxit", 3000)))
         status, iterations = "converged", info["iterations"]
     except SolverError as error:
         status, iterations = f"failed: {str(error).splitlines()[0][:120]}", len(error.history)

@@ -131,7 +131,7 @@ def residual(disc, u, lam_tau):
 
 
 def multiplier_space(problem, mesh, order):
-    """Degree-p facet space on Gamma_C for the scalar multiplier l (lam_tau = l t)."""
+    """Degree-p facet space on Gamma_C for the scalar multiplier lam_tau (the vector multiplier is lam_tau t)."""
     full = ngs.FacetFESpace(mesh, order=order)
     return ngs.Compress(full, active_dofs=full.GetDofs(mesh.Boundaries(problem.contact)))
 
@@ -175,18 +175,18 @@ class ContactGauss:
             probe.vec.FV().NumPy()[self.dofs[:, k]] = 1.0
             self.vandermonde[:, :, k] = self.values(probe)
 
-    def values(self, lam):
+    def values(self, lam_tau):
         """Values of a multiplier GridFunction at the Gauss points, shape (edges, q)."""
-        return np.asarray(lam(self.points)).reshape(-1, self.q)
+        return np.asarray(lam_tau(self.points)).reshape(-1, self.q)
 
-    def set_values(self, lam, values):
+    def set_values(self, lam_tau, values):
         """Set the multiplier GridFunction to the degree-p polynomials with these Gauss values."""
         coefficients = np.linalg.solve(self.vandermonde, np.asarray(values).reshape(-1, self.q, 1))[..., 0]
-        lam.vec.FV().NumPy()[self.dofs.ravel()] = coefficients.ravel()
+        lam_tau.vec.FV().NumPy()[self.dofs.ravel()] = coefficients.ravel()
 
-    def snapshot(self, lam):
+    def snapshot(self, lam_tau):
         """The multiplier's Gauss values with the edge geometry, independent of the mesh."""
-        return GaussValues(self.xy, self.ends, self.values(lam))
+        return GaussValues(self.xy, self.ends, self.values(lam_tau))
 
 
 class GaussValues:

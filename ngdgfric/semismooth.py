@@ -41,7 +41,7 @@ mu_k / 100 (the steps 1 / mu_k grow, so the outer iteration converges superlinea
 Control Optim. 22, 1984), back to 10 mu_k after an inner failure.  The iteration stops as soon as
 the original problem meets the stopping test.  The proximal map is nonexpansive, so which of the
 optimal forces is returned depends continuously on the data and the start; the multiplier
-lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration Example 6.1 to
+lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration Example 6.1 adapted to
 tol = 5e-4 with E x (1 +- 1e-13) gave final eta_h differing by 3e-3 relative (now 4e-7).
 Measured on the captured levels of Example 6.1 (M = 945 ... 1926): 20-27 Newton steps in all where
 the plain iteration took 42, 44, 83 and failed.  (Also tried: mu_0 = 1e-2, 1e-1 or mu / 10 per

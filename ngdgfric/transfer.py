@@ -7,7 +7,7 @@ from .contact import friction_bound, normal_tangent, project_unit
 from .nonlinear import multiplier_update
 from .problem import strain, stress
 
-__all__ = ["initial_guess", "multiplier_snapshot", "copy_orders"]
+__all__ = ["initial_guess", "starting_point", "multiplier_snapshot", "copy_orders"]
 
 
 def _local(p, q):
@@ -54,22 +54,30 @@ def multiplier_snapshot(sol):
     return sol.discretization.gauss.snapshot(sol.lam_tau)
 
 
+def starting_point(disc, initial=None):
+    """New GridFunctions (u, lam_tau) on ``disc.V`` and ``disc.Q``: zero, or copies of the pair ``initial``
+    (the iterates a solver changes in place; the caller's pair is left alone)."""
+    u, lam_tau = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
+    if initial is not None:
+        u.vec.data, lam_tau.vec.data = initial[0].vec, initial[1].vec
+    return u, lam_tau
+
+
 def initial_guess(sol, disc):
-    """(u, l) GridFunctions on ``disc``'s spaces from the Solution ``sol``.
+    """(u, lam_tau) GridFunctions on ``disc``'s spaces from the Solution ``sol``.
 
     On the same mesh and spaces the vectors are copied.  Otherwise u is interpolated (exact for
     nested meshes and equal or higher order) and l is the old multiplier, a piecewise polynomial
     on the old edges of Gamma_C, evaluated at the new Gauss points.  ``sol`` may also be any
-    object with ``u``, ``mesh`` and ``multiplier`` (a :class:`GaussValues`, or None: then l is
-    estimated from the stress, l = P(-sigma_tau(u) / b) with b the friction bound at u, since
-    sigma_tau + b l ~ 0 at a solution, estimator eta_4).
+    object with ``u``, ``mesh`` and ``multiplier`` (a :class:`GaussValues`, or None: then lam_tau is
+    estimated from the stress, lam_tau = P(-sigma_tau(u) / b) with b the friction bound at u, since
+    sigma_tau + b lam_tau ~ 0 at a solution, estimator eta_4).
     """
-    u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
     old_lam = getattr(sol, "lam_tau", None)
     if sol.mesh is disc.mesh and sol.u.space.ndof == disc.V.ndof and old_lam is not None \
             and old_lam.space.ndof == disc.Q.ndof:
-        u.vec.data, lam.vec.data = sol.u.vec, old_lam.vec
-        return u, lam
+        return starting_point(disc, (sol.u, old_lam))
+    u, lam = starting_point(disc)
     u.Set(sol.u)
     multiplier = sol.multiplier if hasattr(sol, "multiplier") else multiplier_snapshot(sol)
     if multiplier is not None:

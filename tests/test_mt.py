@@ -31,8 +31,8 @@ def test_default_is_the_reduced_law():
 def test_m_t_0_through_the_fixed_point_is_the_reduced_law_solution(inner):
     p = dataclasses.replace(ndf.example_6_1(), m_t=0.0)
     mesh = ndf.uniform_mesh(p, 1 / 8)
-    reduced = ndf.solve(p, mesh, solver=inner, tol=1e-10)
-    fixed = ndf.solve(p, mesh, solver="fixed_point", inner=inner, tol=1e-10)
+    reduced = ndf.solve(p, mesh, solver=inner, solver_tol=1e-10)
+    fixed = ndf.solve(p, mesh, solver="fixed_point", inner=inner, solver_tol=1e-10)
     assert fixed.iterations == 1  # the bound c_tau does not depend on u
     assert max_rel_diff(fixed, reduced) <= 1e-12
 
@@ -50,8 +50,8 @@ def test_frozen_bound_of_the_reduced_law_is_the_same_matrix():
 def example_m_t_1():
     p = dataclasses.replace(ndf.example_6_1(), m_t=1.0)
     mesh = ndf.uniform_mesh(p, 1 / 8)
-    return (ndf.solve(p, mesh, solver="newton", tol=1e-10),
-            ndf.solve(p, mesh, solver="fixed_point", tol=1e-10))
+    return (ndf.solve(p, mesh, solver="newton", solver_tol=1e-10),
+            ndf.solve(p, mesh, solver="fixed_point", solver_tol=1e-10))
 
 
 def test_fixed_point_and_coupled_newton_agree(example_m_t_1):
@@ -63,7 +63,7 @@ def test_fixed_point_and_coupled_newton_agree(example_m_t_1):
 
 def test_fixed_point_with_uzawa_inside_agrees_and_satisfies_kkt(example_m_t_1):
     newton = example_m_t_1[0]
-    fixed = ndf.solve(newton.problem, newton.mesh, solver="fixed_point", inner="uzawa", tol=1e-10)
+    fixed = ndf.solve(newton.problem, newton.mesh, solver="fixed_point", inner="uzawa", solver_tol=1e-10)
     assert max_rel_diff(fixed, newton) <= 1e-7
     kkt = ndf.kkt_residuals(fixed)  # l = sign(u_tau) where the bound is 0
     assert kkt["complementarity"] <= 1e-8 and kkt["equilibrium"] <= 1e-8
