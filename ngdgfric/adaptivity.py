@@ -13,7 +13,6 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from types import SimpleNamespace
 
 import ngsolve as ngs
 import numpy as np
@@ -24,7 +23,7 @@ from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
 from .meshes import element_diameters, netgen_mesh, uniform_mesh
 from .solution import finish, solve
-from .transfer import copy_orders, multiplier_snapshot
+from .transfer import WarmStart, copy_orders, multiplier_snapshot
 
 __all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle"]
 
@@ -180,7 +179,7 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
         if stopped is None:
             refine_start = time.perf_counter()
             copy_orders(sol.u, state.orders, carrier, np.full(mesh.ne, carrier_order))  # exact: a superspace
-            previous = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
+            previous = WarmStart(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
             sol = est = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
             gc.collect()  # reference cycles may keep them alive (seen in dask workers)
             state = _refine(mesh, state, **refinement)

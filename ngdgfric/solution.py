@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from .discretization import Discretization
 from .fixed_point import FixedPointOptions, fixed_point
 from .newton import NewtonOptions, newton
-from .transfer import initial_guess
+from .transfer import WarmStart, initial_guess
 from .uzawa import UzawaOptions, uzawa
 
 __all__ = ["Solution", "solve", "finish", "SOLVERS", "DEFAULT_SOLVER_TOL"]
@@ -67,8 +67,8 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     The old name ``tol`` still works (DeprecationWarning).
     penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
     threshold (:func:`ngdgfric.forms.check_penalty`).
-    initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
-    same domain: see :func:`ngdgfric.transfer.initial_guess`).
+    initial: a Solution (or a :class:`~ngdgfric.transfer.WarmStart`) to start from, on this mesh or on
+    another, e.g. coarser, mesh of the same domain (:func:`ngdgfric.transfer.initial_guess`).
     max_ndof: refuse (ValueError, before assembly) above this many DOFs; None: above an estimated
     8 GB (:func:`ngdgfric.checks.check_size`).  Data given as CoefficientFunctions are checked
     pointwise first (:func:`ngdgfric.checks.check_data`).
@@ -81,9 +81,10 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
     function, options_class = SOLVERS[solver]
     settings = options_class.from_keywords(solver_tol=_solver_tol(solver_tol, options), **options)
+    start_from = None if initial is None else _warm_start(initial)
     start = time.perf_counter()
     disc = Discretization(problem, mesh, method, order, eta, penalty_check, max_ndof)
-    u, lam_tau, info = function(disc, settings, None if initial is None else initial_guess(initial, disc))
+    u, lam_tau, info = function(disc, settings, None if start_from is None else initial_guess(start_from, disc))
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
     return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam_tau,
@@ -100,6 +101,15 @@ def _solver_tol(solver_tol, options):
     if solver_tol is not None and tol is not None:
         raise ValueError(f"give solver_tol only (got solver_tol={solver_tol!r} and the deprecated tol={tol!r})")
     return tol if solver_tol is None else solver_tol
+
+
+def _warm_start(initial):
+    """``initial`` of :func:`solve` as a :class:`WarmStart`: the one place a Solution is converted."""
+    if isinstance(initial, WarmStart):
+        return initial
+    if isinstance(initial, Solution):
+        return WarmStart.from_solution(initial)
+    raise ValueError(f"initial must be a Solution or a WarmStart, got {type(initial).__name__}")
 
 
 def finish(sol, solver_tol=None, energy_tol=None, maxit=100):

@@ -18,6 +18,7 @@ from ngdgfric.uzawa import UzawaOptions
     (dict(linear_solver="mumps"), "linear_solver"), (dict(progress=3), "progress"),
     (dict(solver="uzawa", linear_solver="pardiso"), "linear_solver"), (dict(solver="fixed_point", inner="x"), "inner"),
     (dict(solver="uzawa", kkt_tol=0.0), "kkt_tol"), (dict(solver="fixed_point", solver_tol=0.0), "solver_tol"),
+    (dict(initial="a solution"), "initial"),
 ])
 def test_bad_option_is_named_before_assembly(options, name):
     with pytest.raises(ValueError, match=name):
