@@ -18,6 +18,7 @@ is the answer.
 """
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,11 +61,11 @@ class FixedPointOptions(SolverOptions):
 
     solver_tol: float = 1e-8
     maxit: int = 100
-    progress: object = None
-    inner: object = NewtonOptions(solver_tol=1e-8)
+    progress: Callable[[str], None] | None = None
+    inner: NewtonOptions | UzawaOptions = NewtonOptions(solver_tol=1e-8)
 
     @classmethod
-    def from_keywords(cls, solver=None, **options):
+    def from_keywords(cls, **options):
         """The options from the keywords of ``solve(solver="fixed_point", ...)`` (None means the default):
         ``solver_tol``, ``maxit``, ``progress``, ``inner`` ("newton" or "uzawa") and the inner solver's
         options, which must be its own (ValueError naming any other)."""

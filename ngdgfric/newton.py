@@ -32,6 +32,7 @@ problem and the forces) continues such a solve to the full tolerance without fac
 """
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from . import semismooth
@@ -67,9 +68,9 @@ class NewtonOptions(SolverOptions):
 
     solver_tol: float = 1e-13
     maxit: int = 100
-    progress: object = None
+    progress: Callable[[str], None] | None = None
     linear_solver: str = "auto"
-    energy_tol: object = None
+    energy_tol: float | None = None
 
 
 class NewtonState:

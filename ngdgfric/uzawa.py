@@ -23,6 +23,7 @@ of decrease over the last window predicts more than ten times ``maxit`` iteratio
 """
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import ngsolve as ngs
@@ -61,8 +62,8 @@ class UzawaOptions(SolverOptions):
 
     solver_tol: float = 1e-8
     maxit: int = 100000
-    progress: object = None
-    rho: object = None
+    progress: Callable[[str], None] | None = None
+    rho: float | None = None
     kkt_tol: float = 1e-6
 
 
