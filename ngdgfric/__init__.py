@@ -8,12 +8,12 @@ The entry points (solve, finish, estimate, adapt) limit OpenBLAS to NGDGFRIC_BLA
 """
 
 from .adaptivity import Adaptation, adapt, dorfler_mark, minimum_angle, refine
+from .contact import contact_state, kkt_residuals
 from .discretization import Discretization
 from .errors import SolverError
 from .estimator import Estimate, estimate
 from .examples import example_6_1, example_6_2
 from .hp import HPState, hp_refine
-from .kkt import contact_state, kkt_residuals
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
 from .methods import METHODS
 from .problem import ContactProblem, Polygon

@@ -31,7 +31,6 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from types import SimpleNamespace
 
 import ngsolve as ngs
 import numpy as np
@@ -43,7 +42,7 @@ from .hp import HPState, hp_refine
 from .linalg import limited_blas
 from .meshes import element_diameters, netgen_mesh, refine, triangle_corners, uniform_mesh
 from .solution import finish, solve
-from .transfer import copy_orders, multiplier_snapshot
+from .transfer import WarmStart, copy_orders, multiplier_snapshot
 
 __all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle"]
 
@@ -139,7 +138,7 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
         check_writable(csv_path.parent)
     loop = _Loop(problem, mesh, order, max_order if hp else None, weights, tol,
                  gamma_lin if solver == "newton" else None,
-                 dict(method=method, eta=eta, solver=solver, tol=solver_tol, **options))
+                 dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol, **options))
     records = []
     for level in range(max_levels):
         sol, est, seconds = loop.solve(level == max_levels - 1)
@@ -197,7 +196,7 @@ class _Loop:
     def refine(self, refinement):
         """Carry the solution over, then refine the mesh in place (h or hp) and update the state."""
         copy_orders(self.sol.u, self.state.orders, self.carrier, np.full(self.mesh.ne, self.carrier_order))
-        self.previous = SimpleNamespace(u=self.carrier, mesh=self.mesh, multiplier=multiplier_snapshot(self.sol))
+        self.previous = WarmStart(u=self.carrier, mesh=self.mesh, multiplier=multiplier_snapshot(self.sol))
         self.sol = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
         gc.collect()  # reference cycles may keep them alive (seen in dask workers)
         self.state = self._refine(self.mesh, self.state, **refinement)

@@ -196,18 +196,13 @@ def say(message):
     print(message, flush=True)
 
 
-def _uzawa_progress(k, change):
-    if k % 1000 == 0:
-        say(f"  uzawa iteration {k}: change {change:.2e}")
-
-
 def cmd_solve(args, problem, tag):
     mesh, described = _mesh(problem, args.h, args.maxh, DEFAULT_H, args.order, args.max_ndof)
     say(f"{problem.name}: {described}, {mesh.ne} elements; {args.method} P{args.order}, {args.solver}")
     start = time.perf_counter()
     sol = solve(problem, mesh, method=args.method, order=args.order, eta=args.eta, solver=args.solver,
-                tol=args.solver_tol, max_ndof=args.max_ndof,
-                progress=_uzawa_progress if args.solver == "uzawa" else None)
+                solver_tol=args.solver_tol, max_ndof=args.max_ndof,
+                progress=(lambda message: say(f"  {message}")) if args.solver == "uzawa" else None)
     solved = time.perf_counter()
     est = estimate(sol)
     estimated = time.perf_counter()
@@ -251,7 +246,7 @@ def cmd_uniform(args, problem, tag):
     for method in args.method:
         say(f"{problem.name}: {method} P{args.order}, {args.solver}, uniform h = 2^-1 ... 2^-{levels[-1]}")
         study, solutions = uniform_study(problem, method, args.order, levels, solver=args.solver, eta=args.eta,
-                                         progress=say, tol=args.solver_tol, max_ndof=args.max_ndof)
+                                         progress=say, solver_tol=args.solver_tol, max_ndof=args.max_ndof)
         for row, sol in zip(study, solutions, strict=False):
             row = dict(method=method, order=args.order, **row, eta_h=estimate(sol).eta_h)
             say(f"  h = 2^-{row['k']}: |||u_h - u_h/2|||_h = {row['energy']:.4e}, rate {rate_text(row['rate'])}, "

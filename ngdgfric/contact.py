@@ -1,27 +1,36 @@
-"""Normal compliance and friction on Gamma_C: integrands, multiplier space, Gauss points.
+"""Normal compliance and friction on Gamma_C: integrands, contact forms, multiplier, Gauss points, KKT residuals.
 
 In 2D the tangent space of Gamma_C is one-dimensional: with t = (-n_y, n_x) the multiplier of
-Lemma 3.1 is lam_tau = l t with a scalar l, |lam_tau| = |l|, and
+Lemma 3.1 is lam_tau t with a scalar function lam_tau, |lam_tau t| = |lam_tau|, and
 
-    g(lam_tau, v) = int_{Gamma_C} c_tau l (v . t) ds,     (3.4):  l (u . t) = |u . t|.
+    g(lam_tau, v) = int_{Gamma_C} c_tau lam_tau (v . t) ds,     (3.4):  lam_tau (u . t) = |u . t|.
 
 For m_t > 0 the friction bound c_tau is replaced by c_tau (u_n - g_a)_+^{m_t} (1.9), so g depends
-on u too; where that bound vanishes (no contact) u_tau is free and l = sign(u_tau) is one valid
-multiplier.
+on u too; where that bound vanishes (no contact) u_tau is free and lam_tau = sign(u_tau) is one valid
+multiplier.  The residual of (3.3) (:func:`residual`) is written once for both: its friction term
+carries the bound at u (c_tau itself for m_t = 0).  The fixed point on the bound solves problems with
+the bound frozen (:func:`frozen_bound`).
 
 All contact integrals use the same (p+1)-point Gauss rule per edge: the discrete problem (3.1)
-is the one with j_tau and j_n evaluated by this rule.  The multiplier l lives in a facet space
+is the one with j_tau and j_n evaluated by this rule.  The multiplier lam_tau lives in a facet space
 of degree p on Gamma_C; a degree-p polynomial is determined by its p+1 Gauss values, and the
 Gauss-rule L2 projection onto it is interpolation at those points, so every pointwise relation
-(|l| <= 1, l u_tau = |u_tau|, the projection P_[-1,1]) holds exactly at the Gauss points.
+(|lam_tau| <= 1, lam_tau u_tau = |u_tau|, the projection P_[-1,1]) holds exactly at the Gauss points
+(:func:`contact_state`, :func:`kkt_residuals`).
 """
+
+import dataclasses
 
 import ngsolve as ngs
 import numpy as np
 
+from .linalg import threads
+from .problem import coefficient, strain, stress
+
 __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "positive_power", "compliance",
-           "friction_bound", "friction_bound_slope", "project_unit", "multiplier_space", "contact_points",
-           "evaluate_on_contact", "ContactGauss", "GaussValues"]
+           "friction_bound", "friction_bound_slope", "project_unit", "compliance_form", "friction_matrix",
+           "frozen_bound", "residual", "multiplier_space", "contact_points", "evaluate_on_contact", "ContactGauss",
+           "GaussValues", "contact_state", "kkt_residuals", "rounding_residual"]
 
 
 def contact_rule(order):
@@ -40,14 +49,10 @@ def normal_tangent():
     return n, ngs.CF((-n[1], n[0]))
 
 
-def _cf(value):
-    return value if isinstance(value, ngs.CoefficientFunction) else ngs.CF(value)
-
-
 def penetration(problem, u):
     """u_n - g_a: positive where the body penetrates the foundation (1.8)."""
     n, _ = normal_tangent()
-    return u * n - _cf(problem.g_a)
+    return u * n - coefficient(problem.g_a)
 
 
 def positive_power(d, m):
@@ -57,21 +62,21 @@ def positive_power(d, m):
 
 def compliance(problem, u):
     """Contact pressure c_n (u_n - g_a)_+^{m_n}, so that sigma_n(u) = -compliance (1.8)."""
-    return _cf(problem.c_n) * positive_power(penetration(problem, u), problem.m_n)
+    return coefficient(problem.c_n) * positive_power(penetration(problem, u), problem.m_n)
 
 
 def friction_bound(problem, u):
     """The friction bound c_tau (u_n - g_a)_+^{m_t} of (1.9) at u; c_tau itself for the reduced law m_t = 0."""
     if problem.m_t == 0:
-        return _cf(problem.c_tau)
-    return _cf(problem.c_tau) * positive_power(penetration(problem, u), problem.m_t)
+        return coefficient(problem.c_tau)
+    return coefficient(problem.c_tau) * positive_power(penetration(problem, u), problem.m_t)
 
 
 def friction_bound_slope(problem, u):
     """The derivative of the friction bound with respect to u_n: c_tau m_t (u_n - g_a)_+^{m_t - 1} (m_t > 0)."""
     d = penetration(problem, u)
     power = ngs.IfPos(d, 1, 0) if problem.m_t == 1 else problem.m_t * positive_power(d, problem.m_t - 1)
-    return _cf(problem.c_tau) * power
+    return coefficient(problem.c_tau) * power
 
 
 def project_unit(z):
@@ -79,8 +84,54 @@ def project_unit(z):
     return ngs.IfPos(z - 1, 1, ngs.IfPos(-1 - z, -1, z))
 
 
+def compliance_form(problem, dS, u, v):
+    """j_n(u, v) = int_{Gamma_C} c_n (u_n - g_a)_+^{m_n} v_n ds (Gauss rule ``dS``), a symbolic integral."""
+    n, _ = normal_tangent()
+    return compliance(problem, u) * (v * n) * dS
+
+
+def friction_matrix(disc, bound):
+    """The matrix of g(lam_tau, v) = int_{Gamma_C} bound lam_tau (v . t) ds (trial space ``disc.Q``, test
+    space V_h) for a friction bound given as a number or a CoefficientFunction: c_tau (m_t = 0), or the
+    bound at a fixed u."""
+    _, t = normal_tangent()
+    lam_tau, v = disc.Q.TrialFunction(), disc.V_plain.TestFunction()
+    g = ngs.BilinearForm(trialspace=disc.Q, testspace=disc.V_plain)
+    g += coefficient(bound) * lam_tau * (v * t) * disc.dS
+    with threads(disc.V.ndof):
+        g.Assemble()
+    return g.mat
+
+
+def frozen_bound(problem, u):
+    """``problem`` with the reduced law (m_t = 0) and, as its friction coefficient, the bound
+    c_tau (u_n - g_a)_+^{m_t} of (1.9) at (a copy of) the GridFunction ``u``: the problem of one step of
+    the fixed point (:mod:`ngdgfric.fixed_point`).  Only c_tau and m_t differ, so a discretisation of
+    ``problem`` serves it too."""
+    u_frozen = ngs.GridFunction(u.space)
+    u_frozen.vec.data = u.vec
+    return dataclasses.replace(problem, c_tau=friction_bound(problem, u_frozen), m_t=0.0)
+
+
+def residual(disc, u, lam_tau):
+    """The residual of (3.3) at the GridFunctions (u, lam_tau) of ``disc``: the vector on V_h of
+
+        B_h(u, v) + j_n(u, v) + g(u; lam_tau, v) - (f, v),
+        g(u; lam_tau, v) = int_{Gamma_C} c_tau (u_n - g_a)_+^{m_t} lam_tau v.t ds,
+
+    the friction term with the bound at u (:func:`friction_bound`; c_tau itself for m_t = 0), assembled
+    at that bound (:func:`friction_matrix`): one code path for m_t = 0 and m_t > 0."""
+    trial, test = disc.V.TnT()
+    compliance_part = ngs.BilinearForm(disc.V)
+    compliance_part += compliance_form(disc.problem, disc.dS, trial, test)
+    r = disc.F.CreateVector()
+    compliance_part.Apply(u.vec, r)
+    r.data += disc.A * u.vec + friction_matrix(disc, friction_bound(disc.problem, u)) * lam_tau.vec - disc.F
+    return r
+
+
 def multiplier_space(problem, mesh, order):
-    """Degree-p facet space on Gamma_C for the scalar multiplier l (lam_tau = l t)."""
+    """Degree-p facet space on Gamma_C for the scalar multiplier lam_tau (the vector multiplier is lam_tau t)."""
     full = ngs.FacetFESpace(mesh, order=order)
     return ngs.Compress(full, active_dofs=full.GetDofs(mesh.Boundaries(problem.contact)))
 
@@ -124,18 +175,18 @@ class ContactGauss:
             probe.vec.FV().NumPy()[self.dofs[:, k]] = 1.0
             self.vandermonde[:, :, k] = self.values(probe)
 
-    def values(self, lam):
+    def values(self, lam_tau):
         """Values of a multiplier GridFunction at the Gauss points, shape (edges, q)."""
-        return np.asarray(lam(self.points)).reshape(-1, self.q)
+        return np.asarray(lam_tau(self.points)).reshape(-1, self.q)
 
-    def set_values(self, lam, values):
+    def set_values(self, lam_tau, values):
         """Set the multiplier GridFunction to the degree-p polynomials with these Gauss values."""
         coefficients = np.linalg.solve(self.vandermonde, np.asarray(values).reshape(-1, self.q, 1))[..., 0]
-        lam.vec.FV().NumPy()[self.dofs.ravel()] = coefficients.ravel()
+        lam_tau.vec.FV().NumPy()[self.dofs.ravel()] = coefficients.ravel()
 
-    def snapshot(self, lam):
+    def snapshot(self, lam_tau):
         """The multiplier's Gauss values with the edge geometry, independent of the mesh."""
-        return GaussValues(self.xy, self.ends, self.values(lam))
+        return GaussValues(self.xy, self.ends, self.values(lam_tau))
 
 
 class GaussValues:
@@ -170,3 +221,62 @@ class GaussValues:
                     basis *= (s - nodes[:, m]) / (nodes[:, j] - nodes[:, m])
             result += basis * self.values[edge, j]
         return result
+
+
+def contact_state(sol):
+    """Arrays over the contact Gauss points of a Solution (in the order of ``disc.contact_points()``).
+
+    x, y: coordinates; u_n, u_tau: normal and tangential displacement (u_tau = u . t);
+    gap: u_n - g_a; pressure: c_n (u_n - g_a)_+^{m_n}; lam_tau: the multiplier (Lemma 3.1);
+    sigma_n, sigma_tau: normal and tangential stress of u_h (sigma_tau = sigma_h(u) n . t);
+    c_tau: friction coefficient; bound: friction bound c_tau (u_n - g_a)_+^{m_t} (1.9) (c_tau for m_t = 0).
+    """
+    points = sol.discretization.contact_points()
+    n, t = normal_tangent()
+    u, problem = sol.u, sol.problem
+    sigma_n_vec = stress(problem, strain(u)) * n
+    return {
+        "x": np.asarray(ngs.x(points)).ravel(),
+        "y": np.asarray(ngs.y(points)).ravel(),
+        "u_n": evaluate_on_contact(u * n, points),
+        "u_tau": evaluate_on_contact(u * t, points),
+        "gap": evaluate_on_contact(penetration(problem, u), points),
+        "pressure": evaluate_on_contact(compliance(problem, u), points),
+        "sigma_n": evaluate_on_contact(sigma_n_vec * n, points),
+        "sigma_tau": evaluate_on_contact(sigma_n_vec * t, points),
+        "lam_tau": np.asarray(sol.lam_tau(points)).ravel(),
+        "c_tau": np.asarray(coefficient(problem.c_tau)(points)).ravel() * np.ones(len(points)),
+        "bound": evaluate_on_contact(friction_bound(problem, u), points) * np.ones(len(points)),
+    }
+
+
+def _relative_residual(disc, u, lam_tau):
+    """||:func:`residual`||_2 / ||F||_2."""
+    r = residual(disc, u, lam_tau).FV().NumPy()
+    return float(np.linalg.norm(r) / max(np.linalg.norm(disc.F.FV().NumPy()), 1e-300))
+
+
+def kkt_residuals(sol):
+    """Violations of the discrete KKT system (3.3)-(3.4) of a Solution at the Gauss points of Gamma_C.
+
+    lam_excess: max(|lam_tau| - 1, 0);  complementarity: max |lam_tau u_tau - |u_tau|| / max(|u|);
+    equilibrium: ||:func:`residual`||_2 / ||F||_2 (round-off level at a solution), the friction term with
+    the bound at u_h.
+    """
+    state = contact_state(sol)
+    scale = max(np.max(np.abs(sol.u.vec.FV().NumPy())), 1e-300)
+    lam_tau, u_tau = state["lam_tau"], state["u_tau"]
+    return {
+        "lam_excess": float(max(np.max(np.abs(lam_tau), initial=0.0) - 1.0, 0.0)),
+        "complementarity": float(np.max(np.abs(lam_tau * u_tau - np.abs(u_tau)), initial=0.0) / scale),
+        "equilibrium": _relative_residual(sol.discretization, sol.u, sol.lam_tau),
+    }
+
+
+def rounding_residual(sol):
+    """The equilibrium residual of :func:`kkt_residuals` for u rounded once more, u (1 +- eps) with
+    fixed random signs: what round-off in u alone leaves, the floor to compare ``equilibrium`` with."""
+    u = ngs.GridFunction(sol.u.space)
+    signs = np.random.default_rng(0).choice([-1.0, 1.0], size=len(u.vec))
+    u.vec.FV().NumPy()[:] = sol.u.vec.FV().NumPy() * (1 + np.finfo(float).eps * signs)
+    return _relative_residual(sol.discretization, u, sol.lam_tau)

@@ -1,7 +1,9 @@
-"""The discrete problem (3.1)/(3.3) on one mesh: spaces, the assembled linear DG part, contact forms."""
+"""The discrete problem (3.1)/(3.3) on one mesh: its spaces and the matrices of its linear part.
 
-import copy
-import dataclasses
+The contact terms (forms, residual, KKT residuals) are in :mod:`ngdgfric.contact`, the traces at
+the contact Gauss points in :mod:`ngdgfric.traces`.
+"""
+
 import functools
 import time
 from numbers import Integral, Real
@@ -10,15 +12,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .checks import check_data, check_size
-from .contact import (
-    ContactGauss,
-    compliance,
-    contact_measure,
-    contact_points,
-    friction_bound,
-    multiplier_space,
-    normal_tangent,
-)
+from .contact import ContactGauss, contact_measure, contact_points, multiplier_space
 from .forms import dg_terms, edge_length, load_terms
 from .liftings import lifting_terms
 from .linalg import sparse_sum, threads
@@ -81,12 +75,11 @@ class Discretization:
     """Everything of (3.3) that does not depend on the solution, built once per mesh.
 
     Attributes: ``V`` (DG space), ``Q`` (multiplier space on Gamma_C), ``A`` (matrix of B_h),
-    ``F`` (load vector of (f, v)), ``compliance`` (nonlinear form of j_n on V), ``G`` (matrix of
-    g(lam, v) = int c_tau l v.t ds, trial Q, test V; None for m_t > 0, where the friction bound
-    depends on u: see :meth:`bound`, :meth:`frozen_bound`), ``M_inv`` (inverse Gauss-rule mass matrix
-    of Q), ``h_e``, ``timings``; ``orders`` (p_T per element), ``order`` (the largest, which sets
-    the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as a number
-    or GridFunction, for the penalty and the estimator weights).
+    ``F`` (load vector of (f, v)), ``M_inv`` (inverse Gauss-rule mass matrix of Q), ``dS`` (the
+    contact measure), ``h_e``, ``timings``; ``orders`` (p_T per element), ``order`` (the largest, which
+    sets the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as a number
+    or GridFunction, for the penalty and the estimator weights); ``gauss`` and ``traces`` (the contact
+    Gauss points and the trace matrix, built on first use).
 
     Before assembly: the mesh must fit the problem (:func:`ngdgfric.meshes.check_mesh`), the DOFs
     the size limit ``max_ndof`` and the data be valid pointwise (:mod:`ngdgfric.checks`).
@@ -114,6 +107,14 @@ class Discretization:
         self.Q = multiplier_space(problem, mesh, self.order)
         self.h_e = edge_length(mesh)
         self.dS = contact_measure(problem, mesh, self.order)
+        self.A, self.F = self._assemble(order)
+        self.timings["assemble"] = time.perf_counter() - start
+        self.V_plain = dg_space(mesh, order, dgjumps=False)  # the test space of the mixed contact forms
+        self.timings["setup"] = time.perf_counter() - start
+
+    def _assemble(self, order):
+        """The matrix A of B_h (with the lifting terms of Bassi, Brezzi, LDG) and the load vector F."""
+        problem, mesh = self.problem, self.mesh
         u, v = self.V.TnT()
         with threads(self.V.ndof):
             a = ngs.BilinearForm(self.V)
@@ -121,98 +122,28 @@ class Discretization:
                 a += term
             a.Assemble()
             lifts = lifting_terms(problem, mesh, self.V, self.order, self.method, self.eta)
-            self.A = sparse_sum([(1.0, a.mat), *lifts]) if lifts else a.mat
+            A = sparse_sum([(1.0, a.mat), *lifts]) if lifts else a.mat
             f = ngs.LinearForm(self.V)
             for term in load_terms(problem, mesh, v):
                 f += term
             f.Assemble()
-            self.F = f.vec
-            self.timings["assemble"] = time.perf_counter() - start
-            self.V_plain = dg_space(mesh, order, dgjumps=False)
-            self.G = self._friction_matrix() if problem.m_t == 0 else None
-        self.compliance = ngs.BilinearForm(self.V)
-        self.compliance += self.compliance_form(u, v)
-        self._contact_forms = {}
-        self.timings["setup"] = time.perf_counter() - start
+        return A, f.vec
 
     @functools.cached_property
     def M_inv(self):
         """The inverse Gauss-rule mass matrix of the multiplier space (factorised when first used: only
         the multiplier updates of Uzawa and the fixed point need it)."""
-        lam, q = self.Q.TnT()
+        lam_tau, q = self.Q.TnT()
         m = ngs.BilinearForm(self.Q)
-        m += lam * q * self.dS
+        m += lam_tau * q * self.dS
         with threads(self.V.ndof):
             m.Assemble()
             return m.mat.Inverse(inverse="sparsecholesky")
 
     @property
-    def c_tau(self):
-        return self.problem.c_tau if isinstance(self.problem.c_tau, ngs.CoefficientFunction) \
-            else ngs.CF(self.problem.c_tau)
-
-    @property
     def symmetric(self):
         """B_h is symmetric for every method but NIPG."""
         return self.method.symmetry == 1
-
-    def compliance_form(self, u, v):
-        """j_n(u, v) = int_{Gamma_C} c_n (u_n - g_a)_+^{m_n} v_n ds (Gauss rule), a symbolic integral."""
-        n, _ = normal_tangent()
-        return compliance(self.problem, u) * (v * n) * self.dS
-
-    def bound(self, u):
-        """The friction bound c_tau (u_n - g_a)_+^{m_t} of (1.9) at u (a CoefficientFunction of u)."""
-        return friction_bound(self.problem, u)
-
-    def frozen_bound(self, u):
-        """This discretisation for the reduced law (m_t = 0) with the bound frozen at (a copy of) ``u``.
-
-        c_tau becomes the CoefficientFunction c_tau (u_n - g_a)_+^{m_t} of the fixed u; spaces and
-        matrices are shared, only ``G`` is assembled anew.
-        """
-        frozen = copy.copy(self)
-        u_frozen = ngs.GridFunction(self.V)
-        u_frozen.vec.data = u.vec
-        frozen.problem = dataclasses.replace(self.problem, c_tau=self.bound(u_frozen), m_t=0.0)
-        frozen._contact_forms, frozen._gauss, frozen._traces = {}, self.gauss, None
-        with threads(self.V.ndof):
-            frozen.G = frozen._friction_matrix()
-        return frozen
-
-    def _friction_matrix(self):
-        """The matrix of g(lam, v) = int c_tau l v.t ds (m_t = 0)."""
-        _, t = normal_tangent()
-        lam, v = self.Q.TrialFunction(), self.V_plain.TestFunction()
-        g = ngs.BilinearForm(trialspace=self.Q, testspace=self.V_plain)
-        g += self.c_tau * lam * (v * t) * self.dS
-        g.Assemble()
-        return g.mat
-
-    def residual(self, u, lam, out=None):
-        """Residual of (3.3): A u + j_n(u, .) + g(l, .) - F, as a vector on V.
-
-        For m_t > 0, g carries the bound at u: int c_tau (u_n - g_a)_+^{m_t} l v.t ds.
-        """
-        r = out if out is not None else self.F.CreateVector()
-        if self.G is None:
-            self._contact_form(lam).Apply(u.vec, r)
-            r.data += self.A * u.vec - self.F
-        else:
-            self.compliance.Apply(u.vec, r)
-            r.data += self.A * u.vec + self.G * lam.vec - self.F
-        return r
-
-    def _contact_form(self, lam):
-        """j_n(u, v) + g(u; l, v) as a nonlinear form in u for the multiplier GridFunction ``lam`` (cached)."""
-        if id(lam) not in self._contact_forms:
-            _, t = normal_tangent()
-            u, v = self.V.TnT()
-            form = ngs.BilinearForm(self.V)
-            form += self.compliance_form(u, v)
-            form += self.bound(u) * lam * (v * t) * self.dS
-            self._contact_forms[id(lam)] = (lam, form)
-        return self._contact_forms[id(lam)][1]
 
     @property
     def gauss(self):
@@ -223,25 +154,20 @@ class Discretization:
 
     @property
     def traces(self):
-        """The :class:`ngdgfric.traces.ContactTraces` of this discretisation (built on first use)."""
+        """The :class:`ngdgfric.traces.ContactTraces` of this discretisation and its problem (built on first use)."""
         if self._traces is None:
-            self._traces = ContactTraces(self)
+            self._traces = ContactTraces(self, self.problem)
         return self._traces
 
     def contact_points(self):
         """Mapped Gauss points on Gamma_C (see :func:`ngdgfric.contact.contact_points`)."""
         return contact_points(self.problem, self.mesh, self.order)
 
-    def contact_groups(self, extra=None):
-        """For each edge on Gamma_C, the V-dofs of its element (+ ``extra(edge)`` dofs)."""
+    def contact_groups(self):
+        """For each edge on Gamma_C, the V-dofs of its element."""
         groups = []
         for el in self.mesh.Elements(ngs.BND):
-            if el.mat != self.problem.contact:
-                continue
-            edge = el.edges[0]
-            volume = self.mesh[edge].elements[0]
-            dofs = list(self.V.GetDofNrs(volume))
-            if extra is not None:
-                dofs += list(extra(el))
-            groups.append(dofs)
+            if el.mat == self.problem.contact:
+                volume = self.mesh[el.edges[0]].elements[0]
+                groups.append(list(self.V.GetDofNrs(volume)))
         return groups

@@ -62,7 +62,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import compliance, normal_tangent
+from .contact import compliance, friction_bound, normal_tangent
 from .forms import edge_order, edge_penalty, jump_inner
 from .linalg import limited_blas, threads
 from .meshes import element_diameters, facet_indicator
@@ -151,11 +151,11 @@ def estimate(sol, weights="energy"):
     on = {name: facet_indicator(mesh, name) for name in problem.boundary_names()}
     sigma, neighbour, volume = _stress_and_volume_term(sol, weights, q)
     sigma_n = sigma * n
-    traction_residual = sigma_n - coefficient(problem.g)
+    traction_residual, bound = sigma_n - coefficient(problem.g), friction_bound(problem, u)
     parts = element_integrals(mesh, {
         "eta1": volume,
         "eta3": on[problem.dirichlet] * edge_penalty(weight, p, h_e) * jump_inner(u, u, n) * boundary,
-        "eta4": on[problem.contact] * h_e / p * (sigma_n * t + disc.bound(u) * sol.lam_tau) ** 2 * boundary,
+        "eta4": on[problem.contact] * h_e / p * (sigma_n * t + bound * sol.lam_tau) ** 2 * boundary,
         "eta5": on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual) * boundary,
         "eta6": on[problem.contact] * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
     })

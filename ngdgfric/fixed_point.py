@@ -3,9 +3,9 @@
     u^{k+1}: the solution of (3.3)-(3.4) with the bound c_tau (u^k_n - g_a)_+^{m_t} frozen,
 
 i.e. of a reduced-law problem (m_t = 0) with a spatially varying friction bound
-(:meth:`ngdgfric.Discretization.frozen_bound`), solved by the inner solver warm-started from
-(u^k, l^k); stopped when ||u^{k+1} - u^k||_inf <= tol ||u^{k+1}||_inf.  It starts from u^0 = 0
-(bound 0 where g_a > 0: the frictionless problem) or from ``initial``.
+(:func:`ngdgfric.contact.frozen_bound`), solved by the inner solver on the same discretisation,
+warm-started from (u^k, lam_tau^k); stopped when ||u^{k+1} - u^k||_inf <= solver_tol ||u^{k+1}||_inf.
+It starts from u^0 = 0 (bound 0 where g_a > 0: the frictionless problem) or from ``initial``.
 
 The map u^k -> u^{k+1} is a contraction only if the bound varies slowly with u_n compared with
 the stiffness of the body: its Lipschitz constant grows like the slope c_tau m_t
@@ -18,63 +18,101 @@ is the answer.
 """
 
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
 
-import ngsolve as ngs
 import numpy as np
 
+from .contact import frozen_bound
 from .errors import SolverError
-from .newton import OPTIONS as NEWTON_OPTIONS
-from .newton import newton
+from .newton import NewtonOptions, newton
 from .nonlinear import relative_change
-from .options import callback, choice, positive_integer, positive_number, validate
-from .uzawa import OPTIONS as UZAWA_OPTIONS
-from .uzawa import uzawa
+from .options import SolverOptions, callback, choice, positive_integer, positive_number
+from .transfer import starting_point
+from .uzawa import UzawaOptions, uzawa
 
-__all__ = ["fixed_point", "INNER", "OPTIONS"]
+__all__ = ["fixed_point", "FixedPointOptions", "INNER"]
 
-INNER = {"newton": (newton, NEWTON_OPTIONS), "uzawa": (uzawa, UZAWA_OPTIONS)}
-OUTER = ("tol", "maxit", "progress")
-OPTIONS = {**{name: check for spec in (NEWTON_OPTIONS, UZAWA_OPTIONS) for name, check in spec.items()},
-           **dict(tol=positive_number, maxit=positive_integer, progress=callback, inner=choice(*INNER))}
+INNER = {"newton": (newton, NewtonOptions), "uzawa": (uzawa, UzawaOptions)}
+OUTER = ("solver_tol", "maxit", "progress")
 
 
-def fixed_point(disc, tol=1e-8, maxit=100, initial=None, inner="newton", progress=None, **options):
-    """The fixed point of the module docstring; returns (u, lam, info).
+def _inner_options(value, name):
+    if not isinstance(value, (NewtonOptions, UzawaOptions)):
+        raise ValueError(f"{name} must be NewtonOptions or UzawaOptions, got {value!r}")
 
-    tol: relative max-norm tolerance of the outer iteration, also passed to the inner solver.
-    maxit: outer iterations; ``inner``: "newton" or "uzawa", with ``options`` passed to it.
-    initial: optional (u, lam) GridFunctions on ``disc.V``, ``disc.Q`` to start from.
-    progress: callable(iteration, change) called after each outer iteration, or None.
+
+@dataclass(frozen=True)
+class FixedPointOptions(SolverOptions):
+    """The options of :func:`fixed_point` (the keywords of ``solve(solver="fixed_point")``).
+
+    solver_tol: the relative max-norm change of u at which the outer iteration stops.
+    maxit: outer iterations.
+    progress: None, or callable(message) called after each outer iteration with a line such as
+        "fixed point 3: relative change 1.2e-05".
+    inner: the options of the inner solver, :class:`~ngdgfric.newton.NewtonOptions` (the default) or
+        :class:`~ngdgfric.uzawa.UzawaOptions`, whose type chooses it.  As keywords (:meth:`from_keywords`):
+        ``inner="newton"`` or ``"uzawa"`` and that solver's options other than solver_tol, maxit and
+        progress; the inner solve gets the outer solver_tol.
+    """
+
+    solver = "fixed_point"
+    checks = dict(solver_tol=positive_number, maxit=positive_integer, progress=callback, inner=_inner_options)
+
+    solver_tol: float = 1e-8
+    maxit: int = 100
+    progress: Callable[[str], None] | None = None
+    inner: NewtonOptions | UzawaOptions = NewtonOptions(solver_tol=1e-8)
+
+    @classmethod
+    def from_keywords(cls, **options):
+        """The options from the keywords of ``solve(solver="fixed_point", ...)`` (None means the default):
+        ``solver_tol``, ``maxit``, ``progress``, ``inner`` ("newton" or "uzawa") and the inner solver's
+        options, which must be its own (ValueError naming any other)."""
+        outer = {name: options.pop(name, None) for name in OUTER}
+        outer = {name: value for name, value in outer.items() if value is not None}
+        inner = options.pop("inner", None)
+        inner = "newton" if inner is None else inner
+        choice(*INNER)(inner, "inner")
+        solver_tol = outer.get("solver_tol", cls.solver_tol)
+        positive_number(solver_tol, "solver_tol")
+        inner_options = INNER[inner][1].from_keywords(f"fixed_point with inner={inner!r}", solver_tol=solver_tol,
+                                                      **options)
+        return cls(**outer, inner=inner_options)
+
+
+def fixed_point(disc, options=None, initial=None):
+    """The fixed point of the module docstring with the :class:`FixedPointOptions` ``options`` (default:
+    the defaults); returns (u, lam_tau, info).
+
+    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` to start from.
     info: ``iterations`` (outer), ``history`` (relative changes), ``inner_iterations`` (per outer
     iteration), ``factorizations`` (summed over the inner solves), ``timings``.
     Raises :class:`SolverError` (with the history) if it diverges or does not converge in maxit.
     """
-    validate(OPTIONS, "fixed_point", tol=tol, maxit=maxit, progress=progress, inner=inner, **options)
-    inner_solver, inner_options = INNER[inner]
-    validate({name: check for name, check in inner_options.items() if name not in OUTER},
-             f"fixed_point with inner={inner!r}", **options)
+    options = FixedPointOptions() if options is None else options
+    inner_solver, inner = INNER[options.inner.solver][0], options.inner.solver
     start = time.perf_counter()
-    u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
-    if initial is not None:
-        u.vec.data, lam.vec.data = initial[0].vec, initial[1].vec
+    u, lam_tau = starting_point(disc, initial)
     du = u.vec.CreateVector()
     history, inner_iterations, factorizations = [], [], 0
-    for k in range(1, maxit + 1):
+    for k in range(1, options.maxit + 1):
         try:
-            u_new, lam_new, info = inner_solver(disc.frozen_bound(u), tol=tol, initial=(u, lam), **options)
+            u_new, lam_tau_new, info = inner_solver(disc, options.inner, initial=(u, lam_tau),
+                                                problem=frozen_bound(disc.problem, u))
         except SolverError as error:
             raise SolverError(f"fixed point: the inner {inner} solve {k} failed: {error}", history=history,
                               solver="fixed_point") from error
         inner_iterations.append(info["iterations"])
         factorizations += info.get("factorizations", 0)
         du.data = u_new.vec - u.vec
-        u.vec.data, lam.vec.data = u_new.vec, lam_new.vec
+        u.vec.data, lam_tau.vec.data = u_new.vec, lam_tau_new.vec
         history.append(relative_change(du, u.vec))
-        if progress is not None:
-            progress(k, history[-1])
-        if history[-1] <= tol or disc.problem.m_t == 0:
-            return u, lam, dict(iterations=k, history=history, inner_iterations=inner_iterations,
-                                factorizations=factorizations, timings=dict(total=time.perf_counter() - start))
+        if options.progress is not None:
+            options.progress(f"fixed point {k}: relative change {history[-1]:.2e}")
+        if history[-1] <= options.solver_tol or disc.problem.m_t == 0:
+            return u, lam_tau, dict(iterations=k, history=history, inner_iterations=inner_iterations,
+                                    factorizations=factorizations, timings=dict(total=time.perf_counter() - start))
         if not np.isfinite(history[-1]) or (k >= 10 and history[-1] > 0.9 * history[-6]):
             break
     raise SolverError(f"fixed point on the friction bound did not converge: relative changes "

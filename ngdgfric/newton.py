@@ -6,12 +6,12 @@ The nonlinearity of (3.3)-(3.4) lives at the M Gauss points of Gamma_C.  The sol
    the linear part onto them: W = B A^-1 B^T and w0 = B A^-1 F, by one partial factorisation
    (:class:`ngdgfric.condensation.Condensation`);
 2. solves the contact laws at the points for the forces f with a globalised semismooth Newton
-   method on the dense 2M x 2M problem (:class:`ngdgfric.reduced.ReducedContact`: energy descent for
-   the symmetric methods with m_t = 0, inside a proximal point method where W is singular (redundant
-   points on hp meshes), a merit function with Levenberg-Marquardt safeguards for NIPG and m_t > 0;
-   stopping test on the KKT residual of Lemma 3.1);
-3. recovers u = A^-1 (F - B^T f) by one substitution, and the multiplier l = f_t / beta
-   (beta = c_tau (u_n - g_a)_+^{m_t} omega; l = sign(u_tau) where beta = 0).  The traces of the
+   method on the dense 2M x 2M problem (:class:`ngdgfric.reduced.ReducedContact`,
+   :func:`ngdgfric.semismooth.solve`: energy descent for the symmetric methods with m_t = 0, inside a
+   proximal point method where W is singular (redundant points on hp meshes), a merit function with
+   Levenberg-Marquardt safeguards for NIPG and m_t > 0; stopping test on the KKT residual of Lemma 3.1);
+3. recovers u = A^-1 (F - B^T f) by one substitution, and the multiplier lam_tau = f_t / beta
+   (beta = c_tau (u_n - g_a)_+^{m_t} omega; lam_tau = sign(u_tau) where beta = 0).  The traces of the
    computed u differ from w0 - W f by the solve's round-off times cond(A), which a stiff compliance
    (c_n = 1e10: N' = omega c_n ~ 1e8) turns into a visible KKT residual; then w0 is shifted by that
    difference, the points are re-solved (one Newton step) and u moved with the forces,
@@ -32,28 +32,57 @@ problem and the forces) continues such a solve to the full tolerance without fac
 """
 
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
 
-import ngsolve as ngs
-
+from . import semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
-from .options import callback, choice, positive_integer, positive_number, validate
+from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
 from .reduced import ReducedContact
+from .traces import ContactTraces
+from .transfer import starting_point
 
-__all__ = ["newton", "NewtonState", "OPTIONS"]
+__all__ = ["newton", "NewtonOptions", "NewtonState"]
 
 MAX_CONSISTENCY = 3  # re-solves after a recovery whose traces violate the laws (stiff compliance)
-OPTIONS = dict(tol=positive_number, maxit=positive_integer, progress=callback, linear_solver=choice(*LINEAR_SOLVERS),
-               energy_tol=positive_number)
+
+
+@dataclass(frozen=True)
+class NewtonOptions(SolverOptions):
+    """The options of :func:`newton` (the keywords of ``solve(solver="newton")``).
+
+    solver_tol: the relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points at which
+        the iteration stops (:mod:`ngdgfric.reduced`; round-off sets its floor).
+    maxit: Newton iterations.
+    progress: None, or callable(message) called after each iteration with a line such as
+        "newton 3: KKT residual 1.2e-09".
+    linear_solver: "auto" (MKL PARDISO if installed, else NGSolve), "pardiso" or "ngsolve"
+        (:class:`ngdgfric.condensation.Condensation`).
+    energy_tol: None, or also stop once the linearisation estimate eta_lin <= energy_tol (module
+        docstring); then ``info["state"]`` can continue the solve (:class:`NewtonState`).
+    """
+
+    solver = "newton"
+    checks = dict(solver_tol=positive_number, maxit=positive_integer, progress=callback,
+                  linear_solver=choice(*LINEAR_SOLVERS), energy_tol=optional(positive_number))
+
+    solver_tol: float = 1e-13
+    maxit: int = 100
+    progress: Callable[[str], None] | None = None
+    linear_solver: str = "auto"
+    energy_tol: float | None = None
 
 
 class NewtonState:
     """One discretisation's condensed problem (:class:`~ngdgfric.condensation.Condensation`, one
-    factorisation) and :class:`~ngdgfric.reduced.ReducedContact`, with the current forces f."""
+    factorisation) and :class:`~ngdgfric.reduced.ReducedContact`, with the current forces f.
 
-    def __init__(self, disc, linear_solver="auto"):
+    ``traces``: the :class:`~ngdgfric.traces.ContactTraces` of the problem solved (``disc.traces``, or
+    those of a fixed-point step's problem)."""
+
+    def __init__(self, disc, traces, linear_solver="auto"):
         start = time.perf_counter()
-        self.disc = disc
-        traces = disc.traces
+        self.disc, self.traces = disc, traces
         self.condensation = Condensation(disc.A, disc.F, traces, disc.symmetric, linear_solver)
         self.reduced = ReducedContact(self.condensation.W, self.condensation.w0, traces.omega, traces.g_a,
                                       traces.c_n, traces.c_tau, traces.m_n, traces.m_t, disc.symmetric,
@@ -61,72 +90,77 @@ class NewtonState:
         self.f = None
         self.condense_seconds = time.perf_counter() - start
 
-    def start_from(self, initial):
-        """f from (u, lam) GridFunctions on ``disc.V``, ``disc.Q``: the forces of the laws at u, with l."""
-        w = self.disc.traces.apply(initial[0].vec.FV().NumPy())
-        self.f = self.reduced.forces(w, self.disc.gauss.values(initial[1]).ravel())
+    def start_from(self, u, lam_tau):
+        """f from GridFunctions u on ``disc.V`` and lam_tau on ``disc.Q``: the forces of the laws at u, with lam_tau."""
+        w = self.traces.apply(u.vec.FV().NumPy())
+        self.f = self.reduced.forces(w, self.disc.gauss.values(lam_tau).ravel())
 
-    def run(self, tol=1e-13, maxit=100, progress=None, energy_tol=None):
-        """Newton from the current f (zero if none) to ``tol`` (or ``energy_tol``), recover u; (u, lam, info)."""
+    def run(self, options):
+        """Newton from the current f (zero if none) with the :class:`NewtonOptions` ``options``, then recover
+        u; returns (u, lam_tau, info) (see :func:`newton`)."""
         start = time.perf_counter()
-        reduced, condensation, traces = self.reduced, self.condensation, self.disc.traces
-        f, info = reduced.solve(self.f, tol=tol, maxit=maxit, progress=progress, energy_tol=energy_tol)
-        newton_seconds = time.perf_counter() - start
+        reduced, traces, disc = self.reduced, self.traces, self.disc
+        f, info = semismooth.solve(reduced, self.f, options.solver_tol, options.maxit, options.progress,
+                                   options.energy_tol)
+        seconds = dict(newton=time.perf_counter() - start)
         start_recover = time.perf_counter()
-        u_vec = condensation.displacement(f)
-        recover_seconds = time.perf_counter() - start_recover
+        u_vec = self.condensation.displacement(f)
+        seconds["recover"] = time.perf_counter() - start_recover
+        f, u_vec, consistency = self._make_consistent(f, u_vec, info, options, seconds)
+        self.f = f
+        u, lam_tau = starting_point(disc)
+        u.vec.FV().NumPy()[:] = u_vec
+        disc.gauss.set_values(lam_tau, reduced.multiplier(f).reshape(-1, disc.gauss.q))
+        info.update(contact_points=traces.M, linear_solver=self.condensation.linear_solver, factorizations=1,
+                    refinements=self.condensation.refinements, consistency_steps=consistency,
+                    state=None if info["converged"] else self,
+                    timings=dict(condense=self.condense_seconds, **seconds,
+                                 total=self.condense_seconds + time.perf_counter() - start))
+        self.condense_seconds = 0.0  # a resumed run does not condense again
+        return u, lam_tau, info
+
+    def _make_consistent(self, f, u_vec, info, options, seconds):
+        """The traces of the computed u differ from w0 - W f by the solve's round-off amplified by cond(A),
+        which a stiff compliance (c_n up to 1e10) turns into a KKT residual: shift w0 so that w(f) are the
+        traces of u, re-solve the points and move u with the forces, u -= A^-1 B^T df (Newton steps on
+        the whole nonlinear system, whose round-off is relative to the steps), at most ``MAX_CONSISTENCY``
+        times.  ``info`` and ``seconds`` (newton, recover) are updated; returns (f, u_vec, re-solves)."""
+        reduced, traces = self.reduced, self.traces
         for consistency in range(MAX_CONSISTENCY + 1):
-            # the traces of the computed u differ from w0 - W f by the solve's round-off amplified by
-            # cond(A), which a stiff compliance (c_n up to 1e10) turns into a KKT residual: shift w0 so that
-            # w(f) are the traces of u, re-solve the points and move u with the forces, u -= A^-1 B^T df
-            # (Newton steps on the whole nonlinear system, whose round-off is relative to the steps)
             reduced.shift(traces.apply(u_vec) - reduced.traces(f))
-            if consistency == MAX_CONSISTENCY or reduced.done(reduced.evaluate(f), tol, energy_tol):
+            if consistency == MAX_CONSISTENCY or reduced.done(reduced.evaluate(f), options.solver_tol,
+                                                              options.energy_tol):
                 break
             start_newton = time.perf_counter()
-            f_new, more = reduced.solve(f, tol=tol, maxit=maxit, energy_tol=energy_tol)
+            f_new, more = semismooth.solve(reduced, f, options.solver_tol, options.maxit,
+                                           energy_tol=options.energy_tol)
             for key in ("iterations", "history", "steps"):
                 info[key] += more[key]
             info.update(linearization=more["linearization"], converged=more["converged"])
             start_recover = time.perf_counter()
-            newton_seconds += start_recover - start_newton
-            u_vec = u_vec + condensation.correction(f_new - f)
+            seconds["newton"] += start_recover - start_newton
+            u_vec = u_vec + self.condensation.correction(f_new - f)
             f = f_new
-            recover_seconds += time.perf_counter() - start_recover
-        self.f = f
-        disc = self.disc
-        u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
-        u.vec.FV().NumPy()[:] = u_vec
-        disc.gauss.set_values(lam, reduced.multiplier(f).reshape(-1, disc.gauss.q))
-        info.update(contact_points=traces.M, linear_solver=condensation.linear_solver, factorizations=1,
-                    refinements=condensation.refinements, consistency_steps=consistency,
-                    state=None if info["converged"] else self,
-                    timings=dict(condense=self.condense_seconds, newton=newton_seconds, recover=recover_seconds,
-                                 total=self.condense_seconds + time.perf_counter() - start))
-        self.condense_seconds = 0.0  # a resumed run does not condense again
-        return u, lam, info
+            seconds["recover"] += time.perf_counter() - start_recover
+        return f, u_vec, consistency
 
 
-def newton(disc, tol=1e-13, maxit=100, initial=None, progress=None, linear_solver="auto", energy_tol=None):
-    """Solve (3.3)-(3.4) on ``disc`` (module docstring); returns (u, lam, info).
+def newton(disc, options=None, initial=None, problem=None):
+    """Solve (3.3)-(3.4) on ``disc`` (module docstring) with the :class:`NewtonOptions` ``options``
+    (default: the defaults); returns (u, lam_tau, info).
 
-    tol: relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points (:mod:`ngdgfric.reduced`;
-    round-off sets its floor).  maxit: Newton iterations.  initial: optional (u, lam) GridFunctions
-    on ``disc.V``, ``disc.Q`` (a warm start: the forces of the laws at u, with l).
-    progress: callable(iteration, residual) after each iteration, or None.
-    linear_solver: "auto" (MKL PARDISO if installed, else NGSolve), "pardiso" or "ngsolve"
-    (:class:`ngdgfric.condensation.Condensation`).
-    energy_tol: also stop once the linearisation estimate eta_lin <= energy_tol (module docstring);
-    then ``info["state"]`` can continue the solve (:class:`NewtonState`).
+    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` (a warm start: the
+    forces of the laws at u, with lam_tau).  problem: the problem whose contact law is solved (default
+    ``disc.problem``; the fixed point passes its frozen-bound problem, :func:`ngdgfric.contact.frozen_bound`).
     info: ``iterations``, ``history`` (relative KKT residual after each iteration), ``steps``,
-    ``initial_residual``, ``residual``, ``linearization`` (eta_lin at the end), ``converged`` (tol met),
-    ``state`` (None when converged), ``contact_points`` (M), ``penetrating``, ``stick`` (points at
+    ``initial_residual``, ``residual``, ``linearization`` (eta_lin at the end), ``converged`` (solver_tol
+    met), ``state`` (None when converged), ``contact_points`` (M), ``penetrating``, ``stick`` (points at
     the end), ``linear_solver``, ``refinements``, ``timings`` (condense, newton, recover, total s).
-    Raises :class:`ngdgfric.SolverError` if neither test is met within ``maxit``.
+    Raises :class:`ngdgfric.SolverError` if neither test is met within ``options.maxit``.
     """
-    validate(OPTIONS, "newton", tol=tol, maxit=maxit, progress=progress, linear_solver=linear_solver,
-             energy_tol=energy_tol)
-    state = NewtonState(disc, linear_solver)
+    options = NewtonOptions() if options is None else options
+    traces = disc.traces if problem is None else ContactTraces(disc, problem)
+    state = NewtonState(disc, traces, options.linear_solver)
     if initial is not None:
-        state.start_from(initial)
-    return state.run(tol, maxit, progress, energy_tol)
+        state.start_from(*initial)
+    return state.run(options)

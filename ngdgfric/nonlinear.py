@@ -2,9 +2,9 @@
 
 Uzawa's inner problem (:mod:`ngdgfric.uzawa`) is the equation
 
-    F(u)(v) = B_h(u, v) + j_n(u, v) + int_{Gamma_C} c_tau l v_tau ds - (f, v) = 0
+    F(u)(v) = B_h(u, v) + j_n(u, v) + int_{Gamma_C} c_tau lam_tau v_tau ds - (f, v) = 0
 
-(Gauss rule) for a fixed multiplier l, solved by Newton's method on the compliance term.  The
+(Gauss rule) for a fixed multiplier lam_tau, solved by Newton's method on the compliance term.  The
 Jacobian of F is A + K_n(u), with K_n nonzero only in the blocks of the contact elements
 (:class:`ngdgfric.linalg.BlockSum`); it changes only when the set of penetrating Gauss points
 (or, for m_n > 1, the penetrations) change, and the last factorisation is reused until then.
@@ -17,7 +17,7 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import evaluate_on_contact, normal_tangent, penetration
+from .contact import compliance_form, evaluate_on_contact, normal_tangent, penetration
 from .linalg import BlockSum, direct_inverse, threads
 
 __all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newton_step", "relative_change"]
@@ -27,7 +27,7 @@ class ContactOperator:
     """F(u) and its Jacobian for the GridFunction ``u`` and a friction force density ``psi(u)``.
 
     ``psi``: callable mapping the displacement (a trial function) to the tangential friction force
-    density (independent of u for Uzawa: c_tau l).
+    density (independent of u for Uzawa: c_tau lam_tau).
     """
 
     def __init__(self, disc, u, psi):
@@ -37,7 +37,7 @@ class ContactOperator:
         _, t = normal_tangent()
         trial, test = disc.V.TnT()
         self.form = ngs.BilinearForm(disc.V)
-        self.form += disc.compliance_form(trial, test)
+        self.form += compliance_form(disc.problem, disc.dS, trial, test)
         self.form += psi(trial) * (test * t) * disc.dS
         self.sum = BlockSum(disc.A, disc.contact_groups())
         self.points = disc.contact_points()
@@ -68,19 +68,22 @@ class ContactOperator:
 class ReusedFactorization:
     """Solves J x = b for a sequence of Jacobians J identified by a ``state``: the last factorisation
     (Cholesky if ``symmetric``, i.e. symmetric positive definite, else UMFPACK) is reused while the
-    state does not change."""
+    state does not change.  ``jacobian``: a callable returning the current J as a sparse matrix
+    (assembled only when the state changed, e.g. :meth:`ContactOperator.jacobian`).
 
-    def __init__(self, symmetric):
-        self.symmetric = symmetric
+    Attributes: ``counts`` (factorizations, solves) and ``times`` (seconds in factor, solve, jacobian)."""
+
+    def __init__(self, jacobian, symmetric):
+        self.jacobian, self.symmetric = jacobian, symmetric
         self._inverse = self._state = None
         self.counts = dict(factorizations=0, solves=0)
         self.times = dict(factor=0.0, solve=0.0, jacobian=0.0)  # seconds spent in each part
 
-    def solve(self, op, state, b, x):
-        """x = J^-1 b with J = ``op.jacobian()`` (assembled and factorised only if ``state`` changed)."""
+    def solve(self, state, b, x):
+        """x = J^-1 b with J the Jacobian of ``state`` (assembled and factorised only if ``state`` changed)."""
         if self._state is None or not np.array_equal(state, self._state):
             start = time.perf_counter()
-            J = op.jacobian()
+            J = self.jacobian()
             self.times["jacobian"] += time.perf_counter() - start
             start = time.perf_counter()
             self._inverse = None  # free the old factor first: reusing its memory is much faster
@@ -96,11 +99,11 @@ class ReusedFactorization:
         self.counts["solves"] += 1
 
 
-def multiplier_update(disc, lam, value):
-    """A callable performing lam <- ``value`` (a CoefficientFunction) at the Gauss points, in place.
+def multiplier_update(disc, lam_tau, value):
+    """A callable performing lam_tau <- ``value`` (a CoefficientFunction) at the Gauss points, in place.
 
     The Gauss-rule L2 projection onto the degree-p multiplier space is interpolation at the
-    Gauss points, so the new lam equals ``value`` there exactly.
+    Gauss points, so the new lam_tau equals ``value`` there exactly.
     """
     form = ngs.LinearForm(disc.Q)
     form += value * disc.Q.TestFunction() * disc.dS
@@ -108,18 +111,18 @@ def multiplier_update(disc, lam, value):
     def update():
         with threads(disc.V.ndof):
             form.Assemble()
-        lam.vec.data = disc.M_inv * form.vec
+        lam_tau.vec.data = disc.M_inv * form.vec
 
     return update
 
 
 def newton_step(op, linear_solver, du):
-    """du = J(u)^-1 F_l(u) for the operator's u; returns (state of J, ||F_l(u)||_2)."""
+    """du = J(u)^-1 F(u) for the operator's u, with the :class:`ReusedFactorization` ``linear_solver`` of
+    ``op.jacobian``; returns the state of J."""
     r = op.residual()
     state = op.state()
-    norm = float(np.linalg.norm(r.FV().NumPy()))
-    linear_solver.solve(op, state, r, du)
-    return state, norm
+    linear_solver.solve(state, r, du)
+    return state
 
 
 def relative_change(du, u):

@@ -11,8 +11,8 @@ quantities along Gamma_C with the laws (1.8) and (1.9) that they satisfy.
 import ngsolve as ngs
 import numpy as np
 
+from .contact import contact_state
 from .files import atomic_path
-from .kkt import contact_state
 from .meshes import mesh_arrays
 from .problem import von_mises
 
@@ -186,7 +186,7 @@ def plot_contact(axes, sol):
     axes[0].plot(x, s["pressure"], ".-", label=r"$c_n\,(u_{hn} - g_a)_+^{m_n}$")
     axes[0].set_title("normal compliance (1.8)")
     axes[1].plot(x, s["sigma_tau"], ".-", label=r"$\sigma_\tau(u_h)$")
-    axes[1].plot(x, -s["c_tau"] * s["l"], ".-", label=r"$-c_\tau l$")
+    axes[1].plot(x, -s["c_tau"] * s["lam_tau"], ".-", label=r"$-c_\tau l$")
     axes[1].plot(x, s["c_tau"], "k--", lw=1, label=r"$\pm c_\tau$")
     axes[1].plot(x, -s["c_tau"], "k--", lw=1)
     axes[1].set_title("friction (1.9)")

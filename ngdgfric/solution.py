@@ -1,25 +1,28 @@
 """The solve() entry point and the Solution record."""
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
-from . import fixed_point, newton, uzawa
 from .discretization import Discretization
-from .options import validate
-from .transfer import initial_guess
+from .fixed_point import FixedPointOptions, fixed_point
+from .linalg import limited_blas
+from .newton import NewtonOptions, newton
+from .transfer import WarmStart, initial_guess
+from .uzawa import UzawaOptions, uzawa
 
-__all__ = ["Solution", "solve", "finish", "SOLVERS", "DEFAULT_TOL"]
+__all__ = ["Solution", "solve", "finish", "SOLVERS", "DEFAULT_SOLVER_TOL"]
 
-SOLVERS = {"newton": (newton.newton, newton.OPTIONS), "uzawa": (uzawa.uzawa, uzawa.OPTIONS),
-           "fixed_point": (fixed_point.fixed_point, fixed_point.OPTIONS)}
-DEFAULT_TOL = {"newton": 1e-13, "uzawa": 1e-8, "fixed_point": 1e-8}
+SOLVERS = {"newton": (newton, NewtonOptions), "uzawa": (uzawa, UzawaOptions),
+           "fixed_point": (fixed_point, FixedPointOptions)}
+DEFAULT_SOLVER_TOL = {name: options.solver_tol for name, (_, options) in SOLVERS.items()}
 
 
 @dataclass
 class Solution:
-    """A discrete solution u_h of (3.1) (for m_t > 0 with j_tau(u_h, .) of (1.4)) and lam_tau = l t of Lemma 3.1.
+    """A discrete solution u_h of (3.1) (for m_t > 0 with j_tau(u_h, .) of (1.4)) and lam_tau of Lemma 3.1.
 
-    ``u``: GridFunction on the DG space; ``lam_tau``: GridFunction of l on Gamma_C;
+    ``u``: GridFunction on the DG space; ``lam_tau``: GridFunction of the multiplier on Gamma_C;
     ``iterations``, ``history``: the nonlinear solver's iteration count and convergence history;
     ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics; ``state``: for an
     inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
@@ -47,7 +50,8 @@ class Solution:
         return self.u.space.ndof
 
 
-def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=None, initial=None,
+@limited_blas
+def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solver_tol=None, initial=None,
           penalty_check="warn", max_ndof=None, **options):
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
@@ -59,50 +63,71 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", tol=
     m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.uzawa.uzawa`, m_t = 0 only) or
     "fixed_point" (on the friction bound for m_t > 0, :func:`ngdgfric.fixed_point.fixed_point`,
     option ``inner="newton"|"uzawa"``); all solve the same discrete problem.
-    tol: the solver's tolerance; None: ``DEFAULT_TOL[solver]`` (Newton: 1e-13 on the relative KKT
-    residual at the contact points; Uzawa and the fixed point: 1e-8 on the relative max-norm
-    change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4)).
+    solver_tol: the solver's tolerance; None: ``DEFAULT_SOLVER_TOL[solver]`` (Newton: 1e-13 on the
+    relative KKT residual at the contact points; Uzawa and the fixed point: 1e-8 on the relative
+    max-norm change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4)).
+    The old name ``tol`` still works (DeprecationWarning).
     penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
     threshold (:func:`ngdgfric.methods.check_penalty`).
-    initial: a Solution to start from (on this mesh, or on another, e.g. coarser, mesh of the
-    same domain: see :func:`ngdgfric.transfer.initial_guess`).
+    initial: a Solution (or a :class:`~ngdgfric.transfer.WarmStart`) to start from, on this mesh or on
+    another, e.g. coarser, mesh of the same domain (:func:`ngdgfric.transfer.initial_guess`).
     max_ndof: refuse (ValueError, before assembly) above this many DOFs; None: above an estimated
     8 GB (:func:`ngdgfric.checks.check_size`).  Data given as CoefficientFunctions are checked
     pointwise first (:func:`ngdgfric.checks.check_data`).
-    options: passed to the solver (``maxit``, ``progress``; ``linear_solver`` for Newton; ``rho``
-    for Uzawa; ``inner`` and the inner solver's options for the fixed point); unknown names and
-    bad values raise ValueError before anything is assembled.
+    options: the solver's options (:class:`~ngdgfric.newton.NewtonOptions`,
+    :class:`~ngdgfric.uzawa.UzawaOptions`, :class:`~ngdgfric.fixed_point.FixedPointOptions`), e.g.
+    ``maxit``, ``progress`` (callable(message)); unknown names and bad values raise ValueError before
+    anything is assembled.
     """
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
-    function, spec = SOLVERS[solver]
-    tol = DEFAULT_TOL[solver] if tol is None else tol
-    validate(spec, solver, tol=tol, **options)
+    function, options_class = SOLVERS[solver]
+    settings = options_class.from_keywords(solver_tol=_solver_tol(solver_tol, options), **options)
+    start_from = None if initial is None else _warm_start(initial)
     start = time.perf_counter()
     disc = Discretization(problem, mesh, method, order, eta, penalty_check, max_ndof)
-    start_guess = None if initial is None else initial_guess(initial, disc)
-    u, lam, info = function(disc, tol=tol, initial=start_guess, **options)
+    u, lam_tau, info = function(disc, settings, None if start_from is None else initial_guess(start_from, disc))
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
-    return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam,
+    return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam_tau,
                     info["iterations"], info["history"], timings, disc, info, info.pop("state", None))
 
 
-def finish(sol, tol=None, energy_tol=None, maxit=100):
-    """Continue an inexact Newton solve (``sol.state``, option ``energy_tol`` of :func:`solve`) to ``tol``
-    (default ``DEFAULT_TOL["newton"]``) or to a smaller ``energy_tol``, with the same factorisation;
-    returns the new :class:`Solution` (``sol`` itself if it was solved to its tolerance already).
-    ``iterations`` and ``history`` continue those of ``sol``; ``timings["solve"]`` adds this run's seconds."""
+def _solver_tol(solver_tol, options):
+    """``solver_tol``, or the value of the deprecated keyword ``tol`` (removed from ``options``)."""
+    if "tol" not in options:
+        return solver_tol
+    warnings.warn("solve(tol=...) is deprecated: the solver's tolerance is solver_tol", DeprecationWarning,
+                  stacklevel=3)
+    tol = options.pop("tol")
+    if solver_tol is not None and tol is not None:
+        raise ValueError(f"give solver_tol only (got solver_tol={solver_tol!r} and the deprecated tol={tol!r})")
+    return tol if solver_tol is None else solver_tol
+
+
+def _warm_start(initial):
+    """``initial`` of :func:`solve` as a :class:`WarmStart`: the one place a Solution is converted."""
+    if isinstance(initial, WarmStart):
+        return initial
+    if isinstance(initial, Solution):
+        return WarmStart.from_solution(initial)
+    raise ValueError(f"initial must be a Solution or a WarmStart, got {type(initial).__name__}")
+
+
+@limited_blas
+def finish(sol, solver_tol=None, energy_tol=None, maxit=100):
+    """Continue an inexact Newton solve (``sol.state``, option ``energy_tol`` of :func:`solve`) to
+    ``solver_tol`` (default ``DEFAULT_SOLVER_TOL["newton"]``) or to a smaller ``energy_tol``, with the same
+    factorisation; returns the new :class:`Solution` (``sol`` itself if it was solved to its tolerance
+    already).  ``iterations`` and ``history`` continue those of ``sol``; ``timings["solve"]`` adds this
+    run's seconds."""
     if sol.state is None:
         return sol
-    tol = DEFAULT_TOL["newton"] if tol is None else tol
-    validate(newton.OPTIONS, "newton", tol=tol, energy_tol=energy_tol, maxit=maxit)
+    options = NewtonOptions.from_keywords(solver_tol=solver_tol, energy_tol=energy_tol, maxit=maxit)
     start = time.perf_counter()
-    u, lam, info = sol.state.run(tol, maxit, energy_tol=energy_tol)
+    u, lam_tau, info = sol.state.run(options)
     seconds = time.perf_counter() - start
     timings = dict(sol.timings, solve=sol.timings["solve"] + seconds, total=sol.timings["total"] + seconds)
-    return Solution(sol.problem, sol.mesh, sol.method, sol.order, sol.eta, sol.solver, u, lam,
+    return Solution(sol.problem, sol.mesh, sol.method, sol.order, sol.eta, sol.solver, u, lam_tau,
                     sol.iterations + info["iterations"], sol.history + info["history"], timings,
                     sol.discretization, info, info.pop("state", None))
-
-

@@ -3,9 +3,9 @@
 Every contact term of (3.1) is a sum over the Gauss points x_q of Gamma_C (p + 1 per edge, the rule
 of :mod:`ngdgfric.contact`), q = 1 ... M, with weights omega_q (Gauss weight times edge length):
 
-    j_n(u, v) + g(lam, v) = sum_q f_n,q v_n(x_q) + f_t,q v_t(x_q) = v^T B^T f,
+    j_n(u, v) + g(lam_tau, v) = sum_q f_n,q v_n(x_q) + f_t,q v_t(x_q) = v^T B^T f,
 
-    f_n,q = omega_q c_n (u_n - g_a)_+^{m_n}(x_q),   f_t,q = omega_q c_tau (u_n - g_a)_+^{m_t}(x_q) l(x_q),
+    f_n,q = omega_q c_n (u_n - g_a)_+^{m_n}(x_q),   f_t,q = omega_q c_tau (u_n - g_a)_+^{m_t}(x_q) lam_tau(x_q),
 
 where B (2M x N) is the trace matrix, (B u)_q = u_n(x_q) and (B u)_{M+q} = u_t(x_q), and f the
 contact forces at the points.  B is built from the Gauss-rule mass matrices int (u . n) mu ds and
@@ -34,6 +34,9 @@ def _point_values(value, points):
 class ContactTraces:
     """B, the weights and the data of the contact laws at the M Gauss points of Gamma_C.
 
+    ``disc``: a :class:`~ngdgfric.discretization.Discretization`; ``problem``: the problem whose contact
+    law is evaluated at the points (``disc.problem``, or the problem of a fixed-point step,
+    :func:`ngdgfric.contact.frozen_bound`, which differs from it in c_tau and m_t only).
     Attributes: ``rows``, ``cols``, ``values`` (B as COO triplets, shape ``(2 M, ndof)``),
     ``omega``, ``g_a``, ``c_n``, ``c_tau`` (arrays of length M, in the point order of
     ``disc.gauss``: edge by edge), ``m_n``, ``m_t``, and ``redundant``: True if some element's
@@ -42,8 +45,8 @@ class ContactTraces:
     the forces at those points are not unique (u is).
     """
 
-    def __init__(self, disc):
-        problem, gauss = disc.problem, disc.gauss
+    def __init__(self, disc, problem):
+        gauss = disc.gauss
         self.ndof = disc.V.ndof
         self.M = gauss.dofs.size
         q = gauss.q

@@ -1,13 +1,19 @@
-"""Warm starts: a solution on one mesh as the initial guess on another (coarser -> finer)."""
+"""Warm starts: a solution on one mesh as the initial guess on another (coarser -> finer).
+
+A :class:`WarmStart` is what a solve can start from: u, the mesh it lives on and the multiplier as
+mesh-independent Gauss values (:class:`ngdgfric.contact.GaussValues`); :func:`initial_guess` turns it into
+the pair (u, lam_tau) on a discretisation's spaces, and :func:`starting_point` makes the solvers' own
+copies of such a pair.
+"""
+
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
 
-from .contact import normal_tangent, project_unit
-from .nonlinear import multiplier_update
-from .problem import strain, stress
+from .contact import GaussValues
 
-__all__ = ["initial_guess", "multiplier_snapshot", "copy_orders"]
+__all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders"]
 
 
 def _local(p, q):
@@ -54,31 +60,48 @@ def multiplier_snapshot(sol):
     return sol.discretization.gauss.snapshot(sol.lam_tau)
 
 
-def initial_guess(sol, disc):
-    """(u, l) GridFunctions on ``disc``'s spaces from the Solution ``sol``.
+@dataclass(frozen=True)
+class WarmStart:
+    """What a solve can start from (``solve(initial=...)``, :func:`initial_guess`).
 
-    On the same mesh and spaces the vectors are copied.  Otherwise u is interpolated (exact for
-    nested meshes and equal or higher order) and l is the old multiplier, a piecewise polynomial
-    on the old edges of Gamma_C, evaluated at the new Gauss points.  ``sol`` may also be any
-    object with ``u``, ``mesh`` and ``multiplier`` (a :class:`GaussValues`, or None: then l is
-    estimated from the stress, l = P(-sigma_tau(u) / b) with b the friction bound at u, since
-    sigma_tau + b l ~ 0 at a solution, estimator eta_4).
+    u: the displacement, a GridFunction of an ``L2**2`` space on ``mesh``; mesh: the mesh of u (it may
+    have been refined since, for u in an autoupdating space, as in the adaptive loop); multiplier: lam_tau
+    as Gauss values on Gamma_C (:func:`multiplier_snapshot`), independent of the mesh; lam_tau: the
+    multiplier GridFunction itself, or None; with it, a start on the same mesh and spaces is copied exactly.
     """
-    u, lam = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
-    old_lam = getattr(sol, "lam_tau", None)
-    if sol.mesh is disc.mesh and sol.u.space.ndof == disc.V.ndof and old_lam is not None \
-            and old_lam.space.ndof == disc.Q.ndof:
-        u.vec.data, lam.vec.data = sol.u.vec, old_lam.vec
-        return u, lam
-    u.Set(sol.u)
-    multiplier = sol.multiplier if hasattr(sol, "multiplier") else multiplier_snapshot(sol)
-    if multiplier is not None:
-        gauss = disc.gauss
-        disc.gauss.set_values(lam, np.clip(multiplier(gauss.xy.reshape(-1, 2)), -1, 1).reshape(-1, gauss.q))
-        return u, lam
-    n, t = normal_tangent()
-    sigma_tau = stress(disc.problem, strain(u)) * n * t
-    bound = disc.bound(u)
-    estimate = ngs.IfPos(bound, -sigma_tau / ngs.IfPos(bound, bound, 1), 0)
-    multiplier_update(disc, lam, project_unit(estimate))()
-    return u, lam
+
+    u: object
+    mesh: object
+    multiplier: GaussValues
+    lam_tau: object = None
+
+    @classmethod
+    def from_solution(cls, sol):
+        """The warm start of a :class:`~ngdgfric.solution.Solution`."""
+        return cls(sol.u, sol.mesh, multiplier_snapshot(sol), sol.lam_tau)
+
+
+def starting_point(disc, initial=None):
+    """New GridFunctions (u, lam_tau) on ``disc.V`` and ``disc.Q``: zero, or copies of the pair ``initial``
+    (the iterates a solver changes in place; the caller's pair is left alone)."""
+    u, lam_tau = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
+    if initial is not None:
+        u.vec.data, lam_tau.vec.data = initial[0].vec, initial[1].vec
+    return u, lam_tau
+
+
+def initial_guess(start, disc):
+    """(u, lam_tau) GridFunctions on ``disc``'s spaces from the :class:`WarmStart` ``start``.
+
+    On the same mesh and spaces (and with ``start.lam_tau``) the vectors are copied.  Otherwise u is
+    interpolated (exact for nested meshes and equal or higher order) and lam_tau is the old multiplier, a
+    piecewise polynomial on the old edges of Gamma_C, evaluated at the new Gauss points.
+    """
+    if start.mesh is disc.mesh and start.u.space.ndof == disc.V.ndof and start.lam_tau is not None \
+            and start.lam_tau.space.ndof == disc.Q.ndof:
+        return starting_point(disc, (start.u, start.lam_tau))
+    u, lam_tau = starting_point(disc)
+    u.Set(start.u)
+    gauss = disc.gauss
+    gauss.set_values(lam_tau, np.clip(start.multiplier(gauss.xy.reshape(-1, 2)), -1, 1).reshape(-1, gauss.q))
+    return u, lam_tau

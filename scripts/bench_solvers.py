@@ -20,7 +20,6 @@ recovery of u) and Newton's iterations.  Writes results/solver_benchmark.md, .cs
 import argparse
 import time
 from pathlib import Path
-from types import SimpleNamespace
 
 import matplotlib
 import ngsolve as ngs
@@ -32,7 +31,7 @@ from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
 from ngdgfric.studies import max_rel_diff
-from ngdgfric.transfer import multiplier_snapshot
+from ngdgfric.transfer import WarmStart, multiplier_snapshot
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -111,7 +110,7 @@ def hp_row(example, repeat):
         carrier = ngs.GridFunction(ngs.L2(mesh, order=8, autoupdate=True) ** 2, autoupdate=True)
         carrier.Set(sol.u)
         kept["previous"] = kept.get("current")
-        kept["current"] = SimpleNamespace(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
+        kept["current"] = WarmStart(u=carrier, mesh=mesh, multiplier=multiplier_snapshot(sol))
         kept["orders"] = sol.discretization.orders.copy()
 
     run = ndf.adapt(problem, mesh, method="sipg", order=2, hp=True, max_order=8, max_levels=60,

@@ -422,8 +422,9 @@ def mesh_cases():
                      ("order-minus1", "order=-1", "order"), ("order-string", "order='1'", "order"),
                      ("order-1000", "order=1000", ("order",) + SIZE_WORDS), ("method-foo", "method='foo'", "method"),
                      ("eta-minus1", "eta=-1.0", "eta"), ("eta-0", "eta=0.0", "eta"), ("eta-nan", "eta=nan", "eta"),
-                     ("solver-foo", "solver='foo'", "solver"), ("tol-minus1", "tol=-1.0", "tol"),
-                     ("tol-nan", "tol=nan", "tol"), ("tol-0", "tol=0.0", "tol"), ("maxit-0", "maxit=0", "maxit"),
+                     ("solver-foo", "solver='foo'", "solver"), ("solver-tol-minus1", "solver_tol=-1.0", "solver_tol"),
+                     ("solver-tol-nan", "solver_tol=nan", "solver_tol"),
+                     ("solver-tol-0", "solver_tol=0.0", "solver_tol"), ("maxit-0", "maxit=0", "maxit"),
                      ("unknown-option", "foo=1", "foo")]
     for kind, argument, expect in bad_arguments:
         cases.append(api(f"solve-{kind}", f"solve(p, mesh, {argument})", f"ndf.solve(p, mesh, {argument})",

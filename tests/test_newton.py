@@ -9,7 +9,7 @@ from manufactured import contact_manufactured
 
 import ngdgfric as ndf
 from ngdgfric import pardiso
-from ngdgfric.kkt import rounding_residual
+from ngdgfric.contact import rounding_residual
 from ngdgfric.solution import finish
 
 
@@ -30,7 +30,7 @@ def test_newton_agrees_with_uzawa_at_h_1_16(example):
     p = example()
     mesh = ndf.uniform_mesh(p, 1 / 16)
     newton = ndf.solve(p, mesh)
-    uzawa = ndf.solve(p, mesh, solver="uzawa", tol=1e-12)
+    uzawa = ndf.solve(p, mesh, solver="uzawa", solver_tol=1e-12)
     assert max_rel_diff(newton, uzawa) <= 1e-7
     assert newton.iterations <= 10
     assert_kkt_at_roundoff(newton)
@@ -56,7 +56,7 @@ def test_nearly_incompressible_material(nu):
 def test_nearly_incompressible_material_agrees_with_uzawa():
     p = dataclasses.replace(ndf.example_6_1(), nu=0.499)
     mesh = ndf.uniform_mesh(p, 1 / 8)
-    uzawa = ndf.solve(p, mesh, solver="uzawa", tol=1e-11)  # 9000 iterations
+    uzawa = ndf.solve(p, mesh, solver="uzawa", solver_tol=1e-11)  # 9000 iterations
     assert max_rel_diff(ndf.solve(p, mesh), uzawa) <= 1e-7
 
 
@@ -104,7 +104,7 @@ def test_element_with_two_contact_edges():
     sol = ndf.solve(p, mesh)
     assert sol.discretization.traces.redundant
     assert_kkt_at_roundoff(sol)
-    assert max_rel_diff(sol, ndf.solve(p, mesh, solver="uzawa", tol=1e-12)) <= 1e-7
+    assert max_rel_diff(sol, ndf.solve(p, mesh, solver="uzawa", solver_tol=1e-12)) <= 1e-7
 
 
 def test_warm_start_from_a_coarser_mesh_needs_few_iterations():
@@ -141,7 +141,7 @@ def test_spatially_varying_young_modulus_newton_agrees_with_uzawa():
     problem = dataclasses.replace(ndf.example_6_1(), E=2000 + 500 * ngs.x)
     mesh = ndf.uniform_mesh(problem, 1 / 8)
     newton_sol = ndf.solve(problem, mesh)
-    uzawa_sol = ndf.solve(problem, mesh, solver="uzawa", tol=1e-12)
+    uzawa_sol = ndf.solve(problem, mesh, solver="uzawa", solver_tol=1e-12)
     assert max_rel_diff(newton_sol, uzawa_sol) <= 1e-7
     assert_kkt_at_roundoff(newton_sol)
 
@@ -208,4 +208,4 @@ def test_hp_mesh_with_redundant_contact_points_is_solved_by_the_proximal_point_m
     assert sol.discretization.traces.redundant
     assert any(step.startswith("proximal") for step in sol.info["steps"])
     assert_kkt_at_roundoff(sol)
-    assert max_rel_diff(sol, ndf.solve(p, mesh, order=orders, solver="uzawa", tol=1e-12)) <= 1e-7
+    assert max_rel_diff(sol, ndf.solve(p, mesh, order=orders, solver="uzawa", solver_tol=1e-12)) <= 1e-7

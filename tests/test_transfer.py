@@ -1,4 +1,6 @@
-"""Transfers between spaces: the coefficient copy between L2 orders against NGSolve's Set."""
+"""Transfers between spaces: the coefficient copy between L2 orders against NGSolve's Set; warm starts."""
+
+import dataclasses
 
 import ngsolve as ngs
 import numpy as np
@@ -6,7 +8,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.discretization import dg_space
-from ngdgfric.transfer import copy_orders
+from ngdgfric.transfer import WarmStart, copy_orders, initial_guess, starting_point
 
 
 @pytest.mark.parametrize("mesh_kind", ["uniform", "netgen"])
@@ -40,3 +42,45 @@ def test_copy_refuses_orders_that_do_not_fit_the_space():
     v = ngs.GridFunction(dg_space(mesh, 3))
     with pytest.raises(ValueError, match="orders"):
         copy_orders(u, np.full(mesh.ne, 3), v, np.full(mesh.ne, 3))
+
+
+@pytest.fixture(scope="module")
+def coarse_solution():
+    p = ndf.example_6_1()
+    return ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), order=1)
+
+
+def test_warm_start_on_the_same_spaces_is_an_exact_copy(coarse_solution):
+    sol = coarse_solution
+    u, lam_tau = initial_guess(WarmStart.from_solution(sol), sol.discretization)
+    assert u is not sol.u and lam_tau is not sol.lam_tau
+    assert np.array_equal(u.vec.FV().NumPy(), sol.u.vec.FV().NumPy())
+    assert np.array_equal(lam_tau.vec.FV().NumPy(), sol.lam_tau.vec.FV().NumPy())
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        WarmStart.from_solution(sol).u = u
+
+
+def test_warm_start_onto_a_nested_finer_mesh_and_higher_order(coarse_solution):
+    """u (P1 on h = 1/4) interpolated into P2 on h = 1/8 is the same function; the multiplier takes the old
+    values at the new Gauss points."""
+    sol = coarse_solution
+    p = sol.problem
+    disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 8), order=2)
+    start = WarmStart.from_solution(sol)
+    u, lam_tau = initial_guess(start, disc)
+    rng = np.random.default_rng(7)
+    x0, y0, x1, y1 = p.geometry.bounds
+    for x, y in rng.uniform((x0, y0), (x1, y1), (20, 2)):
+        old, new = sol.u(sol.mesh(x, y)), u(disc.mesh(x, y))
+        assert np.allclose(new, old, rtol=0, atol=1e-12 * np.abs(sol.u.vec.FV().NumPy()).max())
+    expected = np.clip(start.multiplier(disc.gauss.xy.reshape(-1, 2)), -1, 1)
+    assert np.allclose(disc.gauss.values(lam_tau).ravel(), expected, rtol=0, atol=1e-12)
+
+
+def test_starting_point_copies_and_leaves_the_pair_alone(coarse_solution):
+    sol = coarse_solution
+    u, lam_tau = starting_point(sol.discretization, (sol.u, sol.lam_tau))
+    u.vec[:] = 0.0
+    assert np.abs(sol.u.vec.FV().NumPy()).max() > 0
+    zero = starting_point(sol.discretization)
+    assert not np.any(zero[0].vec.FV().NumPy()) and not np.any(zero[1].vec.FV().NumPy())

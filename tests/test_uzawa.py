@@ -10,13 +10,13 @@ import ngdgfric as ndf
 @pytest.fixture(scope="module")
 def solution_6_1():
     p = ndf.example_6_1()
-    return ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), solver="uzawa", tol=1e-12)
+    return ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), solver="uzawa", solver_tol=1e-12)
 
 
 def test_kkt_conditions_of_example_6_1(solution_6_1):
     state = ndf.contact_state(solution_6_1)
     kkt = ndf.kkt_residuals(solution_6_1)
-    assert np.max(np.abs(state["l"])) <= 1 + 1e-12
+    assert np.max(np.abs(state["lam_tau"])) <= 1 + 1e-12
     assert kkt["complementarity"] < 1e-8
     assert kkt["equilibrium"] < 1e-10
     # the example has both stick and slip points
@@ -44,16 +44,16 @@ def test_frictionless_without_contact_is_linear_elasticity():
 
 def test_huge_friction_bound_sticks():
     p = dataclasses.replace(ndf.example_6_1(), c_tau=1e7)
-    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), solver="uzawa", tol=1e-10)
+    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), solver="uzawa", solver_tol=1e-10)
     state = ndf.contact_state(sol)
     assert np.max(np.abs(state["u_tau"])) <= 1e-7 * np.max(np.abs(sol.u.vec.FV().NumPy()))
-    assert np.max(np.abs(state["l"])) < 1
+    assert np.max(np.abs(state["lam_tau"])) < 1
 
 
 def test_spatially_varying_data_work():
     p = dataclasses.replace(ndf.example_6_2(), g_a=0.01 * ngs.x, c_tau=250 * (1 + ngs.x),
                             c_n=1 + ngs.x, f=(0, -10 * ngs.y), g=(880 * ngs.y, 0))
-    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), solver="uzawa", tol=1e-10)
+    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4), solver="uzawa", solver_tol=1e-10)
     assert ndf.kkt_residuals(sol)["equilibrium"] < 1e-10
 
 

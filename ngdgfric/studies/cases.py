@@ -21,7 +21,7 @@ from ..methods import get_method
 from ..problem import stress
 from ..reference import energy_error, energy_norm, load_reference
 from ..solution import solve
-from ..uzawa import default_rho, uzawa
+from ..uzawa import UzawaOptions, default_rho, uzawa
 from .manufactured import elasticity_manufactured, strain_of
 from .strategies import strategy_run
 
@@ -101,7 +101,7 @@ def locking_case(case):
 
 def _contact_summary(sol):
     state = contact_state(sol)
-    stick = np.abs(state["l"]) < 1 - 1e-8
+    stick = np.abs(state["lam_tau"]) < 1 - 1e-8
     return dict(penetration=float(np.max(np.maximum(state["gap"], 0.0), initial=0.0)),
                 contact_fraction=float(np.mean(state["gap"] > 0)), stick_fraction=float(np.mean(stick)),
                 max_slip=float(np.max(np.abs(state["u_tau"]))), **kkt_residuals(sol))
@@ -144,7 +144,7 @@ def rho_case(case):
     rho = case["factor"] * default_rho(disc)
     start = time.perf_counter()
     try:
-        _, _, info = uzawa(disc, rho=rho, maxit=case.get("maxit", 3000))
+        _, _, info = uzawa(disc, UzawaOptions(rho=rho, maxit=case.get("maxit", 3000)))
         status, iterations = "converged", info["iterations"]
     except SolverError as error:
         status, iterations = _failed(error), len(error.history)

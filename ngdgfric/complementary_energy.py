@@ -1,0 +1,144 @@
+"""The complementary energy of the condensed contact problem and its descent step (B_h symmetric, m_t = 0).
+
+For a symmetric B_h and the reduced law m_t = 0 the forces f of :class:`ngdgfric.reduced.ReducedContact`
+minimise the convex complementary energy
+
+    Theta(f) = 1/2 f.W f - w0.f + sum_q Phi_q*(f_n,q)   over   K = {f_n >= 0, |f_t| <= beta},
+
+with Phi*(s) = g_a s + m/(m+1) (omega c_n)^{-1/m} s^{(m+1)/m} the conjugate of the compliance energy
+(f_n = 0 where c_n = 0).  One step of the iteration (:func:`energy_step`): the Newton point, projected
+onto K, is accepted when it lowers Theta by a fixed fraction sigma of what a diagonally scaled
+projected-gradient step promises (delta = -grad Theta . p with p = P_K(f - D^-1 grad Theta) - f), or,
+once the relative KKT residual is below 1e-6, when the next Newton point from it does (a watchdog:
+near the solution a step with a few wrong stick/slip guesses may raise Theta by more than its
+round-off while the next step lands on the solution); otherwise a projected Newton step with Armijo
+backtracking (:func:`projected_newton_step`).  Theta decreases by at least sigma x (a forcing
+function of the projected gradient) at every step, so every limit point minimises Theta (Bertsekas,
+Nonlinear Programming, 2nd ed., Prop. 2.3.3); near the solution the Newton steps are accepted, the
+sets settle, and for m_n = 1 (G piecewise affine) the step with the final sets is exact.
+"""
+
+import numpy as np
+
+from .reduced import EPS, dense_solve
+
+__all__ = ["SIGMA", "WATCHDOG", "conjugate", "gradient", "energy_change", "energy_step", "projected_newton_step"]
+
+SIGMA = 1e-4  # sufficient-decrease fraction (also of the other globalisations, :mod:`ngdgfric.semismooth`)
+WATCHDOG = 1e-6  # relative KKT residual below which a rejected Newton step gets a second chance
+
+
+def conjugate(problem, fn):
+    """Phi*(f_n) per point (f_n >= 0; 0 where c_n = 0)."""
+    m, safe = problem.m_n, np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
+    power = fn * fn / (2 * safe) if m == 1 else m / (m + 1) * safe ** (-1 / m) * fn ** ((m + 1) / m)
+    return np.where(problem.compliant, problem.g_a * fn + power, 0.0)
+
+
+def gradient(problem, s):
+    """grad Theta = -w + (g_a + (f_n / (omega c_n))^{1/m}, 0) (0 in the f_n fixed at 0) at the state s."""
+    M = problem.M
+    safe = np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
+    normal = np.where(problem.compliant, -s.w[:M] + problem.g_a + (s.f[:M] / safe) ** (1 / problem.m_n), 0.0)
+    return np.concatenate([normal, -s.w[M:]])
+
+
+def _gradient_scaling(problem, s):
+    """D = diag(W) + the curvature of Phi* (capped), for the scaled projected gradient."""
+    M, m = problem.M, problem.m_n
+    safe = np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
+    fn = np.maximum(s.f[:M], 1e-300)
+    curvature = 1 / safe if m == 1 else (1 / m) * safe ** (-1 / m) * fn ** (1 / m - 1)
+    normal = problem.diagonal[:M] + np.minimum(curvature, 1e12 * problem.diagonal[:M])
+    return np.concatenate([normal, problem.diagonal[M:]])
+
+
+def energy_change(problem, s, f_new):
+    """Theta(f_new) - Theta(f) for the state s at f, evaluated as a difference (not of two large numbers),
+    and its round-off."""
+    M = problem.M
+    d = f_new - s.f
+    Wd = problem.W @ d
+    conj_new, conj_old = conjugate(problem, f_new[:M]), conjugate(problem, s.f[:M])
+    terms = np.array([-s.w @ d, 0.5 * d @ Wd, np.sum(conj_new - conj_old)])
+    size = np.abs(s.w) @ np.abs(d) + 0.5 * np.abs(d) @ np.abs(Wd) + np.sum(np.abs(conj_new) + np.abs(conj_old))
+    return float(np.sum(terms)), 64 * EPS * size
+
+
+def energy_step(problem, s, d):
+    """The next f from the state s and its Newton direction d: the Newton point if it lowers Theta enough,
+    else a projected Newton step (module docstring); returns (f, kind of step)."""
+    grad = gradient(problem, s)
+    scaling = _gradient_scaling(problem, s)
+    p = problem.project(s.f - grad / scaling) - s.f
+    delta = max(float(-grad @ p), 0.0)
+    residual = problem.residual(s)
+
+    def lowers(trial):
+        # a change within round-off must at least halve the KKT residual instead (else two states
+        # whose Theta differ by less than the round-off bound can alternate for ever)
+        change, roundoff = energy_change(problem, s, trial)
+        return change <= -SIGMA * delta or (change <= -SIGMA * delta + roundoff
+                                            and problem.residual(problem.evaluate(trial)) <= 0.5 * residual)
+
+    trial = problem.project(s.f + d)
+    if lowers(trial):
+        return trial, "newton"
+    # watchdog (Chamberlain, Powell, Lemarechal & Pedersen, Math. Prog. Study 16, 1982): near the
+    # solution a Newton step with a few wrong sets may raise Theta and the next one repair it
+    if residual <= WATCHDOG:
+        after = problem.evaluate(trial)
+        second = problem.project(trial + problem.newton_direction(after))
+        if lowers(second):
+            return second, "newton (watchdog)"
+        # degenerate points (z = +-beta: stick and slip both hold at the solution) flip between
+        # Newton iterates; hold the ones that flip at their bound (slip) and step once more
+        flips = (s.stick != after.stick) & (np.abs(s.f[problem.M:]) >= problem.beta_fixed * (1 - 1e-8))
+        if flips.any():
+            third = problem.project(s.f + problem.newton_direction(_held_at_bound(problem, s, flips)))
+            if lowers(third):
+                return third, "newton (degenerate points held)"
+    return projected_newton_step(problem, s, grad, scaling, p)
+
+
+def _held_at_bound(problem, s, points):
+    """A copy of state s in which the friction variables ``points`` (at their bound) count as slip."""
+    held = s.copy()
+    M = problem.M
+    held.stick = s.stick & ~points
+    held.sign = np.where(points, np.sign(s.f[M:]), s.sign)
+    held.G = s.G.copy()
+    held.G[M:][points] = s.f[M:][points] - held.sign[points] * s.beta[points]
+    return held
+
+
+def projected_newton_step(problem, s, grad, scaling, projected_gradient):
+    """Bertsekas' projected Newton step (SIAM J. Control Optim. 20, 1982): variables within epsilon of
+    a bound that the gradient pushes out stay there (scaled gradient step), the others take the Newton
+    step of Theta restricted to them; Armijo search along the projection arc.  ``projected_gradient`` is
+    the scaled projected-gradient step P_K(f - D^-1 grad) - f; epsilon is set per variable relative to
+    its own size (forces vary with the edge length: graded meshes).  Returns (f, kind of step)."""
+    M, f = problem.M, s.f
+    lower, upper = problem.bounds()
+    size = np.concatenate([np.maximum(np.abs(f[:M]), np.abs(problem.w0[:M]) / problem.diagonal[:M]),
+                           np.where(upper[M:] > 0, upper[M:], np.abs(problem.w0[M:]) / problem.diagonal[M:])])
+    size = np.maximum(size, 1e-300)
+    epsilon = min(1e-2, float(np.max(np.abs(projected_gradient) / size))) * size
+    bound = ((f <= lower + epsilon) & (grad > 0)) | ((f >= upper - epsilon) & (grad < 0)) | (lower == upper)
+    free = np.flatnonzero(~bound)
+    direction = np.where(bound, -grad / scaling, 0.0)
+    if free.size:
+        curvature = np.concatenate([scaling[:M] - problem.diagonal[:M], np.zeros(M)])  # Phi*'' (capped)
+        hessian = problem.W[np.ix_(free, free)]
+        on_diagonal = np.arange(free.size)
+        hessian[on_diagonal, on_diagonal] += curvature[free] + problem.regularization * problem.diagonal[free]
+        direction[free] = dense_solve(hessian, -grad[free])
+    free_decrease = float(-grad[free] @ direction[free])
+    t = 1.0
+    for _ in range(50):
+        trial = problem.project(f + t * direction)
+        predicted = t * free_decrease + float(grad[bound] @ (f[bound] - trial[bound]))
+        if -energy_change(problem, s, trial)[0] >= SIGMA * predicted:
+            break
+        t *= 0.5
+    return trial, "projected newton" if t == 1 else f"projected newton x{t:g}"

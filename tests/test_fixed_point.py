@@ -1,0 +1,46 @@
+"""The fixed point on the friction bound (m_t > 0): each step solves the frozen-bound problem on the same
+discretisation, and the outer map contracts at the rate the module docstring states."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+from ngdgfric.contact import frozen_bound
+from ngdgfric.fixed_point import FixedPointOptions, fixed_point
+from ngdgfric.newton import NewtonOptions, newton
+from ngdgfric.uzawa import UzawaOptions, uzawa
+
+
+@pytest.fixture(scope="module")
+def m_t_1():
+    p = dataclasses.replace(ndf.example_6_1(), m_t=1.0)
+    return ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 8))
+
+
+@pytest.mark.parametrize("solver, options", [(newton, NewtonOptions()), (uzawa, UzawaOptions(solver_tol=1e-10))])
+def test_an_inner_solve_is_the_solve_of_the_frozen_problem(m_t_1, solver, options):
+    """The solver on disc with problem=frozen gives what it gives on a discretisation of the frozen problem."""
+    disc = m_t_1
+    u = newton(disc, NewtonOptions(solver_tol=1e-6))[0]
+    frozen = frozen_bound(disc.problem, u)
+    inside = solver(disc, options, problem=frozen)[0].vec.FV().NumPy()
+    alone = solver(ndf.Discretization(frozen, disc.mesh), options)[0].vec.FV().NumPy()
+    assert np.max(np.abs(inside - alone)) <= 1e-12 * np.max(np.abs(alone))
+
+
+def test_outer_iteration_contracts_by_about_a_quarter(m_t_1):
+    """Example 6.1, m_t = 1, c_tau = 450: contraction factor about 0.25 c_tau / 450 (module docstring)."""
+    messages = []
+    _, _, info = fixed_point(m_t_1, FixedPointOptions(solver_tol=1e-10, progress=messages.append))
+    ratios = np.array(info["history"][3:]) / np.array(info["history"][2:-1])
+    assert np.all((0.15 <= ratios) & (ratios <= 0.35))
+    assert messages == [f"fixed point {k + 1}: relative change {c:.2e}" for k, c in enumerate(info["history"])]
+    assert info["history"][-1] <= 1e-10 and info["iterations"] == len(info["history"])
+
+
+def test_start_from_the_solution_stops_after_one_step(m_t_1):
+    u, lam_tau, _ = newton(m_t_1, NewtonOptions())
+    _, _, info = fixed_point(m_t_1, FixedPointOptions(), initial=(u, lam_tau))
+    assert info["iterations"] == 1 and info["history"][0] <= 1e-8
