@@ -124,3 +124,28 @@ def test_accepted_polygons_are_meshed_with_their_area(points):
                                  geometry=polygon)
     mesh = ndf.netgen_mesh(problem, 1.0)
     assert ngs.Integrate(ngs.CF(1), mesh) == pytest.approx(polygon.signed_area, rel=1e-12)
+
+
+@pytest.mark.parametrize("text, x, y, value", [
+    ("0.05 - 0.01*x", 0.3, 0.7, 0.05 - 0.003),
+    ("sin(pi*x) * exp(-y**2)", 0.3, 0.7, math.sin(math.pi * 0.3) * math.exp(-0.49)),
+    ("sqrt(x) + log(1 + y) - atan(x/y) + abs(x - y) + cos(y) + tan(x)", 0.3, 0.7,
+     math.sqrt(0.3) + math.log(1.7) - math.atan(0.3 / 0.7) + 0.4 + math.cos(0.7) + math.tan(0.3)),
+    ("-2**x", 0.5, 0.5, -math.sqrt(2)),
+])
+def test_expressions(text, x, y, value):
+    mesh = ngs.Mesh(ngs.unit_square.GenerateMesh(maxh=0.5))
+    assert parse_expression(text)(mesh(x, y)) == pytest.approx(value, rel=1e-12)
+
+
+@pytest.mark.parametrize("text", ["__import__('os')", "x.__class__", "open('f')", "lambda: 1", "x if y else 1",
+                                  "z + 1", "'a'", "[x]", "1/0", "10**10**10", "(-8)**(1/3)", "log(-1)", "sin(x, y)",
+                                  "x +", "True", "1e400"])
+def test_bad_expressions(text):
+    with pytest.raises(ValueError):
+        parse_expression(text)
+
+
+def test_constant_expressions_stay_numbers():
+    assert parse_expression("2*pi/4") == pytest.approx(math.pi / 2)
+    assert isinstance(parse_expression("sqrt(2)"), float)
