@@ -19,10 +19,12 @@ from .methods import METHODS
 from .problem import ContactProblem, Polygon
 from .problem_file import example_file, load_problem
 from .reference import Reference, energy_error, energy_norm, load_reference, save_reference
-from .solution import Solution, solve
+from .solution import Solution, finish, solve
+from .transfer import WarmStart
 
-__all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "uniform_mesh", "netgen_mesh",
-           "check_mesh", "Discretization", "solve", "Solution", "SolverError", "energy_norm", "METHODS",
-           "contact_state", "kkt_residuals", "estimate", "Estimate", "dorfler_mark", "refine", "adapt", "Adaptation",
-           "minimum_angle", "HPState", "hp_refine", "Reference", "energy_error", "load_reference",
-           "save_reference", "load_problem", "example_file"]
+__all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "load_problem", "example_file",
+           "uniform_mesh", "netgen_mesh", "check_mesh", "Discretization", "METHODS",
+           "solve", "finish", "Solution", "WarmStart", "SolverError", "contact_state", "kkt_residuals",
+           "estimate", "Estimate", "dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle",
+           "HPState", "hp_refine",
+           "energy_norm", "Reference", "energy_error", "load_reference", "save_reference"]
