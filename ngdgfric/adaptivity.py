@@ -186,8 +186,9 @@ class _Loop:
         return sol, est, seconds
 
     def settle(self, sol, est, returned, seconds):
-        """:func:`_settle` with this loop's weights, tolerance and gamma_lin."""
-        return _settle(sol, est, self.weights, self.tol, self.gamma_lin, returned, seconds)
+        """:func:`_settle` with this loop's weights, tolerances and gamma_lin."""
+        return _settle(sol, est, self.weights, (self.tol, self.solve_options["solver_tol"]), self.gamma_lin, returned,
+                       seconds)
 
     def too_large(self, max_ndof, refinement):
         """:func:`_too_large` for this mesh and state."""
@@ -233,12 +234,14 @@ def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, g
         raise ValueError(f"gamma_lin must be a number in (0, 1) or None, got {gamma_lin!r}")
 
 
-def _settle(sol, est, weights, tol, gamma_lin, returned, seconds):
+def _settle(sol, est, weights, tolerances, gamma_lin, returned, seconds):
     """The estimate of a level, and an inexact solve made good enough (Ern & Vohralik's adaptive
     inexact loop): if eta_lin > gamma_lin eta_h, solved on to eta_lin <= gamma_lin eta_h and
     re-estimated (then, if still short, to the full tolerance); solved to the full tolerance at once
-    where it is returned (``returned``, or eta_h <= tol).  ``est``: the estimate of ``sol`` if known;
+    where it is returned (``returned``, or eta_h <= tol; ``tolerances``: (tol, solver_tol)).  ``est``: the
+    estimate of ``sol`` if known;
     ``seconds``: its "solve" and "estimate" entries are increased.  Returns (sol, est)."""
+    tol, solver_tol = tolerances
     if est is None:
         est = _timed(seconds, "estimate", estimate, sol, weights)
     for partial in (True, False):
@@ -247,7 +250,8 @@ def _settle(sol, est, weights, tol, gamma_lin, returned, seconds):
         full = not partial or returned or (tol is not None and est.eta_h <= tol)
         if not full and sol.info["linearization"] <= gamma_lin * est.eta_h:
             break
-        sol = _timed(seconds, "solve", finish, sol, energy_tol=None if full else gamma_lin * est.eta_h)
+        sol = _timed(seconds, "solve", finish, sol, solver_tol=solver_tol,
+                     energy_tol=None if full else gamma_lin * est.eta_h)
         est = _timed(seconds, "estimate", estimate, sol, weights)
     return sol, est
 

@@ -85,8 +85,8 @@ def build_parser():
     return parser
 
 
-def _common_options(sub, several_methods=False, solver_tol=True):
-    """PROBLEM, --method, --order, --solver, --eta, --solver-tol (if ``solver_tol``), --out, --overwrite."""
+def _common_options(sub, several_methods=False):
+    """PROBLEM, --method, --order, --solver, --eta, --solver-tol, --out, --overwrite."""
     sub.add_argument("problem", metavar="PROBLEM", help="6.1, 6.2 (Section 6) or a TOML problem file")
     if several_methods:
         sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=["sipg"],
@@ -100,10 +100,9 @@ def _common_options(sub, several_methods=False, solver_tol=True):
                           "semismooth Newton there; uzawa: the paper's method)")
     sub.add_argument("--eta", type=_number(float), default=None,
                      help="penalty parameter (default: 30 mu for the edge penalties, Section 6)")
-    if solver_tol:
-        sub.add_argument("--solver-tol", type=_number(float), default=None,
-                         help="tolerance of the nonlinear solver (default: 1e-13 on the KKT residual for "
-                              "newton, 1e-8 on the relative change for uzawa as in Section 6)")
+    sub.add_argument("--solver-tol", type=_number(float), default=None,
+                     help="tolerance of the nonlinear solver (default: 1e-13 on the KKT residual for "
+                          "newton, 1e-8 on the relative change for uzawa as in Section 6)")
     sub.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out/)")
     sub.add_argument("--overwrite", action="store_true",
                      help="replace the output files of an earlier run (default: refuse to)")
@@ -143,7 +142,7 @@ def _adaptive_parser(commands):
     sub = commands.add_parser("adaptive", help="adaptive loop of Section 6; write CSV and a PNG of eta_h vs DOFs",
                               description="SOLVE -> ESTIMATE -> MARK (Doerfler) -> REFINE (newest vertex "
                                           "bisection, or h/p with --hp), one progress line per level.")
-    _common_options(sub, solver_tol=False)  # adapt() keeps the solvers' default tolerances
+    _common_options(sub)
     _mesh_options(sub, "h = 1/2, or Netgen maxh = 1/2 for other polygons")
     sub.add_argument("--theta", type=_number(float, high=1.0, what="in (0, 1]"), default=0.3,
                      help="Doerfler parameter (default: 0.3)")
@@ -265,6 +264,7 @@ def cmd_adaptive(args, problem, tag):
     csv_path, png_path = outputs(args, tag)
     adaptation = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta,
                        max_levels=args.levels, max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
+                       solver_tol=args.solver_tol,
                        csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights)
     records = adaptation.levels
     slope = (records, args.order) if not args.hp and len(records) > 1 else None

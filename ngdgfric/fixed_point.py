@@ -17,6 +17,7 @@ converged in all these cases.  For m_t = 0 the bound does not depend on u and on
 is the answer.
 """
 
+import dataclasses
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -92,13 +93,14 @@ def fixed_point(disc, options=None, initial=None):
     """
     options = FixedPointOptions() if options is None else options
     inner_solver, inner = INNER[options.inner.solver][0], options.inner.solver
+    inner_options = dataclasses.replace(options.inner, solver_tol=options.solver_tol)  # the outer tolerance
     start = time.perf_counter()
     u, lam_tau = starting_point(disc, initial)
     du = u.vec.CreateVector()
     history, inner_iterations, factorizations = [], [], 0
     for k in range(1, options.maxit + 1):
         try:
-            u_new, lam_tau_new, info = inner_solver(disc, options.inner, initial=(u, lam_tau),
+            u_new, lam_tau_new, info = inner_solver(disc, inner_options, initial=(u, lam_tau),
                                                 problem=frozen_bound(disc.problem, u))
         except SolverError as error:
             raise SolverError(f"fixed point: the inner {inner} solve {k} failed: {error}", history=history,

@@ -118,7 +118,7 @@ def run_task(task):
                       max_levels=task["levels"], theta=0.3, progress=None,
                       keep=lambda level, sol, est: record(level, sol, est, time.perf_counter() - start))
     except ndf.SolverError as error:  # reported, never dropped
-        rows.append(dict(task, level=len(rows), ndof=None, error=math.nan, eta=math.nan, eta_paper=math.nan,
+        rows.append(dict(task, level=len(rows), ndof=None, error=math.nan, eta_h=math.nan, eta_paper=math.nan,
                          effectivity=math.nan, effectivity_paper=math.nan, seconds=time.perf_counter() - start,
                          failure=str(error).splitlines()[0][:160]))
     for row in rows:

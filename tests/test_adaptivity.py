@@ -132,3 +132,18 @@ def test_inexact_levels_solve_the_returned_level_fully():
     assert kkt["lam_excess"] <= 1e-14 and kkt["complementarity"] <= 1e-12
     with pytest.raises(ValueError, match="gamma_lin"):
         ndf.adapt(problem, gamma_lin=1.5, progress=None)
+
+
+def test_solver_tol_reaches_every_solve_and_finish(monkeypatch):
+    """adapt(solver_tol=...) is the tolerance of the solves and of the finishing of inexact levels."""
+    seen = []
+    for name in ("solve", "finish"):
+        original = getattr(ndf.adaptivity, name)
+
+        def spy(*args, original=original, name=name, **kwargs):
+            seen.append((name, kwargs.get("solver_tol")))
+            return original(*args, **kwargs)
+
+        monkeypatch.setattr(ndf.adaptivity, name, spy)
+    ndf.adapt(ndf.example_6_2(), max_levels=3, gamma_lin=0.1, solver_tol=1e-12, progress=None)
+    assert {name for name, _ in seen} == {"solve", "finish"} and {tol for _, tol in seen} == {1e-12}

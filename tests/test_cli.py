@@ -231,3 +231,18 @@ def test_problem_file_that_is_not_utf8_is_named(tmp_path, capsys):
     path = tmp_path / "latin1.toml"
     path.write_bytes(example_file("6.1").read_bytes().replace(b'"Example 6.1"', b'"Exemple \xe9"'))
     check_one_line_error(main(["solve", str(path), "--out", str(tmp_path)]), capsys, "latin1.toml: not a UTF-8 text")
+
+
+def test_adaptive_passes_the_solver_tolerance(tmp_path, monkeypatch):
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def fake_adapt(*args, **kwargs):
+        seen.update(kwargs)
+        raise Stop
+
+    monkeypatch.setattr("ngdgfric.cli.adapt", fake_adapt)
+    main(["adaptive", "6.2", "--solver-tol", "1e-10", "--tol", "0.5", "--out", str(tmp_path)])  # stopped in adapt
+    assert seen["solver_tol"] == 1e-10 and seen["tol"] == 0.5

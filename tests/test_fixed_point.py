@@ -44,3 +44,16 @@ def test_start_from_the_solution_stops_after_one_step(m_t_1):
     u, lam_tau, _ = newton(m_t_1, NewtonOptions())
     _, _, info = fixed_point(m_t_1, FixedPointOptions(), initial=(u, lam_tau))
     assert info["iterations"] == 1 and info["history"][0] <= 1e-8
+
+
+def test_the_inner_solves_get_the_outer_tolerance(m_t_1, monkeypatch):
+    """Options built directly (not from solve's keywords) also pass their solver_tol to the inner solver."""
+    seen = []
+
+    def spy(disc, options, **kwargs):
+        seen.append(options.solver_tol)
+        return newton(disc, options, **kwargs)
+
+    monkeypatch.setitem(ndf.fixed_point.INNER, "newton", (spy, NewtonOptions))
+    fixed_point(m_t_1, FixedPointOptions(solver_tol=1e-11))
+    assert seen and set(seen) == {1e-11}
