@@ -15,7 +15,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, markdown_table, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -165,4 +165,4 @@ def report(args, rows, curve_png, mesh_png, mesh_level):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric import pardiso
@@ -258,4 +258,4 @@ def report(rows, packages, imports):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

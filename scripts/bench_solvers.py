@@ -24,7 +24,7 @@ from pathlib import Path
 import matplotlib
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, best, command_line, contact_free, markdown_table, save_figure, say, write_csv
+from common import RESULTS, best, command_line, contact_free, markdown_table, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -218,4 +218,4 @@ def report(rows):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

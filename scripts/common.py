@@ -12,6 +12,7 @@ from pathlib import Path
 
 from ngdgfric import files
 from ngdgfric.examples import EXAMPLES
+from ngdgfric.linalg import blas_threads
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
 
@@ -89,6 +90,20 @@ def save_figure(fig, path, dpi=120):
     plt.close(fig)
 
 
+def run_script(main):
+    """A script's ``main()`` under the OpenBLAS limit of the library's entry points
+    (:func:`ngdgfric.linalg.blas_threads`): the work a script does outside solve/estimate/adapt
+    (assembly, factorisations, dense eigenvalues) runs as the library's does."""
+    with blas_threads():
+        return main()
+
+
+def _limited(function, item):
+    """``function(item)`` in a spawned worker, under the same limit as :func:`run_script`."""
+    with blas_threads():
+        return function(item)
+
+
 def in_processes(function, items, workers):
     """(index, function(item)) for every item as it finishes: in this process (workers = 1) or in a
     pool of ``workers`` spawned processes (cancelled on an exception or when the caller stops)."""
@@ -98,7 +113,7 @@ def in_processes(function, items, workers):
         return
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
     try:
-        futures = {pool.submit(function, item): index for index, item in enumerate(items)}
+        futures = {pool.submit(_limited, function, item): index for index, item in enumerate(items)}
         for future in as_completed(futures):
             yield futures[future], future.result()
     finally:

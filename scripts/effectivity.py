@@ -24,7 +24,7 @@ import math
 import time
 from pathlib import Path
 
-from common import RESULTS, command_line, in_processes, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, in_processes, markdown_table, run_script, save_figure, say, write_csv
 
 from ngdgfric.files import write_text
 
@@ -261,4 +261,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, examples_parser, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, examples_parser, markdown_table, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -167,4 +167,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, save_figure, say
+from common import RESULTS, command_line, markdown_table, run_script, save_figure, say
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
@@ -272,4 +272,4 @@ def report(zone_h, zone_rows, solver_rows, curves):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

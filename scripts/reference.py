@@ -14,7 +14,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import command_line, examples_parser, markdown_table, say
+from common import command_line, examples_parser, markdown_table, run_script, say
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -83,4 +83,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -45,7 +45,7 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, command_line, in_processes, markdown_table, say, write_csv
+from common import RESULTS, command_line, in_processes, markdown_table, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
@@ -651,4 +651,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

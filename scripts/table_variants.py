@@ -19,7 +19,7 @@ import math
 from pathlib import Path
 
 import ngsolve as ngs
-from common import RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -191,4 +191,4 @@ EXPLANATION = """\
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

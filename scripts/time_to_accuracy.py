@@ -24,7 +24,7 @@ import itertools
 import time
 from pathlib import Path
 
-from common import best, contact_free, fmt, markdown_table, results_path, save_figure, say, write_csv
+from common import best, contact_free, fmt, markdown_table, results_path, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -178,4 +178,4 @@ def plot(rows, path):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

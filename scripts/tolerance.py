@@ -12,7 +12,7 @@ import argparse
 import time
 from pathlib import Path
 
-from common import RESULTS, command_line, markdown_table, say, write_csv
+from common import RESULTS, command_line, markdown_table, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -67,4 +67,4 @@ def report(rows):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -16,7 +16,7 @@ import argparse
 import time
 from pathlib import Path
 
-from common import RESULTS, command_line, fmt, markdown_table, say, write_csv
+from common import RESULTS, command_line, fmt, markdown_table, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -134,4 +134,4 @@ def report(args, results):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, examples_parser, markdown_table, save_figure, say, write_csv
+from common import RESULTS, command_line, examples_parser, markdown_table, run_script, save_figure, say, write_csv
 
 from ngdgfric.files import write_text
 from ngdgfric.methods import METHODS
@@ -162,4 +162,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

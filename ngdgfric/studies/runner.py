@@ -14,6 +14,8 @@ import os
 import time
 from pathlib import Path
 
+from ..linalg import blas_threads
+
 __all__ = ["case_key", "run_cases"]
 
 
@@ -31,6 +33,12 @@ def _client(scheduler, workers):
     cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                            dashboard_address=None)
     return Client(cluster), cluster
+
+
+def _limited(function, case):
+    """``function(case)`` in a worker, under the library's OpenBLAS limit (:func:`ngdgfric.linalg.blas_threads`)."""
+    with blas_threads():
+        return function(case)
 
 
 def run_cases(function, cases, cache=None, scheduler=None, workers=None, progress=print):
@@ -58,7 +66,8 @@ def run_cases(function, cases, cache=None, scheduler=None, workers=None, progres
         client, cluster = _client(scheduler, workers)
         start = time.perf_counter()
         try:
-            futures = {client.submit(function, case, pure=False): (index, case, path) for index, case, path in todo}
+            futures = {client.submit(_limited, function, case, pure=False): (index, case, path)
+                       for index, case, path in todo}
             for done, future in enumerate(as_completed(futures), 1):
                 index, case, path = futures[future]
                 results[index] = future.result()
