@@ -12,11 +12,13 @@ import argparse
 import time
 from pathlib import Path
 
-from common import RESULTS, command_line, markdown_table, run_script, say, write_csv
+from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
+from ngdgfric.methods import METHODS
+from ngdgfric.output import markdown_table
 
 
 def parse(argv=None):
@@ -50,7 +52,7 @@ def main(argv=None):
     for k in levels:
         mesh = ndf.uniform_mesh(problem, 2.0**-k)
         base = None
-        for method in ["sipg", "nipg", "bassi", "brezzi", "ldg"]:
+        for method in METHODS:
             row = dict(h=f"2^-{k}", method=method, **measure(problem, mesh, method, repeat))
             base = base or row
             row.update(assemble_ratio=row["assemble"] / base["assemble"],

@@ -26,13 +26,14 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, command_line, markdown_table, run_script, say, write_csv
+from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric import pardiso
 from ngdgfric.condensation import augmented_matrix
 from ngdgfric.files import write_text
 from ngdgfric.linalg import threads
+from ngdgfric.output import markdown_table
 
 CASES = [("sipg", 1, 7), ("sipg", 2, 7), ("nipg", 1, 7), ("nipg", 2, 6)]
 QUICK = [("sipg", 1, 4), ("nipg", 1, 4)]

@@ -24,12 +24,13 @@ from pathlib import Path
 import matplotlib
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, best, command_line, contact_free, markdown_table, run_script, save_figure, say, write_csv
+from common import RESULTS, best, command_line, contact_free, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.linalg import direct_inverse, threads
+from ngdgfric.output import markdown_table
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.transfer import WarmStart, multiplier_snapshot
 

@@ -13,6 +13,7 @@ from pathlib import Path
 from ngdgfric import files
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.linalg import blas_threads
+from ngdgfric.output import write_png
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
 
@@ -63,12 +64,6 @@ def write_csv(path, rows, fields=None):
     files.write_csv(path, rows, fields or list(rows[0]))
 
 
-def markdown_table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
-    return "\n".join(lines)
-
-
 def fmt(value, spec=".4e"):
     return "-" if value is None else format(value, spec)
 
@@ -81,12 +76,10 @@ os.environ.setdefault("PYTHONUNBUFFERED", "1")
 
 
 def save_figure(fig, path, dpi=120):
-    """Lay out, write and close a matplotlib figure."""
+    """Lay out, write (:func:`ngdgfric.output.write_png`) and close a pyplot figure."""
     import matplotlib.pyplot as plt
 
-    fig.tight_layout()
-    with files.atomic_path(path) as temporary:
-        fig.savefig(temporary, dpi=dpi)
+    write_png(fig, path, dpi)
     plt.close(fig)
 
 

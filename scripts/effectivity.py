@@ -24,11 +24,12 @@ import math
 import time
 from pathlib import Path
 
-from common import RESULTS, command_line, in_processes, markdown_table, run_script, save_figure, say, write_csv
+from common import RESULTS, command_line, in_processes, run_script, save_figure, say, write_csv
 
 from ngdgfric.files import write_text
+from ngdgfric.methods import METHODS
+from ngdgfric.output import markdown_table
 
-METHODS = ("sipg", "nipg", "bassi", "brezzi", "ldg")
 ORDERS = (1, 2, 3, 4)
 YOUNG = (1.0, 1e3, 1e6)
 POISSON = (0.3, 0.49, 0.4999)

@@ -14,12 +14,13 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, examples_parser, markdown_table, run_script, save_figure, say, write_csv
+from common import RESULTS, command_line, examples_parser, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.meshes import mesh_arrays
+from ngdgfric.output import markdown_table
 from ngdgfric.studies import strategy_run
 
 matplotlib.use("Agg")

@@ -23,10 +23,11 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, run_script, save_figure, say
+from common import RESULTS, command_line, run_script, save_figure, say
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
+from ngdgfric.output import markdown_table
 from ngdgfric.studies import max_rel_diff, slope
 
 matplotlib.use("Agg")

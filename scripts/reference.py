@@ -14,11 +14,12 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import command_line, examples_parser, markdown_table, run_script, say
+from common import command_line, examples_parser, run_script, say
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import atomic_path, write_text
+from ngdgfric.output import markdown_table
 
 
 def parse(argv=None):

@@ -10,7 +10,7 @@ the discrete KKT system (3.3)-(3.4) of Lemma 3.1 at round-off (``ndf.kkt_residua
 where ``rounding`` is the equilibrium residual of u rounded once more, u (1 +- eps) (what
 round-off alone leaves; ``ngdgfric.contact.rounding_residual``), and, for m_t = 0 and
 at most ``UZAWA_MAX_NDOF`` unknowns, where the paper's Uzawa iteration (Section 6; the full sparse
-system, an independent solver) converges with tol = 1e-11, the two solutions agree:
+system, an independent solver) converges with solver_tol = 1e-11, the two solutions agree:
 max|u_newton - u_uzawa| / max|u_uzawa| <= 1e-7.  Uzawa failing (slow convergence; stopped after
 ``UZAWA_SECONDS`` of wall time, which maxit = 20000 would often exceed by far) is recorded, not
 counted against the case.
@@ -38,6 +38,7 @@ import argparse
 import collections
 import dataclasses
 import functools
+import itertools
 import math
 import time
 import warnings
@@ -45,16 +46,19 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, command_line, in_processes, markdown_table, run_script, say, write_csv
+from common import RESULTS, command_line, in_processes, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.condensation import Condensation
 from ngdgfric.contact import rounding_residual
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
+from ngdgfric.methods import METHODS
+from ngdgfric.output import markdown_table
 from ngdgfric.reduced import ReducedContact
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.studies.manufactured import contact_manufactured, friction_manufactured
+from ngdgfric.uzawa import REPORT_EVERY
 
 # ============================================================================ PARAMETERS
 SEED = 20261112
@@ -66,7 +70,7 @@ LAM_EXCESS_TOL, COMPLEMENTARITY_TOL, EQUILIBRIUM_FACTOR, ROUNDING_FLOOR = 1e-14,
 AGREEMENT_TOL, UZAWA_LIMITED = 1e-7, 1e-5
 EXISTENCE_STARTS = 500  # random starts of the search for a solution after a SolverError
 
-METHOD_NAMES = ["sipg", "nipg", "bassi", "brezzi", "ldg"]
+METHOD_NAMES = list(METHODS)
 NU = [0.0, 0.3, 0.45, 0.49, 0.499, 0.4999]
 C_N = [0.0, 1e-6, 1.0, 1e2, 1e4, 1e6, 1e8, 1e10]
 C_TAU = [0.0, 1e-3, 1.0, 450.0, 1e4, 1e6, 1e9]
@@ -337,14 +341,14 @@ class OverBudget(Exception):
 
 
 def time_budget(seconds):
-    """A progress callback for Uzawa (called every 100 iterations with "uzawa k: ...") that stops it after
+    """A progress callback for Uzawa (called every ``uzawa.REPORT_EVERY`` iterations) that stops it after
     ``seconds``."""
-    start = time.perf_counter()
+    start, calls = time.perf_counter(), itertools.count(1)
 
     def check(message):
+        iteration = next(calls) * REPORT_EVERY
         elapsed = time.perf_counter() - start
         if elapsed > seconds:
-            iteration = int(message.split(":")[0].split()[-1])
             raise OverBudget(f"stopped after {elapsed:.1f} s (time budget {seconds:g} s) at {message}", iteration)
 
     return check
@@ -506,7 +510,7 @@ def report(rows, total, seconds, interrupted, budget):
              "`scripts/solver_robustness.py`; fixed seed) plus named hard cases, each solved with the default",
              "solver.  A case passes iff the solve raises nothing, lam_excess <= 1e-14, complementarity <= 1e-12,",
              "equilibrium <= 10 max(rounding, 1e-14) (rounding: the equilibrium residual of u (1 +- eps)) and,",
-             f"for m_t = 0 and ndof <= {UZAWA_MAX_NDOF} where Uzawa (tol = 1e-11, maxit = 20000) converges,",
+             f"for m_t = 0 and ndof <= {UZAWA_MAX_NDOF} where Uzawa (solver_tol = 1e-11, maxit = 20000) converges,",
              "max|u_newton - u_uzawa| / max|u_uzawa| <= 1e-7.  Uzawa is stopped after a time budget of "
              f"{budget:g} s (wall",
              "time; 12 ms per iteration where its inner Newton for m_n > 1 is busy).  Adapted meshes come from",
@@ -535,7 +539,7 @@ def report(rows, total, seconds, interrupted, budget):
     limited = [r for r in converged if AGREEMENT_TOL < r["uzawa_difference"] <= UZAWA_LIMITED]
     if limited:
         lines += ["Uzawa differences between 1e-7 and 1e-5 (counted as failures above).  Uzawa stops on its change",
-                  "(tol = 1e-11), which bounds its own accuracy only through the rate of convergence; its KKT",
+                  "(solver_tol = 1e-11), which bounds its own accuracy only through the rate of convergence; its KKT",
                   "residuals against Newton's show which solution is the less accurate one:", "",
                   markdown_table(["case", "difference", "Uzawa its", "Uzawa complementarity", "Uzawa equilibrium",
                                   "Newton complementarity", "Newton equilibrium"],

@@ -17,10 +17,11 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, markdown_table, run_script, save_figure, say, write_csv
+from common import RESULTS, command_line, run_script, save_figure, say, write_csv
 
 from ngdgfric.files import write_text
 from ngdgfric.methods import METHODS, SIPG_THRESHOLD
+from ngdgfric.output import markdown_table
 from ngdgfric.studies import cases
 from ngdgfric.studies.runner import run_cases
 

@@ -19,11 +19,12 @@ import math
 from pathlib import Path
 
 import ngsolve as ngs
-from common import RESULTS, command_line, markdown_table, run_script, say, write_csv
+from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
+from ngdgfric.output import markdown_table
 from ngdgfric.reference import reference_errors
 from ngdgfric.studies import rates, uniform_study
 from ngdgfric.studies.paper import TABLES

@@ -24,10 +24,11 @@ import itertools
 import time
 from pathlib import Path
 
-from common import best, contact_free, fmt, markdown_table, results_path, run_script, save_figure, say, write_csv
+from common import best, contact_free, fmt, results_path, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
+from ngdgfric.output import markdown_table
 from ngdgfric.reference import energy_error, load_reference
 
 TOLERANCES = (1e-1, 1e-2, 1e-3, 5e-4, 1e-4)

@@ -12,11 +12,12 @@ import argparse
 import time
 from pathlib import Path
 
-from common import RESULTS, command_line, markdown_table, run_script, say, write_csv
+from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
+from ngdgfric.output import markdown_table
 
 TOLERANCES = (1e-1, 1e-2, 1e-3)
 
