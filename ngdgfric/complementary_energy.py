@@ -103,13 +103,11 @@ def energy_step(problem, s, d):
 
 def _held_at_bound(problem, s, points):
     """A copy of state s in which the friction variables ``points`` (at their bound) count as slip."""
-    held = s.copy()
     M = problem.M
-    held.stick = s.stick & ~points
-    held.sign = np.where(points, np.sign(s.f[M:]), s.sign)
-    held.G = s.G.copy()
-    held.G[M:][points] = s.f[M:][points] - held.sign[points] * s.beta[points]
-    return held
+    sign = np.where(points, np.sign(s.f[M:]), s.sign)
+    G = s.G.copy()
+    G[M:][points] = s.f[M:][points] - sign[points] * s.beta[points]
+    return s.replace(stick=s.stick & ~points, sign=sign, G=G)
 
 
 def projected_newton_step(problem, s, grad, scaling, projected_gradient):

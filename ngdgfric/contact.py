@@ -28,7 +28,7 @@ from .linalg import threads
 from .problem import coefficient, strain, stress
 
 __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "positive_power", "compliance",
-           "friction_bound", "friction_bound_slope", "project_unit", "compliance_form", "friction_matrix",
+           "friction_bound", "project_unit", "compliance_form", "friction_matrix",
            "frozen_bound", "residual", "multiplier_space", "contact_points", "evaluate_on_contact", "ContactGauss",
            "GaussValues", "contact_state", "kkt_residuals", "rounding_residual"]
 
@@ -70,13 +70,6 @@ def friction_bound(problem, u):
     if problem.m_t == 0:
         return coefficient(problem.c_tau)
     return coefficient(problem.c_tau) * positive_power(penetration(problem, u), problem.m_t)
-
-
-def friction_bound_slope(problem, u):
-    """The derivative of the friction bound with respect to u_n: c_tau m_t (u_n - g_a)_+^{m_t - 1} (m_t > 0)."""
-    d = penetration(problem, u)
-    power = ngs.IfPos(d, 1, 0) if problem.m_t == 1 else problem.m_t * positive_power(d, problem.m_t - 1)
-    return coefficient(problem.c_tau) * power
 
 
 def project_unit(z):

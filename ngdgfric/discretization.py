@@ -107,12 +107,12 @@ class Discretization:
         self.Q = multiplier_space(problem, mesh, self.order)
         self.h_e = edge_length(mesh)
         self.dS = contact_measure(problem, mesh, self.order)
-        self.A, self.F = self._assemble(order)
+        self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
         self.V_plain = dg_space(mesh, order, dgjumps=False)  # the test space of the mixed contact forms
         self.timings["setup"] = time.perf_counter() - start
 
-    def _assemble(self, order):
+    def _assemble(self):
         """The matrix A of B_h (with the lifting terms of Bassi, Brezzi, LDG) and the load vector F."""
         problem, mesh = self.problem, self.mesh
         u, v = self.V.TnT()

@@ -142,8 +142,8 @@ def plot_estimator(ax, curves, slope=None, **line):
     for (label, records), marker in zip(curves.items(), "os^v", strict=False):
         ax.loglog(*estimator_curve(records), f"{marker}-", label=label, **line)
     if slope is not None:
-        (ndof, eta), p = estimator_curve(slope[0]), slope[1]
-        ax.loglog(ndof, eta[0] * (ndof / ndof[0]) ** (-p / 2), "k--", label=rf"$N^{{-{p}/2}}$")
+        (ndof, eta_h), p = estimator_curve(slope[0]), slope[1]
+        ax.loglog(ndof, eta_h[0] * (ndof / ndof[0]) ** (-p / 2), "k--", label=rf"$N^{{-{p}/2}}$")
     ax.set_xlabel("degrees of freedom $N$")
     ax.set_ylabel(r"$\eta_h$")
     ax.grid(True, which="both", alpha=0.3)
@@ -173,9 +173,9 @@ def plot_contact(axes, sol):
     """The contact quantities of ``sol`` at the Gauss points of Gamma_C, left to right, on four Axes.
 
     Top to bottom: the normal compliance law (1.8), -sigma_n(u_h) against c_n (u_hn - g_a)_+^{m_n};
-    the friction law (1.9), sigma_tau(u_h) and the discrete friction traction -c_tau l against the
+    the friction law (1.9), sigma_tau(u_h) and the discrete friction traction -c_tau lam_tau against the
     bound +-c_tau; the slip u_htau; the zones: contact where u_hn > g_a, slip where u_htau != 0
-    (relative to the largest displacement on Gamma_C; there |l| = 1), stick elsewhere.
+    (relative to the largest displacement on Gamma_C; there |lam_tau| = 1), stick elsewhere.
     """
     state = contact_state(sol)
     order = np.argsort(state["x"])
@@ -186,7 +186,7 @@ def plot_contact(axes, sol):
     axes[0].plot(x, s["pressure"], ".-", label=r"$c_n\,(u_{hn} - g_a)_+^{m_n}$")
     axes[0].set_title("normal compliance (1.8)")
     axes[1].plot(x, s["sigma_tau"], ".-", label=r"$\sigma_\tau(u_h)$")
-    axes[1].plot(x, -s["c_tau"] * s["lam_tau"], ".-", label=r"$-c_\tau l$")
+    axes[1].plot(x, -s["c_tau"] * s["lam_tau"], ".-", label=r"$-c_\tau \lambda_\tau$")
     axes[1].plot(x, s["c_tau"], "k--", lw=1, label=r"$\pm c_\tau$")
     axes[1].plot(x, -s["c_tau"], "k--", lw=1)
     axes[1].set_title("friction (1.9)")

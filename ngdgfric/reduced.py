@@ -71,11 +71,13 @@ class PointState:
 
     __slots__ = ("f", "w", "G", "N", "dN", "beta", "dbeta", "stick", "sign", "penetrating")
 
-    def copy(self):
-        """A shallow copy (the arrays are shared)."""
+    def replace(self, **changes):
+        """A new state with the arrays ``changes`` (keyword per field), the other arrays shared."""
         other = PointState()
         for name in self.__slots__:
-            setattr(other, name, getattr(self, name))
+            setattr(other, name, changes.pop(name) if name in changes else getattr(self, name))
+        if changes:
+            raise TypeError(f"PointState has no field {sorted(changes)[0]!r}")
         return other
 
 

@@ -27,7 +27,7 @@ from .discretization import dg_space
 from .files import atomic_path
 from .forms import edge_length, jump_inner
 from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
-from .problem import strain, stress
+from .problem import coefficient, strain, stress
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
            "energy_norm", "energy_norm_squared_parts", "difference"]
@@ -79,9 +79,7 @@ def fingerprint(problem, mesh, points, triangles, segments):
 def _data_at(problem, mesh, where):
     """(k, 8) values of E, f, g, g_a, c_n, c_tau at the points ``where`` (k, 2) of ``mesh``."""
     at = mesh(where[:, 0], where[:, 1])
-    data = (getattr(problem, name) for name in DATA)
-    return np.hstack([np.asarray(ngs.CF(tuple(d) if isinstance(d, (tuple, list)) else d)(at)).reshape(len(where), -1)
-                      for d in data])
+    return np.hstack([np.asarray(coefficient(getattr(problem, name))(at)).reshape(len(where), -1) for name in DATA])
 
 
 def load_reference(path, problem):

@@ -16,7 +16,7 @@ STRATEGIES = ("uniform", "h", "hp")
 
 def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", reference=None, max_ndof=10**5,
                  max_levels=60, max_order=6, progress=None, keep=None, weights="energy", **options):
-    """Records (ndof, eta, error, seconds, iterations per level) of one refinement strategy.
+    """Records (ndof, eta_h, error, seconds, iterations per level) of one refinement strategy.
 
     ``strategy``: "uniform" (uniform meshes h = 2^-1, 2^-2, ... up to ``max_ndof``; ``seconds`` is
     the cold solve on that mesh alone: a user who knows h solves once), "h" (the adaptive loop of
