@@ -1,4 +1,4 @@
-"""Shared fixtures: manufactured solutions (see tests/manufactured.py)."""
+"""Shared fixtures: manufactured solutions (ngdgfric.studies.manufactured)."""
 
 import sys
 from pathlib import Path
@@ -8,7 +8,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))
 
-from manufactured import contact_manufactured, elasticity_manufactured  # noqa: E402
+from ngdgfric.studies.manufactured import contact_manufactured, elasticity_manufactured  # noqa: E402
 
 
 @pytest.fixture(scope="session")

@@ -86,7 +86,7 @@ def test_adapt_returns_the_final_solution_on_its_own_mesh():
 
 def test_adapt_tol_bounds_the_true_energy_error():
     # eta_h <= tol in energy units: the true error of the returned solution is below tol, and not far below
-    from manufactured import incompressible_contact_manufactured
+    from ngdgfric.studies.manufactured import incompressible_contact_manufactured
 
     problem, u = incompressible_contact_manufactured()
     for tol in (3.0, 0.3):

@@ -28,6 +28,15 @@ def test_eta3_equals_penalty_times_the_jump_part_of_the_energy_norm(solution):
     assert ndf.estimate(solution).terms_squared["eta3"] == pytest.approx(solution.eta * jumps, rel=1e-10)
 
 
+@pytest.mark.parametrize("method", ["bassi", "brezzi"])
+def test_eta3_of_the_lifting_methods_weighs_the_jumps_by_2_mu_eta(method):
+    """For the lifting penalties eta is dimensionless: eta_3^2 = 2 mu eta / h_e ||[u]||^2 (Method.jump_weight)."""
+    p = ndf.example_6_1()
+    sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 8), method=method, eta=5.0)
+    _, jumps = energy_norm_squared_parts(sol.problem, sol.mesh, sol.u)
+    assert ndf.estimate(sol).terms_squared["eta3"] == pytest.approx(2 * p.mu * 5.0 * jumps, rel=1e-10)
+
+
 def test_eta1_of_the_paper_vanishes_without_body_force(solution):
     assert ndf.estimate(solution, weights="paper").terms_squared["eta1"] == 0.0
     p = dataclasses.replace(ndf.example_6_1(), f=(1.0, 2.0))
@@ -121,7 +130,7 @@ def _effectivity(problem, u, method="sipg", order=1, h=1 / 8, weights="energy"):
 def test_energy_weights_make_the_effectivity_independent_of_the_units_of_E():
     # the same displacement with E = 1 and E = 1e6 (data scaled): u_h is the same, the energy error
     # scales like sqrt(E) but for its unweighted jump part h^-1 ||[u_h]||^2
-    from manufactured import incompressible_contact_manufactured
+    from ngdgfric.studies.manufactured import incompressible_contact_manufactured
 
     soft, stiff = (incompressible_contact_manufactured(E=E, c_n=10.0 * E / 1e3) for E in (1.0, 1e6))
     for weights, (low, high) in (("energy", (0.97, 1.03)), ("paper", (500, 2000))):
@@ -132,7 +141,7 @@ def test_energy_weights_make_the_effectivity_independent_of_the_units_of_E():
 @pytest.mark.parametrize("method", ["nipg", "brezzi"])
 def test_effectivity_is_robust_as_nu_tends_to_one_half(method):
     # div u = 0: the data do not depend on nu; NIPG and Brezzi et al. do not lock
-    from manufactured import incompressible_contact_manufactured
+    from ngdgfric.studies.manufactured import incompressible_contact_manufactured
 
     for order in (1, 2):
         values = [_effectivity(*incompressible_contact_manufactured(nu=nu), method=method, order=order)

@@ -3,9 +3,13 @@
 import ngsolve as ngs
 import numpy as np
 import pytest
-from manufactured import contact_manufactured, friction_manufactured, incompressible_contact_manufactured
 
 import ngdgfric as ndf
+from ngdgfric.studies.manufactured import (
+    contact_manufactured,
+    friction_manufactured,
+    incompressible_contact_manufactured,
+)
 
 
 def _on_contact(cf, xs):

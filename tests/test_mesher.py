@@ -43,3 +43,24 @@ def test_ctrl_c_stops_meshing_at_once():
     start = time.perf_counter()
     _, err = process.communicate(timeout=30)
     assert "KeyboardInterrupt" in err and time.perf_counter() - start < 5
+
+
+def test_the_mesh_made_in_the_child_is_netgens_mesh():
+    """generate() (meshed in a child process, sent back as arrays, rebuilt) gives the mesh Netgen makes in this
+    process: same points, triangles in the same order, same boundary segments and names."""
+    from netgen.geom2d import SplineGeometry
+
+    from ngdgfric.mesher import generate, triangles_of
+
+    geometry = ndf.example_6_1().geometry
+    spline = SplineGeometry()
+    points = [spline.AppendPoint(x, y) for x, y in geometry.vertices]
+    for k, label in enumerate(geometry.labels):
+        spline.Append(["line", points[k], points[(k + 1) % len(points)]], bc=label, leftdomain=1, rightdomain=0)
+    here, there = spline.GenerateMesh(maxh=0.2), generate(geometry.vertices, geometry.labels, 0.2, timeout=60)
+    for a, b in zip(triangles_of(here), triangles_of(there), strict=True):
+        assert a.shape == b.shape and (a == b).all()
+    assert triangles_of(here)[1].min() == 0 and triangles_of(here)[0].shape[1] == 2
+    segments = [here.Elements1D().NumPy(), there.Elements1D().NumPy()]
+    assert (segments[0]["nodes"][:, :2] == segments[1]["nodes"][:, :2]).all()
+    assert [here.GetBCName(k) for k in range(3)] == [there.GetBCName(k) for k in range(3)]

@@ -4,6 +4,7 @@ import ngsolve as ngs
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.meshes import triangle_corners
 
 
 @pytest.mark.parametrize("diagonal", ["sw-ne", "nw-se"])
@@ -84,3 +85,32 @@ def test_solve_refuses_above_the_size_limit_before_assembling():
         ndf.solve(p, ndf.uniform_mesh(p, 1 / 16), max_ndof=1000)
     with pytest.raises(ValueError, match="GB, more than the 8 GB allowed by default"):
         ndf.solve(p, ndf.uniform_mesh(p, 1 / 64), order=20)
+
+
+@pytest.mark.parametrize("bisections, children", [(1, 2), (2, 4)])
+def test_refine_bisects_every_marked_triangle_once_or_twice(bisections, children):
+    """All elements marked: every triangle has 2 (one bisection) or 4 (two) children, the area is kept and
+    the mesh still fits the problem (Netgen's bisection, :func:`ngdgfric.meshes.refine`)."""
+    problem = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    ne = mesh.ne
+    ndf.refine(mesh, [True] * ne, bisections=bisections)
+    assert mesh.ne == children * ne
+    assert ngs.Integrate(1, mesh) == pytest.approx(1.0, rel=1e-14)
+    ndf.check_mesh(problem, mesh)
+
+
+def test_refine_refuses_bad_arguments():
+    mesh = ndf.uniform_mesh(ndf.example_6_2(), 1 / 2)
+    with pytest.raises(ValueError, match="bisections must be 1 or 2"):
+        ndf.refine(mesh, [True] * mesh.ne, bisections=3)
+    with pytest.raises(ValueError, match="marked has 3 entries"):
+        ndf.refine(mesh, [True] * 3)
+
+
+def test_triangle_corners_are_the_elements_vertices():
+    mesh = ndf.netgen_mesh(ndf.example_6_1(), 0.3)
+    corners = triangle_corners(mesh)
+    for el in mesh.Elements(ngs.VOL):
+        expected = [mesh[v].point for v in el.vertices]
+        assert corners[el.nr].tolist() == [list(point) for point in expected]

@@ -6,15 +6,11 @@ import importlib
 import ngsolve as ngs
 import numpy as np
 import pytest
-from manufactured import friction_manufactured
 
 import ngdgfric as ndf
 from ngdgfric.contact import friction_matrix, frozen_bound, normal_tangent
-
-
-def max_rel_diff(a, b):
-    a, b = a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy()
-    return np.max(np.abs(a - b)) / np.max(np.abs(b))
+from ngdgfric.studies import max_rel_diff
+from ngdgfric.studies.manufactured import friction_manufactured
 
 
 @pytest.mark.parametrize("value", [-1.0, -1e-12, float("nan"), float("inf"), "1", None, ngs.x])

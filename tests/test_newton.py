@@ -5,17 +5,13 @@ import dataclasses
 import ngsolve as ngs
 import numpy as np
 import pytest
-from manufactured import contact_manufactured
 
 import ngdgfric as ndf
 from ngdgfric import pardiso
 from ngdgfric.contact import rounding_residual
 from ngdgfric.solution import finish
-
-
-def max_rel_diff(a, b):
-    a, b = a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy()
-    return np.max(np.abs(a - b)) / np.max(np.abs(b))
+from ngdgfric.studies import max_rel_diff
+from ngdgfric.studies.manufactured import contact_manufactured
 
 
 def assert_kkt_at_roundoff(sol):

@@ -2,10 +2,12 @@
 
 import dataclasses
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.reference import difference, energy_norm_squared_parts, reference_errors
 
 
 @pytest.fixture(scope="module")
@@ -89,3 +91,29 @@ def test_fingerprint_arrays_of_the_wrong_type_are_named(saved, key):
                                                else np.array(["x", "y", "z"])}))
     with pytest.raises(ValueError, match=f"bad.npz: {key} has shape"):
         ndf.load_reference(path, problem)
+
+
+def test_energy_norm_of_a_linear_field_is_exact():
+    """u = (x, 0) on Example 6.2 (Gamma_D = top side, n = (0, 1)): eps(u) = e_1 e_1^T, so the volume part is
+    (lam + 2 mu) |Omega| = lam + 2 mu; [u] = 0 inside, and on Gamma_D |sym(u (x) n)|^2 = x^2 / 2, so the
+    jump part is sum_e h_e^-1 int_e x^2 / 2 = 1 / (6 h) (Section 3)."""
+    problem, h = ndf.example_6_2(), 1 / 4
+    mesh = ndf.uniform_mesh(problem, h)
+    u = ngs.GridFunction(ngs.L2(mesh, order=1) ** 2)
+    u.Set(ngs.CF((ngs.x, 0)))
+    volume, jumps = energy_norm_squared_parts(problem, mesh, u)
+    assert volume == pytest.approx(problem.lam + 2 * problem.mu, rel=1e-12)
+    assert jumps == pytest.approx(1 / (6 * h), rel=1e-12)
+    w = difference(u, ngs.CF((ngs.x - 1, ngs.y)))  # u - w = (1, -y): eps = -e_2 e_2^T
+    assert energy_norm_squared_parts(problem, mesh, w)[0] == pytest.approx(problem.lam + 2 * problem.mu, rel=1e-12)
+
+
+def test_error_against_itself_is_its_jump_part(saved):
+    """|||u_ref - u_h|||_h with u_h = u_ref: the volume part vanishes and the jump part is u_h's own (module
+    docstring: [u - u_h] = -[u_h])."""
+    folder, problem = saved
+    reference = ndf.load_reference(folder / "a.npz", problem)
+    errors = reference_errors(reference, reference)
+    _, jumps = energy_norm_squared_parts(problem, reference.mesh, reference.u)
+    assert errors["energy_volume"] < 1e-12 * ndf.energy_norm(reference)
+    assert errors["energy"] == pytest.approx(jumps**0.5, rel=1e-12)

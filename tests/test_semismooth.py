@@ -86,7 +86,7 @@ def test_degenerate_stick_slip_transitions_converge(E, nu, h, method):
     # the divergence-free manufactured solution has c_tau = |sigma_tau| in its slip zones, down to 0 at their
     # ends: points with |z| = beta where stick and slip both hold.  Newton steps alternated between two
     # states (Theta equal to round-off) or between two sets until these points were handled (P4)
-    from manufactured import incompressible_contact_manufactured
+    from ngdgfric.studies.manufactured import incompressible_contact_manufactured
 
     problem, _ = incompressible_contact_manufactured(E=E, nu=nu, c_n=10.0 * E / 1e3)
     sol = ndf.solve(problem, ndf.uniform_mesh(problem, h), method=method, order=4)
