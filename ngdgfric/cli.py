@@ -17,6 +17,7 @@ This module parses the arguments and dispatches to the library; the files and pl
 
 import argparse
 import importlib.metadata
+import itertools
 import math
 import os
 import sys
@@ -195,13 +196,24 @@ def say(message):
     print(message, flush=True)
 
 
+def _uzawa_progress():
+    """Every tenth progress line of Uzawa (one per 1000 iterations, the command line's rate), indented."""
+    calls = itertools.count(1)
+
+    def show(message):
+        if next(calls) % 10 == 0:
+            say(f"  {message}")
+
+    return show
+
+
 def cmd_solve(args, problem, tag):
     mesh, described = _mesh(problem, args.h, args.maxh, DEFAULT_H, args.order, args.max_ndof)
     say(f"{problem.name}: {described}, {mesh.ne} elements; {args.method} P{args.order}, {args.solver}")
     start = time.perf_counter()
     sol = solve(problem, mesh, method=args.method, order=args.order, eta=args.eta, solver=args.solver,
                 solver_tol=args.solver_tol, max_ndof=args.max_ndof,
-                progress=(lambda message: say(f"  {message}")) if args.solver == "uzawa" else None)
+                progress=_uzawa_progress() if args.solver == "uzawa" else None)
     solved = time.perf_counter()
     est = estimate(sol)
     estimated = time.perf_counter()
