@@ -14,8 +14,8 @@ import ngsolve as ngs
 import numpy as np
 import threadpoolctl
 
-__all__ = ["BlockSum", "csr_keys", "blas_threads", "limited_blas", "dense_threads", "direct_inverse", "diagonal",
-           "sparse_sum", "threads"]
+__all__ = ["BlockSum", "csr_keys", "blas_threads", "limited_blas", "call_limited", "dense_threads", "direct_inverse",
+           "diagonal", "sparse_sum", "threads"]
 
 
 def csr_keys(mat, ncols=None):
@@ -169,12 +169,17 @@ def blas_threads(count=None):
         yield
 
 
+def call_limited(function, *args, **kwargs):
+    """``function(*args, **kwargs)`` inside :func:`blas_threads` (module level: picklable for process pools)."""
+    with blas_threads():
+        return function(*args, **kwargs)
+
+
 def limited_blas(function):
     """``function`` run inside :func:`blas_threads` (the entry points solve, adapt, estimate)."""
     @functools.wraps(function)
     def limited(*args, **kwargs):
-        with blas_threads():
-            return function(*args, **kwargs)
+        return call_limited(function, *args, **kwargs)
     return limited
 
 

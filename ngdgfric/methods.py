@@ -63,13 +63,12 @@ class Method:
         """The smallest stable eta for degree ``order`` (None: any eta > 0 is stable)."""
         if not self.thresholds:
             return None
-        value = self.thresholds[min(int(order), len(self.thresholds)) - 1]
-        return value * self.threshold_scale(problem) if self.penalty == "edge" else value
+        return self.thresholds[min(int(order), len(self.thresholds)) - 1] * self.threshold_scale(problem)
 
     def default(self, problem, order=1):
         """The default eta (table above): ``default_eta`` times :meth:`eta_scale`, raised to 1.5 times the
         threshold where it is not above it (numbers only: a CoefficientFunction E keeps the default)."""
-        eta = self.default_eta * problem.mu if self.penalty == "edge" else self.default_eta
+        eta = self.default_eta * self.eta_scale(problem)
         threshold = self.threshold(problem, order)
         if isinstance(threshold, (int, float)) and eta <= threshold:
             return 1.5 * threshold

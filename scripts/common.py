@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ngdgfric import files
 from ngdgfric.examples import EXAMPLES
-from ngdgfric.linalg import blas_threads
+from ngdgfric.linalg import call_limited
 from ngdgfric.output import write_png
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
@@ -87,14 +87,7 @@ def run_script(main):
     """A script's ``main()`` under the OpenBLAS limit of the library's entry points
     (:func:`ngdgfric.linalg.blas_threads`): the work a script does outside solve/estimate/adapt
     (assembly, factorisations, dense eigenvalues) runs as the library's does."""
-    with blas_threads():
-        return main()
-
-
-def _limited(function, item):
-    """``function(item)`` in a spawned worker, under the same limit as :func:`run_script`."""
-    with blas_threads():
-        return function(item)
+    return call_limited(main)
 
 
 def in_processes(function, items, workers):
@@ -106,7 +99,7 @@ def in_processes(function, items, workers):
         return
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
     try:
-        futures = {pool.submit(_limited, function, item): index for index, item in enumerate(items)}
+        futures = {pool.submit(call_limited, function, item): index for index, item in enumerate(items)}
         for future in as_completed(futures):
             yield futures[future], future.result()
     finally:

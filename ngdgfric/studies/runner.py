@@ -14,7 +14,7 @@ import os
 import time
 from pathlib import Path
 
-from ..linalg import blas_threads
+from ..linalg import call_limited
 
 __all__ = ["case_key", "run_cases"]
 
@@ -33,12 +33,6 @@ def _client(scheduler, workers):
     cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                            dashboard_address=None)
     return Client(cluster), cluster
-
-
-def _limited(function, case):
-    """``function(case)`` in a worker, under the library's OpenBLAS limit (:func:`ngdgfric.linalg.blas_threads`)."""
-    with blas_threads():
-        return function(case)
 
 
 def run_cases(function, cases, cache=None, scheduler=None, workers=None, progress=print):
@@ -66,7 +60,7 @@ def run_cases(function, cases, cache=None, scheduler=None, workers=None, progres
         client, cluster = _client(scheduler, workers)
         start = time.perf_counter()
         try:
-            futures = {client.submit(_limited, function, case, pure=False): (index, case, path)
+            futures = {client.submit(call_limited, function, case, pure=False): (index, case, path)
                        for index, case, path in todo}
             for done, future in enumerate(as_completed(futures), 1):
                 index, case, path = futures[future]
