@@ -45,15 +45,15 @@ def _rule(order, shape):
     return {shape: ngs.IntegrationRule(points, [0.0] * len(points))}
 
 
-# datum: (lower bound or None, whether the bound itself is excluded)
-VOLUME = {"E": (0.0, True), "f": (None, False)}
-BOUNDARY = {"traction": {"g": (None, False)}, "contact": {"g_a": (None, False), "c_n": (0.0, False),
-                                                         "c_tau": (0.0, False)}}
+# datum: (lower bound or None, whether the lower bound itself is excluded, upper bound (excluded) or None)
+VOLUME = {"E": (0.0, True, None), "nu": (-1.0, True, 0.5), "f": (None, False, None)}
+BOUNDARY = {"traction": {"g": (None, False, None)}, "contact": {"g_a": (None, False, None), "c_n": (0.0, False, None),
+                                                               "c_tau": (0.0, False, None)}}
 
 
 def check_data(problem, mesh, order):
     """ValueError naming the datum and a point unless every CoefficientFunction datum is finite
-    (and E > 0, c_n >= 0, c_tau >= 0) at the points where the forms of order ``order`` use it."""
+    (and E > 0, -1 < nu < 1/2, c_n >= 0, c_tau >= 0) at the points where the forms of order ``order`` use it."""
     if _varying(problem, VOLUME):
         _check_on(problem, VOLUME, mesh.MapToAllElements(_rule(order, ngs.TRIG), ngs.VOL), "Omega")
     for part, data in BOUNDARY.items():
@@ -77,7 +77,7 @@ def _varying(problem, data):
 
 
 def _check_on(problem, data, points, where):
-    for name, (low, open_bound) in data.items():
+    for name, (low, open_bound, high) in data.items():
         cf = _as_cf(getattr(problem, name))
         if cf is None:
             continue
@@ -85,12 +85,15 @@ def _check_on(problem, data, points, where):
         bad = ~np.isfinite(values)
         if low is not None:
             bad |= (values <= low) if open_bound else (values < low)
+        if high is not None:
+            bad |= values >= high
         rows = np.flatnonzero(np.any(bad, axis=1))
         if rows.size:
             k = int(rows[0])
             x, y = float(ngs.x(points[k])), float(ngs.y(points[k]))
             shown = float(values[k, 0]) if values.shape[1] == 1 else tuple(map(float, values[k]))
             need = "finite" if low is None else f"finite and {'>' if open_bound else '>='} {low:g}"
+            need += "" if high is None else f" and < {high:g}"
             raise DataError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
 
 

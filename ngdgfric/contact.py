@@ -29,7 +29,8 @@ from .problem import coefficient, strain, stress
 
 __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "positive_power", "compliance",
            "friction_bound", "project_unit", "compliance_form", "friction_matrix",
-           "frozen_bound", "residual", "multiplier_space", "contact_points", "evaluate_on_contact", "ContactGauss",
+           "frozen_bound", "residual", "residual_terms", "multiplier_space", "contact_points", "evaluate_on_contact",
+           "ContactGauss",
            "GaussValues", "contact_state", "kkt_residuals", "rounding_residual"]
 
 
@@ -106,20 +107,32 @@ def frozen_bound(problem, u):
     return dataclasses.replace(problem, c_tau=friction_bound(problem, u_frozen), m_t=0.0)
 
 
-def residual(disc, u, lam_tau):
-    """The residual of (3.3) at the GridFunctions (u, lam_tau) of ``disc``: the vector on V_h of
+def residual_terms(disc, u, lam_tau):
+    """The terms of the residual of (3.3) at the GridFunctions (u, lam_tau) of ``disc``, vectors on V_h:
 
-        B_h(u, v) + j_n(u, v) + g(u; lam_tau, v) - (f, v),
-        g(u; lam_tau, v) = int_{Gamma_C} c_tau (u_n - g_a)_+^{m_t} lam_tau v.t ds,
+        B_h(u, v),   j_n(u, v),   g(u; lam_tau, v) = int_{Gamma_C} c_tau (u_n - g_a)_+^{m_t} lam_tau v.t ds,
+        -(f, v),
 
     the friction term with the bound at u (:func:`friction_bound`; c_tau itself for m_t = 0), assembled
     at that bound (:func:`friction_matrix`): one code path for m_t = 0 and m_t > 0."""
     trial, test = disc.V.TnT()
     compliance_part = ngs.BilinearForm(disc.V)
     compliance_part += compliance_form(disc.problem, disc.dS, trial, test)
-    r = disc.F.CreateVector()
-    compliance_part.Apply(u.vec, r)
-    r.data += disc.A * u.vec + friction_matrix(disc, friction_bound(disc.problem, u)) * lam_tau.vec - disc.F
+    terms = [disc.F.CreateVector() for _ in range(4)]
+    terms[0].data = disc.A * u.vec
+    compliance_part.Apply(u.vec, terms[1])
+    terms[2].data = friction_matrix(disc, friction_bound(disc.problem, u)) * lam_tau.vec
+    terms[3].data = -disc.F
+    return terms
+
+
+def residual(disc, u, lam_tau):
+    """The residual of (3.3) at (u, lam_tau): the sum of :func:`residual_terms`,
+    B_h(u, v) + j_n(u, v) + g(u; lam_tau, v) - (f, v), a vector on V_h."""
+    terms = residual_terms(disc, u, lam_tau)
+    r = terms[0]
+    for term in terms[1:]:
+        r.data += term
     return r
 
 
@@ -227,7 +240,7 @@ def contact_state(sol):
     points = sol.discretization.contact_points()
     n, t = normal_tangent()
     u, problem = sol.u, sol.problem
-    sigma_n_vec = stress(problem, strain(u)) * n
+    sigma_n_vec = stress(sol.discretization.material, strain(u)) * n
     return {
         "x": np.asarray(ngs.x(points)).ravel(),
         "y": np.asarray(ngs.y(points)).ravel(),
@@ -244,17 +257,20 @@ def contact_state(sol):
 
 
 def _relative_residual(disc, u, lam_tau):
-    """||:func:`residual`||_2 / ||F||_2."""
-    r = residual(disc, u, lam_tau).FV().NumPy()
-    return float(np.linalg.norm(r) / max(np.linalg.norm(disc.F.FV().NumPy()), 1e-300))
+    """||:func:`residual`||_2 divided by the largest of the norms of its terms (:func:`residual_terms`: B_h(u, .),
+    j_n, g, (f, .)), a scale that exists without loads too (a body pushed by a penetration only: f = 0, g = 0);
+    0 if every term is zero."""
+    terms = [term.FV().NumPy() for term in residual_terms(disc, u, lam_tau)]
+    scale = max(float(np.linalg.norm(term)) for term in terms)
+    return float(np.linalg.norm(np.sum(terms, axis=0)) / scale) if scale > 0 else 0.0
 
 
 def kkt_residuals(sol):
     """Violations of the discrete KKT system (3.3)-(3.4) of a Solution at the Gauss points of Gamma_C.
 
     lam_excess: max(|lam_tau| - 1, 0);  complementarity: max |lam_tau u_tau - |u_tau|| / max(|u|);
-    equilibrium: ||:func:`residual`||_2 / ||F||_2 (round-off level at a solution), the friction term with
-    the bound at u_h.
+    equilibrium: ||:func:`residual`||_2 relative to the largest of its terms B_h(u_h, .), j_n, g and (f, .)
+    (round-off level at a solution), the friction term with the bound at u_h.
     """
     state = contact_state(sol)
     scale = max(np.max(np.abs(sol.u.vec.FV().NumPy())), 1e-300)

@@ -13,11 +13,12 @@ import numpy as np
 
 from .checks import check_data, check_size
 from .contact import ContactGauss, contact_measure, contact_points, multiplier_space
-from .forms import dg_terms, edge_length, load_terms
+from .forms import dg_terms, edge_length, load_terms, penalty_length
 from .liftings import lifting_terms
 from .linalg import sparse_sum, threads
+from .material import Lame, Material
 from .meshes import check_mesh
-from .methods import check_penalty, get_method
+from .methods import check_penalty, get_method, penalty
 from .problem import ContactProblem
 from .traces import ContactTraces
 
@@ -76,10 +77,14 @@ class Discretization:
 
     Attributes: ``V`` (DG space), ``Q`` (multiplier space on Gamma_C), ``A`` (matrix of B_h),
     ``F`` (load vector of (f, v)), ``M_inv`` (inverse Gauss-rule mass matrix of Q), ``dS`` (the
-    contact measure), ``h_e``, ``timings``; ``orders`` (p_T per element), ``order`` (the largest, which
-    sets the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as a number
-    or GridFunction, for the penalty and the estimator weights); ``gauss`` and ``traces`` (the contact
-    Gauss points and the trace matrix, built on first use).
+    contact measure), ``h_e`` (the edge length |e|), ``h_penalty`` (the penalty's length,
+    :func:`ngdgfric.forms.penalty_length`), ``timings``; ``orders`` (p_T per element), ``order`` (the
+    largest, which sets the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as
+    a number or GridFunction, for the penalty and the estimator weights); ``material`` (the Lame
+    parameters element by element, :class:`ngdgfric.material.Material`); ``eta`` (the penalty parameter:
+    the number given or the default, an :class:`~ngdgfric.material.EdgeCoefficient` for a varying
+    material) and ``penalty`` (eta on every edge, an EdgeCoefficient); ``gauss`` and ``traces`` (the
+    contact Gauss points and the trace matrix, built on first use).
 
     Before assembly: the mesh must fit the problem (:func:`ngdgfric.meshes.check_mesh`), the DOFs
     the size limit ``max_ndof`` and the data be valid pointwise (:mod:`ngdgfric.checks`).
@@ -89,28 +94,40 @@ class Discretization:
         if not isinstance(problem, ContactProblem):
             raise ValueError(f"problem must be a ContactProblem, got {problem!r}")
         check_mesh(problem, mesh)
-        self.problem, self.mesh = problem, mesh
         self.method = get_method(method)
         order = check_order(order, mesh)
         self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
         check_size(self.orders, max_ndof)
         check_data(problem, mesh, int(self.orders.max()))
+        self.problem, self.mesh = problem, mesh
         self.order = int(self.orders.max())
         self.p = self.order if np.ndim(order) == 0 or np.all(order == self.order) else order_function(mesh, order)
         lowest = int(self.orders.min())  # the lowest order has the highest SIPG threshold
-        self.eta = _check_eta(self.method.default(problem, lowest) if eta is None else eta)
-        check_penalty(problem, self.method, self.eta, lowest, penalty_check)
+        self.material = Material(problem, mesh, self.order)
+        eta = None if eta is None else _check_eta(eta)
+        self.penalty = penalty(self.method, self.material, eta, lowest)
+        varying_default = eta is None and not self.material.constant and self.method.penalty == "edge"
+        self.eta = self.penalty if varying_default else self.penalty.boundary
+        check_penalty(self._largest_law(), self.method, self.eta, lowest, penalty_check)
         self.timings = {}
         self._gauss = self._traces = None
         start = time.perf_counter()
         self.V = dg_space(mesh, order)
         self.Q = multiplier_space(problem, mesh, self.order)
         self.h_e = edge_length(mesh)
+        self.h_penalty = penalty_length(mesh)
         self.dS = contact_measure(problem, mesh, self.order)
         self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
         self.V_plain = dg_space(mesh, order, dgjumps=False)  # the test space of the mixed contact forms
         self.timings["setup"] = time.perf_counter() - start
+
+    def _largest_law(self):
+        """The Lame parameters the penalty check uses: the problem's, or the largest on the mesh."""
+        if self.material.constant:
+            return self.problem
+        return Lame(*(self.material.largest(lambda law, name=name: getattr(law, name), self.mesh)
+                      for name in ("mu", "lam")))
 
     def _assemble(self):
         """The matrix A of B_h (with the lifting terms of Bassi, Brezzi, LDG) and the load vector F."""
@@ -118,10 +135,12 @@ class Discretization:
         u, v = self.V.TnT()
         with threads(self.V.ndof):
             a = ngs.BilinearForm(self.V)
-            for term in dg_terms(problem, mesh, u, v, self.method, self.eta, self.p, self.h_e):
+            for term in dg_terms(problem, self.material, mesh, u, v, self.method, self.penalty, self.p,
+                                 self.h_penalty):
                 a += term
             a.Assemble()
-            lifts = lifting_terms(problem, mesh, self.V, self.order, self.method, self.eta)
+            lifts = lifting_terms(problem, self.material, mesh, self.V, self.order, self.method,
+                                  self.penalty.boundary)
             A = sparse_sum([(1.0, a.mat), *lifts]) if lifts else a.mat
             f = ngs.LinearForm(self.V)
             for term in load_terms(problem, mesh, v):

@@ -1,6 +1,12 @@
-"""Errors raised by the solvers."""
+"""Errors raised by the solvers, and warnings that point at the user's code."""
 
-__all__ = ["SolverError"]
+import sys
+import warnings
+from pathlib import Path
+
+__all__ = ["SolverError", "warn"]
+
+PACKAGE = str(Path(__file__).resolve().parent)
 
 
 class SolverError(RuntimeError):
@@ -10,3 +16,12 @@ class SolverError(RuntimeError):
         super().__init__(message)
         self.history = list(history)
         self.solver = solver
+
+
+def warn(message, category):
+    """``warnings.warn(message, category)`` attributed to the first caller outside ngdgfric (the line of the
+    user's script that called solve, estimate, adapt ...), however deep inside the package it is issued."""
+    frame, level = sys._getframe(0), 1
+    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(PACKAGE):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, category, stacklevel=level)

@@ -49,9 +49,13 @@ uniform and h-adaptive levels, against the hp reference), the cases the factor w
 results/effectivity.md checks it on every other case (the other example, the five methods,
 the manufactured solutions at E = 1 ... 1e6, nu up to 0.4999).
 
-The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies):
+The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies; where the material
+varies, mu and lam are the element-wise fields C_h of :mod:`ngdgfric.material` that the forms use, and
+eta_1 also carries their data oscillation int_T |(C - C_h) eps_h(u_h)|^2 / (2 mu) with the true C and mu
+pointwise and no calibration factor, the stress that C_h misses in energy units: zero on a mesh that
+follows the material's jumps, the error of the element means where a jump cuts elements):
 
-    eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma~_h||_T^2 + ||p_h - p~_h||_T^2
+    eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma~_h||_T^2 + ||p_h - p~_h||_T^2  (+ the oscillation below)
     eta_2^2 = sum_{e in E_h^i} (h_e/p) ||[sigma~_h n]||_e^2   (= [2 mu eps_h(u_h) n]: p~_h is continuous)
     eta_4, eta_5, eta_6 with sigma~_h n in place of sigma_h(u_h) n;  eta_3 as printed (a penalty:
     already in energy units).
@@ -65,6 +69,7 @@ import numpy as np
 from .contact import compliance, friction_bound, normal_tangent
 from .forms import edge_order, edge_penalty, jump_inner
 from .linalg import limited_blas, threads
+from .material import BONUS
 from .meshes import element_diameters, facet_indicator
 from .problem import coefficient, strain, stress
 
@@ -81,15 +86,23 @@ class Estimate:
     eta_h: float
 
 
-def div_stress(problem, u, lam=None):
-    """div sigma(u) = 2 mu div eps(u) + lam grad div u, from the Hessian of u (elementwise; ``lam``
-    defaults to the problem's, ``lam=0`` gives the deviatoric part)."""
-    lam = problem.lam if lam is None else lam
+def div_stress(material, u, pressure=True):
+    """div sigma(u) element by element, from the Hessian of u: 2 mu div eps(u) + lam grad div u, plus
+    2 eps(u) grad mu + div u grad lam where the material varies (``material``: the
+    :class:`~ngdgfric.material.Material` of the discretisation); ``pressure=False`` gives the deviatoric
+    part div(2 mu eps(u))."""
+    mu, lam = material.mu, material.lam
     H = u.Operator("hesse")  # H[4 c + 2 a + b] = d_a d_b u_c
     hess = lambda c, a, b: H[4 * c + 2 * a + b]  # noqa: E731
-    div_eps = [0.5 * sum(hess(i, j, j) + hess(j, i, j) for j in range(2)) for i in range(2)]
-    grad_div = [sum(hess(j, i, j) for j in range(2)) for i in range(2)]
-    return ngs.CF(tuple(2 * problem.mu * div_eps[i] + lam * grad_div[i] for i in range(2)))
+    div_eps = ngs.CF(tuple(0.5 * sum(hess(i, j, j) + hess(j, i, j) for j in range(2)) for i in range(2)))
+    result = 2 * mu * div_eps
+    if pressure:
+        result = result + lam * ngs.CF(tuple(sum(hess(j, i, j) for j in range(2)) for i in range(2)))
+    if not material.constant:
+        result = result + 2 * strain(u) * ngs.Grad(mu)
+        if pressure:
+            result = result + ngs.Trace(strain(u)) * ngs.Grad(lam)
+    return result
 
 
 def element_integrals(mesh, integrals):
@@ -116,16 +129,16 @@ def element_integrals(mesh, integrals):
 WEIGHTS = ("energy", "paper")
 
 
-def discrete_pressure(problem, u):
+def discrete_pressure(material, u):
     """p_h = lam div_h u_h = lam tr eps_h(u_h), element by element."""
-    return problem.lam * ngs.Trace(strain(u))
+    return material.lam * ngs.Trace(strain(u))
 
 
-def averaged_pressure(problem, u, order):
+def averaged_pressure(material, u, order):
     """p~_h: p_h made continuous (NGSolve's ``Set`` into H^1 of degree ``order``: local projections,
     averaged at shared vertices and edges, an Oswald-type average)."""
     pressure = ngs.GridFunction(ngs.H1(u.space.mesh, order=int(order)))
-    pressure.Set(discrete_pressure(problem, u))
+    pressure.Set(discrete_pressure(material, u))
     return pressure
 
 
@@ -141,8 +154,8 @@ def estimate(sol, weights="energy"):
     disc = sol.discretization
     problem, mesh, u, p = sol.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
-    h_e = disc.h_e
-    weight = disc.method.jump_weight(problem, disc.eta)
+    h_e, h_penalty = disc.h_e, disc.h_penalty
+    weight = disc.method.jump_weight(disc.material, disc.penalty)
     # quadrature order 2p + 2 (exact for the polynomial parts; Integrate's default 5 is too low
     # for p >= 3): the LinearForm of element_integrals integrates with the bonus order alone,
     # Integrate with 5 + bonus
@@ -154,7 +167,8 @@ def estimate(sol, weights="energy"):
     traction_residual, bound = sigma_n - coefficient(problem.g), friction_bound(problem, u)
     parts = element_integrals(mesh, {
         "eta1": volume,
-        "eta3": on[problem.dirichlet] * edge_penalty(weight, p, h_e) * jump_inner(u, u, n) * boundary,
+        "eta3": on[problem.dirichlet] * edge_penalty(weight.boundary, p, h_penalty.boundary) * jump_inner(u, u, n)
+        * boundary,
         "eta4": on[problem.contact] * h_e / p * (sigma_n * t + bound * sol.lam_tau) ** 2 * boundary,
         "eta5": on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual) * boundary,
         "eta6": on[problem.contact] * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
@@ -164,40 +178,57 @@ def estimate(sol, weights="energy"):
     jump_sigma, jump_u = sigma_n - neighbour * n, u - u.Other()
     jump_measure = ngs.dx(element_boundary=True, bonus_intorder=max(q - 5, 0))
     for name, integrand in (("eta2", 0.5 * h_e / p * jump_sigma * jump_sigma),
-                            ("eta3", 0.5 * edge_penalty(weight, edge_order(p), h_e) * jump_inner(jump_u, jump_u, n))):
+                            ("eta3", 0.5 * edge_penalty(weight.interior, edge_order(p), h_penalty.interior)
+                             * jump_inner(jump_u, jump_u, n))):
         parts[name] = parts.get(name, 0) + ngs.Integrate(integrand * jump_measure, mesh, element_wise=True).NumPy()
     parts = {name: parts[name] for name in sorted(parts)}
     if weights == "energy":
         calibration = 1.0 / np.asarray(disc.orders, dtype=float)  # (p_T^(-1/2))^2, see the module docstring
-        residual_weight = calibration * _inverse_stiffness(problem, mesh)
+        residual_weight = calibration * _inverse_stiffness(disc.material, mesh)
         parts = {name: value * (calibration if name == "eta3" else residual_weight) for name, value in parts.items()}
+        if not disc.material.constant:
+            parts["eta1"] = parts["eta1"] + _material_oscillation(sol, q + BONUS)
     element = sum(parts.values())
     return Estimate(eta_T_squared=element, terms_squared={k: float(v.sum()) for k, v in parts.items()},
                     eta_h=float(np.sqrt(element.sum())))
 
 
 def _stress_and_volume_term(sol, weights, q):
-    """(sigma, the neighbour's sigma, the integral of eta_1^2) for the ``weights`` of :func:`estimate`:
-    sigma_h(u_h) for "paper", sigma~_h = 2 mu eps_h(u_h) + p~_h I for "energy"."""
+    """(sigma, the neighbour's sigma, the integrals of eta_1^2) for the ``weights`` of :func:`estimate`:
+    sigma_h(u_h) for "paper", sigma~_h = 2 mu eps_h(u_h) + p~_h I for "energy" (mu, lam each element's own)."""
     problem, u, disc = sol.problem, sol.u, sol.discretization
+    material = disc.material
     h_T = ngs.GridFunction(ngs.L2(sol.mesh, order=0))
     h_T.vec.FV().NumPy()[:] = element_diameters(sol.mesh)
     zero = ngs.CF((0, 0))
+    varying = disc.order > 1 or not material.constant  # div sigma_h(u_h) = 0 for P1 and a constant material
     if weights == "paper":
-        residual = coefficient(problem.f) + (div_stress(problem, u) if disc.order > 1 else zero)
+        residual = coefficient(problem.f) + (div_stress(material, u) if varying else zero)
         volume = (h_T / disc.p) ** 2 * residual * residual * ngs.dx(bonus_intorder=q)
-        return stress(problem, strain(u)), stress(problem, strain(u)).Other(), volume
-    pressure = averaged_pressure(problem, u, disc.order)
-    residual = coefficient(problem.f) + (div_stress(problem, u, lam=0) if disc.order > 1 else zero) + ngs.Grad(pressure)
-    difference = discrete_pressure(problem, u) - pressure
+        sigma = stress(material.own, strain(u))
+        return sigma, sigma.Other(), volume
+    pressure = averaged_pressure(material, u, disc.order)
+    residual = coefficient(problem.f) + (div_stress(material, u, pressure=False) if varying else zero) + \
+        ngs.Grad(pressure)
+    difference = discrete_pressure(material, u) - pressure
     volume = ((h_T / disc.p) ** 2 * residual * residual + difference * difference) * ngs.dx(bonus_intorder=q)
-    sigma = 2 * problem.mu * strain(u) + pressure * ngs.Id(2)
-    return sigma, 2 * problem.mu * strain(u).Other() + pressure * ngs.Id(2), volume
+    deviatoric = 2 * material.mu * strain(u)
+    return deviatoric + pressure * ngs.Id(2), deviatoric.Other() + pressure * ngs.Id(2), volume
 
 
-def _inverse_stiffness(problem, mesh):
+def _material_oscillation(sol, order):
+    """Per element int_T (C - C_h) eps_h(u_h) : (C - C_h) eps_h(u_h) / (2 mu) dx with the problem's C and
+    mu at every point: the stress the forms' element-wise material C_h (:mod:`ngdgfric.material`) misses, in
+    energy units (zero where C_h = C, on a mesh that follows the material's jumps).  Gauss degree ``order``."""
+    problem, u = sol.problem, sol.u
+    missed = stress(problem, strain(u)) - stress(sol.discretization.material.own, strain(u))
+    density = ngs.InnerProduct(missed, missed) / (2 * coefficient(problem.mu))
+    return ngs.Integrate(density * ngs.dx(bonus_intorder=max(order - 5, 0)), sol.mesh, element_wise=True).NumPy()
+
+
+def _inverse_stiffness(material, mesh):
     """1 / (2 mu) per element (mu may vary: its element average)."""
-    mu = problem.mu
+    mu = material.mu
     if not isinstance(mu, ngs.CoefficientFunction):
         return 1.0 / (2.0 * mu)
     area = ngs.Integrate(ngs.CF(1) * ngs.dx, mesh, element_wise=True).NumPy()

@@ -6,7 +6,10 @@ All five methods share the volume term and the consistency terms
 
 with s = +1 except NIPG (s = -1), and differ only in the stabilisation: the edge penalty
 eta p^2 / h_e [u]:[v] or the local liftings sum_e eta (C r_e[u], r_e[v]) (:mod:`ngdgfric.liftings`),
-and the global lifting (C r_0[u], r_0[v]); the rows are :data:`ngdgfric.methods.METHODS`.
+and the global lifting (C r_0[u], r_0[v]); the rows are :data:`ngdgfric.methods.METHODS`.  The material
+enters every term from the element's own side (:class:`ngdgfric.material.Material`): the averages
+{sigma} are weighted by the stiffness of the two neighbours and the penalty is an
+:class:`~ngdgfric.material.EdgeCoefficient` (harmonic means across material jumps).
 
 Jumps are the symmetric tensor jumps of Section 2.1, [v] = sym(v+ (x) n+ + v- (x) n-), on
 interior edges and [v] = sym(v (x) n) on Dirichlet edges (E_h^o = E_h^i u E_h^D); the
@@ -15,13 +18,24 @@ edge penalty is the paper's eta h_e^-1; for p > 1 it carries the usual factor p_
 the coercivity threshold of eta independent of h and p up to a constant.  With a variable order
 per element (hp), p_e = max(p_T+, p_T-) on interior edges (the inverse trace inequality of the
 higher-order neighbour decides coercivity) and p_e = p_T on boundary edges.
+
+The length in the penalty (:func:`penalty_length`) is h_e = min(|e|, 2 h_T+, 2 h_T-), h_T = 2 |T| / |e|
+the height of T over e: the paper's |e| on the meshes of Section 6 and the neighbours' heights on thin
+triangles.  The inverse trace inequality ||v||_e^2 <= (p+1)(p+2)/2 |e| / |T| ||v||_T^2 (Warburton &
+Hesthaven 2003) scales with 1 / h_T, so eta p^2 / |e| is too weak on the long edges of a thin triangle
+(B_h loses coercivity; tests/test_forms.py).  With A, B the angles of T at the ends of e,
+2 h_T = 2 |e| / (cot A + cot B), so h_e = |e| wherever cot A + cot B <= 2: on the structured meshes of
+Section 6 (the diagonals, 2 h_T = |e|, are the edges on which the SIPG thresholds of
+:mod:`ngdgfric.methods` were measured; the legs have 2 h_T = 2 |e|) and on equilateral triangles.
 """
 
 import ngsolve as ngs
 
+from .material import EdgeCoefficient
 from .problem import coefficient, strain, stress
 
-__all__ = ["edge_length", "edge_penalty", "edge_order", "dg_terms", "load_terms", "jump_inner"]
+__all__ = ["edge_length", "penalty_length", "element_areas", "edge_penalty", "edge_order", "dg_terms", "load_terms",
+           "jump_inner"]
 
 
 def jump_inner(a, b, n):
@@ -33,15 +47,34 @@ def jump_inner(a, b, n):
     return 0.5 * (a * b + (a * n) * (b * n))
 
 
-def edge_length(mesh):
+def element_areas(mesh):
+    """|T| of every element as an order-0 L2 GridFunction."""
+    area = ngs.GridFunction(ngs.L2(mesh, order=0))
+    area.vec.FV().NumPy()[:] = ngs.Integrate(ngs.CF(1) * ngs.dx, mesh, element_wise=True).NumPy()
+    return area
+
+
+def edge_length(mesh, area=None):
     """CoefficientFunction equal to h_e = |e| on every edge of a straight-sided triangle mesh.
 
     On a facet, NGSolve's ``specialcf.mesh_size`` is |det J_T| / |e| = 2 |T| / |e|, so
-    |e| = 2 |T| / mesh_size with the element area |T| stored in an order-0 L2 GridFunction.
+    |e| = 2 |T| / mesh_size with the element area |T| (``area``: :func:`element_areas`).
     """
-    area = ngs.GridFunction(ngs.L2(mesh, order=0))
-    area.vec.FV().NumPy()[:] = ngs.Integrate(ngs.CF(1) * ngs.dx, mesh, element_wise=True).NumPy()
-    return 2 * area / ngs.specialcf.mesh_size
+    return 2 * (element_areas(mesh) if area is None else area) / ngs.specialcf.mesh_size
+
+
+def _smaller(a, b):
+    return ngs.IfPos(a - b, b, a)
+
+
+def penalty_length(mesh):
+    """The :class:`~ngdgfric.material.EdgeCoefficient` h_e = min(|e|, 2 h_T+, 2 h_T-) of the penalty (module
+    docstring); on boundary edges min(|e|, 2 h_T).  ``specialcf.mesh_size`` on a facet is the height h_T of
+    the element integrated over; the neighbour's is 2 |T-| / |e|."""
+    area = element_areas(mesh)
+    length = edge_length(mesh, area)
+    own = _smaller(length, 2 * ngs.specialcf.mesh_size)
+    return EdgeCoefficient(_smaller(own, 4 * area.Other() / length), own, "min(|e|, 2 h_T+, 2 h_T-)")
 
 
 def edge_penalty(eta, order, h_e):
@@ -60,18 +93,16 @@ def edge_order(order):
     return ngs.IfPos(order - order.Other(), order, order.Other())
 
 
-def _stress_normal(problem, w, n):
-    return stress(problem, strain(w)) * n
-
-
-def dg_terms(problem, mesh, u, v, method, eta, order, h_e=None):
+def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
     """The integrals of B_h(u, v) for the edge-penalty part of ``method`` (Section 3).
 
     Returns a list of symbolic integrals (one integrator each: NGSolve assembles separate
     skeleton integrators several times faster than their sum).  Lifting terms are added by the
     caller from :mod:`ngdgfric.liftings`.  ``u``, ``v`` are trial and test functions (or any
-    vector proxies) of a DG space with ``dgjumps=True``; ``order``: p, or the element order
-    GridFunction of a variable-order space.
+    vector proxies) of a DG space with ``dgjumps=True``; ``material``: the
+    :class:`~ngdgfric.material.Material` on the mesh; ``penalty``: eta as an
+    :class:`~ngdgfric.material.EdgeCoefficient`; ``order``: p, or the element order GridFunction of a
+    variable-order space; ``h``: the penalty length (default :func:`penalty_length`).
     """
     s = method.symmetry
     n = ngs.specialcf.normal(2)
@@ -79,19 +110,19 @@ def dg_terms(problem, mesh, u, v, method, eta, order, h_e=None):
     interior = ngs.dx(skeleton=True)
     boundary = ngs.ds(skeleton=True, definedon=dirichlet)
     ju, jv = u - u.Other(), v - v.Other()
-    avg_sn = lambda w: 0.5 * (_stress_normal(problem, w, n) + _stress_normal(problem, w.Other(), n))  # noqa: E731
+    own, other = material.own, material.neighbour
+    avg_sn = lambda w: material.average(stress(own, strain(w)) * n, stress(other, strain(w.Other())) * n)  # noqa: E731
     terms = [
-        ngs.InnerProduct(stress(problem, strain(u)), strain(v)) * ngs.dx,
+        ngs.InnerProduct(stress(own, strain(u)), strain(v)) * ngs.dx,
         -s * ju * avg_sn(v) * interior,
         -jv * avg_sn(u) * interior,
-        -s * u * _stress_normal(problem, v, n) * boundary,
-        -v * _stress_normal(problem, u, n) * boundary,
+        -s * u * (stress(own, strain(v)) * n) * boundary,
+        -v * (stress(own, strain(u)) * n) * boundary,
     ]
     if method.penalty == "edge":
-        if h_e is None:
-            h_e = edge_length(mesh)
-        terms += [edge_penalty(eta, edge_order(order), h_e) * jump_inner(ju, jv, n) * interior,
-                  edge_penalty(eta, order, h_e) * jump_inner(u, v, n) * boundary]
+        h = penalty_length(mesh) if h is None else h
+        terms += [edge_penalty(penalty.interior, edge_order(order), h.interior) * jump_inner(ju, jv, n) * interior,
+                  edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(u, v, n) * boundary]
     return terms
 
 

@@ -10,6 +10,9 @@ p - 1 because the jumps [v] of V_h are of degree p on the edges, and only then i
 them (||r_e([v])|| ~ h_e^-1/2 ||[v]||_e), so that the local lifting penalty of Bassi et al.
 controls every jump.
 
+With a varying material {tau} is the weighted average of :mod:`ngdgfric.material` and C is each
+element's own (the liftings then match the consistency terms of :mod:`ngdgfric.forms`).
+
 r_e is supported on the (one or two) elements sharing e.  The edges of E_h^o are coloured so that
 no triangle has two edges of one colour; for one colour c the liftings of its edges have disjoint
 supports, so r_c = sum_{e in c} r_e gives sum_{e in c} (C r_e, r_e) = (C r_c, r_c).  With
@@ -115,9 +118,11 @@ def _diagonal_inverse(mat):
     return ngs.la.SparseMatrixd.CreateFromCOO(index, index, 1.0 / d, mat.height, mat.height)
 
 
-def lifting_matrices(problem, mesh, V, order, local=True, total=False):
+def lifting_matrices(problem, material, mesh, V, order, local=True, total=False):
     """(list of R_c, P = M^-1 K M^-1) as NGSolve sparse matrices (module docstring).
 
+    ``material``: the :class:`~ngdgfric.material.Material` (C element by element in K, and the weights of
+    the average {tau}, the same as in the consistency terms of :func:`ngdgfric.forms.dg_terms`);
     ``local``: the matrices R_c of the edge colours; ``total``: append R = sum_c R_c (assembled
     directly, over all of E_h^o).
     """
@@ -134,7 +139,7 @@ def lifting_matrices(problem, mesh, V, order, local=True, total=False):
         mass += ngs.InnerProduct(sigma_T, tau_T) * ngs.dx
         mass.Assemble()
         stiffness = ngs.BilinearForm(cells)
-        stiffness += ngs.InnerProduct(stress(problem, sigma_T), tau_T) * ngs.dx
+        stiffness += ngs.InnerProduct(stress(material.own, sigma_T), tau_T) * ngs.dx
         stiffness.Assemble()
         m_inv = _diagonal_inverse(mass.mat)
         P = m_inv @ stiffness.mat.DeleteZeroElements(0.0) @ m_inv  # C couples not every pair
@@ -142,7 +147,8 @@ def lifting_matrices(problem, mesh, V, order, local=True, total=False):
             # the skeleton loop visits only the colour's facets (2.6 times faster than multiplying
             # by the indicator on all of them, at 49k DOFs)
             form = ngs.BilinearForm(trialspace=V, testspace=S)
-            form += -jump * (0.5 * (tau + tau.Other()) * n) * ngs.dx(skeleton=True, definedonelements=facets)
+            form += -jump * (material.average(tau, tau.Other()) * n) * ngs.dx(skeleton=True,
+                                                                                 definedonelements=facets)
             form += -indicator * u * (tau * n) * ngs.ds(skeleton=True, definedon=dirichlet)
             form.Assemble()
             return form.mat.DeleteZeroElements(0.0)  # the pattern holds all facet couplings
@@ -155,7 +161,7 @@ def lifting_matrices(problem, mesh, V, order, local=True, total=False):
     return R, P
 
 
-def lifting_terms(problem, mesh, V, order, method, eta):
+def lifting_terms(problem, material, mesh, V, order, method, eta):
     """The lifting terms of ``method`` as (weight, sparse matrix on V) pairs (none if it has none),
     to be added to B_h's matrix by :func:`ngdgfric.linalg.sparse_sum` (the local terms lie in the
     DG pattern, so they are scattered into it without a union pattern).
@@ -166,7 +172,7 @@ def lifting_terms(problem, mesh, V, order, method, eta):
     if method.penalty != "lift" and not method.global_lift:
         return []
     local = method.penalty == "lift"
-    R, P = lifting_matrices(problem, mesh, V, order, local=local, total=method.global_lift)
+    R, P = lifting_matrices(problem, material, mesh, V, order, local=local, total=method.global_lift)
     terms = []
     with threads(V.ndof):
         if local:

@@ -15,7 +15,7 @@ from .geometry import distances_to_sides
 from .mesher import default_timeout, generate, triangles_of
 
 __all__ = ["uniform_mesh", "netgen_mesh", "refine", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
-           "element_diameters", "triangle_corners", "estimated_elements", "MAX_ELEMENTS"]
+           "element_diameters", "triangle_corners", "estimated_elements", "snapshot", "same_mesh", "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 MAX_ELEMENTS = 10**6
@@ -252,3 +252,22 @@ def refine(mesh, marked, bisections=1):
         raise ValueError(f"bisections must be 1 or 2, got {bisections!r}")
     mesh.SetRefinementFlags(list(marked))
     mesh.Refine(onlyonce=bisections == 1)
+
+
+def snapshot(mesh):
+    """A copy of ``mesh`` with the same vertices and elements in the same order (Netgen's ``Copy``, which
+    keeps the refinement data: the copy refines as the mesh would).  A discretisation lives on its own
+    snapshot, so that refining the mesh it was given (which updates the spaces still alive on that mesh,
+    and renumbers its elements) leaves its solutions valid: 0.08 s for 1.3e5 triangles.  Anything but an
+    NGSolve mesh is returned as it is (for :func:`check_mesh` to name)."""
+    return ngs.Mesh(mesh.ngmesh.Copy()) if isinstance(mesh, ngs.Mesh) else mesh
+
+
+def same_mesh(a, b):
+    """Whether the meshes ``a`` and ``b`` have the same vertices and elements in the same order (the
+    same object, or snapshots of one mesh in one state): then coefficient vectors carry over."""
+    if a is b:
+        return True
+    if a.ne != b.ne or a.nv != b.nv:
+        return False
+    return all(np.array_equal(x, y) for x, y in zip(triangles_of(a.ngmesh), triangles_of(b.ngmesh), strict=True))

@@ -12,16 +12,23 @@ sign, a penalty and a lifting term:
 
 30 mu is the paper's choice (Section 6).  (*) For SIPG the default is raised to 1.5 times the
 threshold where 30 mu is not above it (nearly incompressible materials: the threshold grows like
-2 mu + lam); both examples of the paper keep 30 mu.  t_p is :data:`SIPG_THRESHOLD`, measured.
+2 mu + lam); both examples of the paper keep 30 mu.  Where the material varies, mu and lam are those
+of each element (:mod:`ngdgfric.material`) and an edge's default eta is the harmonic mean of the two
+neighbours' defaults (:func:`penalty`).  t_p is :data:`SIPG_THRESHOLD`, measured.
 Bassi et al.: eta > 3, the number of edges of a triangle (Arnold, Brezzi, Cockburn, Marini 2002,
 for liftings into a space containing eps_h(V_h)); sufficient, the measured threshold is lower.
 Brezzi et al.: any eta > 0 is stable, the global lifting term adds stability.
 """
 
-import warnings
 from dataclasses import dataclass
+from numbers import Real
 
-__all__ = ["Method", "METHODS", "get_method", "SIPG_THRESHOLD", "PenaltyWarning", "check_penalty"]
+import ngsolve as ngs
+
+from .errors import warn
+from .material import EdgeCoefficient
+
+__all__ = ["Method", "METHODS", "get_method", "SIPG_THRESHOLD", "PenaltyWarning", "check_penalty", "penalty"]
 
 SIPG_THRESHOLD = {1: 4.0, 2: 2.2, 3: 1.75, 4: 1.55}
 """Smallest coercive SIPG penalty as eta / (2 mu + lam), per order (p > 4: the p = 4 value).
@@ -51,34 +58,40 @@ class Method:
     thresholds: tuple
     reference: str
 
-    def eta_scale(self, problem):
-        """The unit of eta: mu for the edge penalties (eta is a stress), 1 for the liftings."""
-        return problem.mu if self.penalty == "edge" else 1.0
+    def eta_scale(self, law):
+        """The unit of eta: mu for the edge penalties (eta is a stress), 1 for the liftings (``law``: anything
+        with Lame parameters ``mu``, ``lam``: a problem, or one side's :class:`~ngdgfric.material.Lame`)."""
+        return law.mu if self.penalty == "edge" else 1.0
 
-    def threshold_scale(self, problem):
+    def threshold_scale(self, law):
         """The unit of the coercivity thresholds: 2 mu + lam for the edge penalties, 1 for the liftings."""
-        return 2 * problem.mu + problem.lam if self.penalty == "edge" else 1.0
+        return 2 * law.mu + law.lam if self.penalty == "edge" else 1.0
 
-    def threshold(self, problem, order):
+    def threshold(self, law, order):
         """The smallest stable eta for degree ``order`` (None: any eta > 0 is stable)."""
         if not self.thresholds:
             return None
-        return self.thresholds[min(int(order), len(self.thresholds)) - 1] * self.threshold_scale(problem)
+        return self.thresholds[min(int(order), len(self.thresholds)) - 1] * self.threshold_scale(law)
 
-    def default(self, problem, order=1):
+    def default(self, law, order=1):
         """The default eta (table above): ``default_eta`` times :meth:`eta_scale`, raised to 1.5 times the
-        threshold where it is not above it (numbers only: a CoefficientFunction E keeps the default)."""
-        eta = self.default_eta * self.eta_scale(problem)
-        threshold = self.threshold(problem, order)
-        if isinstance(threshold, (int, float)) and eta <= threshold:
-            return 1.5 * threshold
-        return eta
+        threshold where it is not above it (pointwise, ``IfPos``, for Lame parameters that vary)."""
+        eta = self.default_eta * self.eta_scale(law)
+        threshold = self.threshold(law, order)
+        if threshold is None:
+            return eta
+        if isinstance(threshold, ngs.CoefficientFunction) or isinstance(eta, ngs.CoefficientFunction):
+            return ngs.IfPos(eta - threshold, eta, 1.5 * threshold)
+        return 1.5 * threshold if eta <= threshold else eta
 
-    def jump_weight(self, problem, eta):
+    def jump_weight(self, material, penalty):
         """The factor of p^2 / h_e ||[u]||_e^2 that the penalty amounts to (estimator term eta_3,
-        coercivity): eta for the edge penalties; (C r_e, r_e) ~ 2 mu / h_e ||[u]||^2 for the liftings,
-        so 2 mu eta there."""
-        return 2 * problem.mu * eta if self.penalty == "lift" else eta
+        coercivity), an :class:`~ngdgfric.material.EdgeCoefficient`: the penalty itself for the edge
+        penalties; (C r_e, r_e) ~ 2 mu / h_e ||[u]||^2 for the liftings, so 2 mu_e eta there (mu_e the
+        harmonic mean across the edge)."""
+        if self.penalty == "edge":
+            return penalty
+        return material.harmonic(lambda law: 2 * law.mu, "2 mu").scaled(penalty.boundary, "2 mu eta")
 
 
 METHODS = {
@@ -102,16 +115,31 @@ class PenaltyWarning(UserWarning):
     """The penalty parameter is at or below the method's coercivity threshold."""
 
 
-def check_penalty(problem, method, eta, order, action="warn"):
+def check_penalty(law, method, eta, order, action="warn"):
     """Warn (``action="warn"``), raise ValueError (``"raise"``) or do nothing (``"ignore"``) when
-    eta is at or below :meth:`Method.threshold`."""
+    eta is at or below :meth:`Method.threshold` (``law``: a problem, or Lame parameters of numbers: for a
+    varying material the largest, :meth:`ngdgfric.material.Material.largest`)."""
     if action not in ("warn", "raise", "ignore"):
         raise ValueError(f"penalty_check must be 'warn', 'raise' or 'ignore', got {action!r}")
-    threshold = method.threshold(problem, order)
-    if action == "ignore" or threshold is None or not isinstance(eta, (int, float)) or eta > threshold:
+    threshold = method.threshold(law, order)
+    if action == "ignore" or threshold is None or not isinstance(eta, Real) or eta > threshold:
         return
     message = (f"eta = {eta:g} is at or below the coercivity threshold {threshold:g} of {method.name} "
                f"for order {order}: B_h may not be coercive and the solution may be meaningless")
     if action == "raise":
         raise ValueError(message)
-    warnings.warn(message, PenaltyWarning, stacklevel=3)
+    warn(message, PenaltyWarning)
+
+
+def penalty(method, material, eta, order):
+    """eta as the :class:`~ngdgfric.material.EdgeCoefficient` of the forms: a given number (or
+    CoefficientFunction) on every edge; by default :meth:`Method.default` of each side's material, the
+    harmonic mean of the two neighbours' values on interior edges (a number for a constant material)."""
+    if eta is not None:
+        return EdgeCoefficient(eta, eta, f"{eta:g}" if isinstance(eta, Real) else "eta")
+    if method.penalty == "lift" or material.constant:
+        value = method.default(material.own, order)
+        return EdgeCoefficient(value, value, f"{value:g}")
+    raised = " (raised to 1.5 x the coercivity threshold where that is larger)" if method.thresholds else ""
+    return material.harmonic(lambda law: method.default(law, order),
+                             f"{method.default_eta:g} mu{raised}, harmonic mean of the neighbours' values")

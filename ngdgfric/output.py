@@ -45,8 +45,9 @@ def write_vtk(path, sol):
     P_p is drawn by its values on a finer lattice.
     """
     with atomic_path(path) as temporary:  # VTKOutput appends .vtu to the name it is given
-        ngs.VTKOutput(sol.mesh, coefs=[sol.u, von_mises(sol.problem, sol.u)], names=["displacement", "von_mises"],
-                      filename=str(temporary.with_suffix("")), subdivision=max(sol.order - 1, 0)).Do()
+        ngs.VTKOutput(sol.mesh, coefs=[sol.u, von_mises(sol.discretization.material, sol.u)],
+                      names=["displacement", "von_mises"], filename=str(temporary.with_suffix("")),
+                      subdivision=max(sol.order - 1, 0)).Do()
 
 
 def markdown_table(header, rows):
@@ -101,7 +102,7 @@ def plot_deformed(ax, sol, scale=None):
     from matplotlib.collections import PolyCollection
 
     problem, mesh = sol.problem, sol.mesh
-    xy, u, stress = vertex_values(mesh, sol.u, von_mises(problem, sol.u))
+    xy, u, stress = vertex_values(mesh, sol.u, von_mises(sol.discretization.material, sol.u))
     x0, y0, x1, y1 = problem.geometry.bounds
     largest = float(np.max(np.linalg.norm(u, axis=2)))
     if scale is None:

@@ -15,7 +15,7 @@ import ngsolve as ngs
 
 from .geometry import check_polygon
 
-__all__ = ["ContactProblem", "Polygon", "strain", "stress", "von_mises", "coefficient"]
+__all__ = ["ContactProblem", "Polygon", "strain", "strain_of", "stress", "von_mises", "coefficient"]
 
 
 def coefficient(value):
@@ -150,7 +150,7 @@ class Polygon:
 # the data of ContactProblem in the order they are checked: (kind, low, low_open, high); kind "scalar"
 # (a number or a scalar CoefficientFunction), "number" (a number only) or "vector"; a number must lie
 # in [low, high) ((low, high) if low_open; None: no bound), a CoefficientFunction is checked pointwise later
-_DATA = {"E": ("scalar", 0, True, None), "nu": ("number", -1, True, 0.5), "f": ("vector", None, False, None),
+_DATA = {"E": ("scalar", 0, True, None), "nu": ("scalar", -1, True, 0.5), "f": ("vector", None, False, None),
          "g": ("vector", None, False, None), "c_n": ("scalar", 0, False, None), "m_n": ("number", 1, False, None),
          "g_a": ("scalar", None, False, None), "c_tau": ("scalar", 0, False, None), "m_t": ("number", 0, False, None)}
 
@@ -162,7 +162,8 @@ class ContactProblem:
     Every datum may be a number or an NGSolve CoefficientFunction of ``x, y``;
     ``f`` and ``g`` are pairs or 2-vector CoefficientFunctions.
 
-    E, nu:     Young's modulus and Poisson ratio (Lame parameters ``mu``, ``lam`` by Section 6).
+    E, nu:     Young's modulus and Poisson ratio (Lame parameters ``mu``, ``lam`` by Section 6); where they
+               vary, the forms take them element by element (:mod:`ngdgfric.material`).
     f:         body force in Omega (1.5).
     g:         traction on Gamma_F (1.7).
     c_n, m_n:  normal compliance sigma_n = -c_n (u_n - g_a)_+^{m_n} on Gamma_C (1.8), m_n >= 1.
@@ -227,18 +228,25 @@ class ContactProblem:
 
 
 def strain(w):
-    """eps(w) = (grad w + grad w^T)/2, (1.1)."""
+    """eps(w) = (grad w + grad w^T)/2, (1.1), of a GridFunction or a trial/test function."""
     return ngs.Sym(ngs.Grad(w))
 
 
-def stress(problem, e):
-    """sigma = C e = lam tr(e) I + 2 mu e for a strain e, (1.3)."""
-    return 2 * problem.mu * e + problem.lam * ngs.Trace(e) * ngs.Id(2)
+def strain_of(u):
+    """eps(u) of a CoefficientFunction u of x, y (an exact solution), by symbolic differentiation."""
+    g = ngs.CF((u[0].Diff(ngs.x), u[0].Diff(ngs.y), u[1].Diff(ngs.x), u[1].Diff(ngs.y)), dims=(2, 2))
+    return 0.5 * (g + g.trans)
 
 
-def von_mises(problem, u):
-    """Von Mises stress of sigma(u) (1.3) in plane strain, sigma_zz = lam tr eps(u)."""
+def stress(law, e):
+    """sigma = C e = lam tr(e) I + 2 mu e for a strain e, (1.3); ``law``: anything with Lame parameters
+    ``mu`` and ``lam`` (a :class:`ContactProblem`, or :class:`ngdgfric.material.Material` element by element)."""
+    return 2 * law.mu * e + law.lam * ngs.Trace(e) * ngs.Id(2)
+
+
+def von_mises(law, u):
+    """Von Mises stress of sigma(u) (1.3) in plane strain, sigma_zz = lam tr eps(u) (``law`` as in :func:`stress`)."""
     e = strain(u)
-    s = stress(problem, e)
-    sxx, syy, sxy, szz = s[0, 0], s[1, 1], s[0, 1], problem.lam * ngs.Trace(e)
+    s = stress(law, e)
+    sxx, syy, sxy, szz = s[0, 0], s[1, 1], s[0, 1], law.lam * ngs.Trace(e)
     return ngs.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)

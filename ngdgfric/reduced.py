@@ -22,11 +22,11 @@ system has one row per penetrating or sticking point.  The globalised iteration 
 :func:`ngdgfric.semismooth.solve`; for a symmetric B_h and m_t = 0 it descends the complementary
 energy of :mod:`ngdgfric.complementary_energy` over the set K of :meth:`ReducedContact.project`.
 
-**Stopping test** (on the KKT system, not on the change of f): W_qq |G_q| <= max(solver_tol max_q |w_q|,
-W_qq e_q) at every point: each point's residual force measured by the displacement it causes there
-(at a sticking point W_tt |G_t| = |u_tau|, the complementarity of (3.4)), relative to the largest
-trace, and e_q the round-off in evaluating G_q (8 eps times the sizes of its terms; it matters for
-stiff compliance, c_n -> 1e10).
+**Stopping test** (on the KKT system, not on the change of f): W_qq |G_q| <= max(solver_tol D, W_qq e_q)
+at every point: each point's residual force measured by the displacement it causes there (at a sticking
+point W_tt |G_t| = |u_tau|, the complementarity of (3.4)), relative to the largest trace D
+(:meth:`ReducedContact.trace_scale`), and e_q the round-off in evaluating G_q (8 eps times the sizes of
+its terms; it matters for stiff compliance, c_n -> 1e10).
 
 **Redundant points** (``redundant``: an element with two edges on Gamma_C, or p_T < p on hp
 meshes): W is singular and the forces at those points are not unique (the displacement is).  With
@@ -105,7 +105,10 @@ class ReducedContact:
         self.energy_merit = bool(symmetric and self.m_t == 0)
         self.redundant = bool(redundant)
         self.regularization = 1e-8 if redundant else 0.0
-        self.force_scale = max(float(np.max(np.abs(self.w0) / self.diagonal, initial=0.0)), np.finfo(float).tiny)
+        # forces of the size that the traces w0 of the loads, or the initial penetrations (w0_n - g_a)_+, cause
+        penetration = np.concatenate([np.maximum(self.w0[:M] - self.g_a, 0.0), np.zeros(M)])
+        self.force_scale = max(float(np.max(np.maximum(np.abs(self.w0), penetration) / self.diagonal, initial=0.0)),
+                               np.finfo(float).tiny)
         self.compliant = self.c_n > 0
         self.beta_fixed = self.omega * self.c_tau if self.m_t == 0 else None
 
@@ -144,16 +147,20 @@ class ReducedContact:
         return s
 
     def residual(self, s):
-        """The relative KKT residual max_q W_qq |G_q| / max_q |w_q|: each point's residual force measured
-        by the displacement it causes at that point, relative to the largest trace."""
-        return float(np.max(self.diagonal * np.abs(s.G), initial=0.0)) / self._trace_scale(s)
+        """The relative KKT residual max_q W_qq |G_q| / D: each point's residual force measured by the
+        displacement it causes at that point, relative to the displacement scale D of :meth:`trace_scale`."""
+        return float(np.max(self.diagonal * np.abs(s.G), initial=0.0)) / self.trace_scale(s)
 
-    @staticmethod
-    def _trace_scale(s):
-        return max(float(np.max(np.abs(s.w), initial=0.0)), np.finfo(float).tiny)
+    def trace_scale(self, s):
+        """D = max(max_q |w_q|, eps max |g_a| over the penetrating points): the largest trace, which at a
+        solution is the size of u on Gamma_C.  A body loaded by an initial penetration only (f = 0, g = 0,
+        g_a < 0) starts from w = 0: there the penetrated gap keeps D, and the residual, finite."""
+        gaps = EPS * np.abs(self.g_a[s.penetrating])
+        return max(float(np.max(np.abs(s.w), initial=0.0)), float(np.max(gaps, initial=0.0)), np.finfo(float).tiny)
 
     def scale(self, s):
-        """The force scale S = max(|f|_inf, max |w0| / W_qq) (for the projected Newton's epsilon)."""
+        """The force scale S = max(|f|_inf, max |w0| / W_qq, max (g_a - w0_n)_+ ... see ``force_scale``) (for
+        the projected Newton's epsilon)."""
         return max(self.force_scale, float(np.max(np.abs(s.f), initial=0.0)))
 
     def linearization(self, s):
@@ -175,7 +182,7 @@ class ReducedContact:
             np.abs(s.f[:M]) + s.N + s.dN * size[:M],
             np.where(s.stick, self.r * size[M:], np.abs(s.f[M:]) + s.beta + np.abs(s.dbeta) * size[:M])])
         weighted = self.diagonal * np.abs(s.G)
-        return bool(np.all(weighted <= np.maximum(solver_tol * self._trace_scale(s), self.diagonal * roundoff)))
+        return bool(np.all(weighted <= np.maximum(solver_tol * self.trace_scale(s), self.diagonal * roundoff)))
 
     # ------------------------------------------------------------------ Newton direction
     def newton_direction(self, s):

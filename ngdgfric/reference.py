@@ -27,7 +27,7 @@ from .discretization import dg_space
 from .files import atomic_path
 from .forms import edge_length, jump_inner
 from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
-from .problem import coefficient, strain, stress
+from .problem import coefficient, strain, strain_of, stress
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
            "energy_norm", "energy_norm_squared_parts", "difference"]
@@ -70,16 +70,29 @@ def fingerprint(problem, mesh, points, triangles, segments):
         return points[cells[np.unique(np.linspace(0, len(cells) - 1, min(len(cells), SAMPLES)).astype(int))]].mean(1)
 
     where = np.concatenate([sample(triangles), sample(segments)])
+    varying_nu = {} if _is_number(problem.nu) else dict(fp_nu=_values_at(problem.nu, mesh, where))
     return dict(fp_vertices=np.asarray(problem.geometry.vertices), fp_labels=np.asarray(problem.geometry.labels),
-                fp_names=np.asarray(problem.boundary_names()), fp_numbers=np.array([problem.nu, problem.m_n,
-                                                                                   problem.m_t]),
-                fp_points=where, fp_data=_data_at(problem, mesh, where))
+                fp_names=np.asarray(problem.boundary_names()), fp_numbers=_numbers(problem),
+                fp_points=where, fp_data=_data_at(problem, mesh, where), **varying_nu)
+
+
+def _is_number(value):
+    return not isinstance(value, ngs.CoefficientFunction)
+
+
+def _numbers(problem):
+    """(nu, m_n, m_t), nu as NaN where it varies (then its values are the key ``fp_nu``)."""
+    return np.array([float(problem.nu) if _is_number(problem.nu) else np.nan, problem.m_n, problem.m_t])
+
+
+def _values_at(datum, mesh, where):
+    """The values (k, components) of a datum at the points ``where`` (k, 2) of ``mesh``."""
+    return np.asarray(coefficient(datum)(mesh(where[:, 0], where[:, 1]))).reshape(len(where), -1)
 
 
 def _data_at(problem, mesh, where):
     """(k, 8) values of E, f, g, g_a, c_n, c_tau at the points ``where`` (k, 2) of ``mesh``."""
-    at = mesh(where[:, 0], where[:, 1])
-    return np.hstack([np.asarray(coefficient(getattr(problem, name))(at)).reshape(len(where), -1) for name in DATA])
+    return np.hstack([_values_at(getattr(problem, name), mesh, where) for name in DATA])
 
 
 def load_reference(path, problem):
@@ -99,13 +112,18 @@ def load_reference(path, problem):
         mesh = mesh_from_arrays(problem, data["points"], data["triangles"], data["segments"], data["labels"])
     except ValueError as exc:
         raise ValueError(f"{path}: not a mesh of this problem: {exc}") from exc
-    found = _data_at(problem, mesh, data["fp_points"])
-    differ = np.abs(found - data["fp_data"]) > 1e-10 * (np.abs(data["fp_data"]) + np.abs(data["fp_data"]).max(0))
+    names = [f"{n}{s}" for n in DATA for s in (("[0]", "[1]") if n in ("f", "g") else ("",))]
+    stored, found = [data["fp_data"]], [_data_at(problem, mesh, data["fp_points"])]
+    if "fp_nu" in data:
+        stored.append(data["fp_nu"].reshape(-1, 1))
+        found.append(_values_at(problem.nu, mesh, data["fp_points"]))
+        names.append("nu")
+    stored, found = np.hstack(stored), np.hstack(found)
+    differ = np.abs(found - stored) > 1e-10 * (np.abs(stored) + np.abs(stored).max(0))
     if np.any(differ):
         row, column = map(int, np.argwhere(differ)[0])
-        name = [f"{n}{s}" for n in DATA for s in (("[0]", "[1]") if n in ("f", "g") else ("",))][column]
         x, y = data["fp_points"][row]
-        raise ValueError(f"{path}: made for another problem: {name} = {data['fp_data'][row, column]:.10g} there, "
+        raise ValueError(f"{path}: made for another problem: {names[column]} = {stored[row, column]:.10g} there, "
                          f"{found[row, column]:.10g} here at ({x:.6g}, {y:.6g})")
     u = ngs.GridFunction(dg_space(mesh, data["orders"]))
     if u.space.ndof != data["u"].size:
@@ -113,6 +131,8 @@ def load_reference(path, problem):
     u.vec.FV().NumPy()[:] = data["u"]
     return Reference(problem, mesh, u, data["orders"], float(data["eta_h"]), str(data["description"]))
 
+
+EXACT_ORDER = 16  # the least quadrature degree of errors against an exact solution (energy_norm)
 
 KEYS = ("points", "triangles", "segments", "labels", "orders", "u", "eta_h", "description", "fp_vertices", "fp_labels",
         "fp_names", "fp_numbers", "fp_points", "fp_data")
@@ -139,11 +159,11 @@ def _check_arrays(path, data):
     def fail(message):
         raise ValueError(f"{path}: {message}")
 
-    def need(key, ndim, columns=None, kind="f"):
+    def need(key, ndim, columns=None, kind="f", finite=True):
         array = data[key]
         if array.ndim != ndim or (columns is not None and array.shape[-1] != columns) or array.dtype.kind not in kind:
             fail(f"{key} has shape {array.shape} and type {array.dtype}, not as a reference stores it")
-        if kind == "f" and not np.all(np.isfinite(array)):
+        if kind == "f" and finite and not np.all(np.isfinite(array)):
             fail(f"{key} holds non-finite values")
         return array
 
@@ -165,7 +185,10 @@ def _check_arrays(path, data):
     if need("fp_data", 2, 8).shape[0] != len(data["fp_points"]):
         fail("fp_data does not match fp_points")
     need("fp_vertices", 2, 2)
-    need("fp_numbers", 1)
+    if not np.all(np.isfinite(need("fp_numbers", 1, finite=False)[1:])):
+        fail("fp_numbers holds non-finite values")
+    if "fp_nu" in data and need("fp_nu", 2, 1).shape[0] != len(data["fp_points"]):
+        fail("fp_nu does not match fp_points")
     need("fp_labels", 1, kind="U")
     need("fp_names", 1, kind="U")
 
@@ -183,10 +206,11 @@ def _check_fingerprint(path, data, problem):
         raise ValueError(f"{path}: made for another problem: side labels {data['fp_labels'].tolist()} and names "
                          f"{data['fp_names'].tolist()}, here {list(geometry.labels)} and "
                          f"{list(problem.boundary_names())}")
-    numbers = np.array([problem.nu, problem.m_n, problem.m_t])
-    if data["fp_numbers"].shape != (3,) or not np.allclose(data["fp_numbers"], numbers, rtol=1e-12, atol=0):
+    numbers = _numbers(problem)
+    if data["fp_numbers"].shape != (3,) or not np.allclose(data["fp_numbers"], numbers, rtol=1e-12, atol=0,
+                                                           equal_nan=True):
         raise ValueError(f"{path}: made for another problem: (nu, m_n, m_t) = {tuple(data['fp_numbers'].tolist())} "
-                         f"there, {tuple(numbers.tolist())} here")
+                         f"there, {tuple(numbers.tolist())} here (nan: nu varies)")
 
 
 def energy_error(sol, reference):
@@ -215,8 +239,10 @@ def reference_errors(sol, reference):
     def values(cf, at, size):
         return np.asarray(cf(at)).reshape(len(xy), size)
 
+    mu, lam = (values(coefficient(datum), points, 1)[:, 0] for datum in (problem.mu, problem.lam))
+
     def energy_density(e):  # C e : e for a symmetric e (rows of 4), written out: lam tr(e)^2 + 2 mu e : e
-        return problem.lam * (e[:, 0] + e[:, 3]) ** 2 + 2 * problem.mu * np.sum(e**2, axis=1)
+        return lam * (e[:, 0] + e[:, 3]) ** 2 + 2 * mu * np.sum(e**2, axis=1)
 
     strain_ref = values(strain(reference.u), foreign, 4)
     difference = strain_ref - values(strain(sol.u), points, 4)
@@ -276,11 +302,29 @@ def _order(space):
 
 
 def energy_norm(sol, w=None):
-    """|||u_h|||_h of a Solution, or |||u_h - w|||_h (see :func:`difference` for ``w``).
+    """|||u_h|||_h of a Solution, or |||u_h - w|||_h (Section 3):
 
-    |||v|||_h^2 = sum_T int_T C eps(v):eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2
-    (Section 3).
+    |||v|||_h^2 = sum_T int_T C eps(v):eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2.
+
+    ``w``: a GridFunction (see :func:`difference`), or a continuous CoefficientFunction of x, y (an exact
+    solution): then eps(w) is its own derivative (:func:`ngdgfric.problem.strain_of`), C is the problem's
+    (the true material, also where a jump cuts elements), the volume integral uses a Gauss rule of degree
+    max(2 p + 4, :data:`EXACT_ORDER`) (a kink of w inside an element is integrated, not interpolated), and
+    [u_h - w] = [u_h] on interior edges.
     """
-    v = sol.u if w is None else difference(sol.u, w)
-    volume, jumps = energy_norm_squared_parts(sol.problem, sol.mesh, v)
-    return (volume + jumps) ** 0.5
+    if w is None or isinstance(w, ngs.GridFunction):
+        v = sol.u if w is None else difference(sol.u, w)
+        volume, jumps = energy_norm_squared_parts(sol.problem, sol.mesh, v)
+        return (volume + jumps) ** 0.5
+    problem, mesh, u = sol.problem, sol.mesh, sol.u
+    e = strain(u) - strain_of(w)
+    order = max(2 * _order(u.space) + 4, EXACT_ORDER)
+    volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)
+    n = ngs.specialcf.normal(2)
+    jump = u - u.Other()
+    boundary = ngs.dx(element_boundary=True, bonus_intorder=max(2 * _order(u.space) + 2 - 5, 0))
+    interior = ngs.Integrate(0.5 * jump_inner(jump, jump, n) / edge_length(mesh) * boundary, mesh)
+    off = u - w
+    dirichlet = ngs.Integrate(facet_indicator(mesh, problem.dirichlet) * jump_inner(off, off, n) / edge_length(mesh)
+                              * boundary, mesh)
+    return (volume + interior + dirichlet) ** 0.5

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from .discretization import Discretization
 from .fixed_point import FixedPointOptions, fixed_point
 from .linalg import limited_blas
+from .meshes import snapshot
 from .newton import NewtonOptions, newton
 from .transfer import WarmStart, initial_guess
 from .uzawa import UzawaOptions, uzawa
@@ -22,6 +23,8 @@ DEFAULT_SOLVER_TOL = {name: options.solver_tol for name, (_, options) in SOLVERS
 class Solution:
     """A discrete solution u_h of (3.1) (for m_t > 0 with j_tau(u_h, .) of (1.4)) and lam_tau of Lemma 3.1.
 
+    ``mesh``: the solution's own copy of the mesh it was solved on (:func:`ngdgfric.meshes.snapshot`), so
+    that refining that mesh afterwards (a hand-written adaptive loop) leaves the Solution valid;
     ``u``: GridFunction on the DG space; ``lam_tau``: GridFunction of the multiplier on Gamma_C;
     ``iterations``, ``history``: the nonlinear solver's iteration count and convergence history;
     ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics; ``state``: for an
@@ -55,7 +58,10 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
           penalty_check="warn", max_ndof=None, **options):
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
-    problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.
+    problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.  The
+    solution lives on its own copy of ``mesh`` (``Solution.mesh``, :func:`ngdgfric.meshes.snapshot`), so
+    ``mesh`` may be refined afterwards (a hand-written SOLVE -> ESTIMATE -> MARK -> REFINE loop) while the
+    Solution stays valid and can start the next solve (``initial``).
     method: one of ``ngdgfric.methods.METHODS`` (Section 3); order: polynomial degree p >= 1.
     eta: penalty parameter (default 30 mu, Section 6).
     solver: "newton" (default; the problem condensed onto the contact points and solved there by a
@@ -85,11 +91,11 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     settings = options_class.from_keywords(solver_tol=_solver_tol(solver_tol, options), **options)
     start_from = None if initial is None else _warm_start(initial)
     start = time.perf_counter()
-    disc = Discretization(problem, mesh, method, order, eta, penalty_check, max_ndof)
+    disc = Discretization(problem, snapshot(mesh), method, order, eta, penalty_check, max_ndof)
     u, lam_tau, info = function(disc, settings, None if start_from is None else initial_guess(start_from, disc))
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
-    return Solution(problem, mesh, disc.method.name, disc.order, disc.eta, solver, u, lam_tau,
+    return Solution(problem, disc.mesh, disc.method.name, disc.order, disc.eta, solver, u, lam_tau,
                     info["iterations"], info["history"], timings, disc, info, info.pop("state", None))
 
 

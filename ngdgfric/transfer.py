@@ -12,6 +12,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import GaussValues
+from .meshes import same_mesh
 
 __all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders"]
 
@@ -93,12 +94,13 @@ def starting_point(disc, initial=None):
 def initial_guess(start, disc):
     """(u, lam_tau) GridFunctions on ``disc``'s spaces from the :class:`WarmStart` ``start``.
 
-    On the same mesh and spaces (and with ``start.lam_tau``) the vectors are copied.  Otherwise u is
+    On the same mesh (:func:`ngdgfric.meshes.same_mesh`) and spaces (and with ``start.lam_tau``) the vectors
+    are copied.  Otherwise u is
     interpolated (exact for nested meshes and equal or higher order) and lam_tau is the old multiplier, a
     piecewise polynomial on the old edges of Gamma_C, evaluated at the new Gauss points.
     """
-    if start.mesh is disc.mesh and start.u.space.ndof == disc.V.ndof and start.lam_tau is not None \
-            and start.lam_tau.space.ndof == disc.Q.ndof:
+    if start.lam_tau is not None and start.u.space.ndof == disc.V.ndof and start.lam_tau.space.ndof == disc.Q.ndof \
+            and same_mesh(start.mesh, disc.mesh):
         return starting_point(disc, (start.u, start.lam_tau))
     u, lam_tau = starting_point(disc)
     u.Set(start.u)

@@ -3,9 +3,12 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.forms import jump_inner
+from ngdgfric.forms import dg_terms, edge_length, jump_inner, penalty_length
+from ngdgfric.material import EdgeCoefficient
+from ngdgfric.meshes import mesh_from_arrays
 from ngdgfric.reference import difference
 from ngdgfric.studies import rates
+from ngdgfric.studies.cases import coercivity, energy_gram
 
 
 @pytest.mark.parametrize("method", ["sipg", "nipg"])
@@ -54,3 +57,60 @@ def test_unknown_method_and_bad_order_and_eta_raise():
         ndf.solve(p, mesh, order=0)
     with pytest.raises(ValueError, match="eta"):
         ndf.solve(p, mesh, eta=-1.0)
+
+
+def thin_mesh(problem, nx, ny):
+    """The unit square cut into nx x ny rectangles, each cut by its diagonal: triangles with an angle of
+    atan(nx / ny) (2.9 degrees for 2 x 40)."""
+    xs, ys = np.meshgrid(np.linspace(0, 1, nx + 1), np.linspace(0, 1, ny + 1))
+    j, i = np.meshgrid(np.arange(nx), np.arange(ny))
+    sw = (i * (nx + 1) + j).ravel()
+    se, nw = sw + 1, sw + nx + 1
+    triangles = np.concatenate([np.column_stack([sw, se, nw + 1]), np.column_stack([sw, nw + 1, nw])])
+    bottom, right = np.arange(nx), np.arange(ny) * (nx + 1) + nx
+    top, left = ny * (nx + 1) + np.arange(nx, 0, -1), np.arange(ny, 0, -1) * (nx + 1)
+    sides = [np.column_stack([bottom, bottom + 1]), np.column_stack([right, right + nx + 1]),
+             np.column_stack([top, top - 1]), np.column_stack([left, left - (nx + 1)])]
+    labels = np.concatenate([np.full(len(side), k) for k, side in enumerate(sides)])
+    return mesh_from_arrays(problem, np.column_stack([xs.ravel(), ys.ravel()]), triangles, np.concatenate(sides),
+                            np.asarray(problem.geometry.labels)[labels])
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_the_default_sipg_penalty_stays_coercive_on_thin_triangles(order):
+    # B_h(v, v) / |||v|||_h^2 > 0 for all v in V_h with the default eta = 30 mu on triangles with a 2.9 degree
+    # angle, with a constant close to that of right isosceles triangles (0.60 at P1); the same eta over the
+    # edge length |e| instead of min(|e|, 2 h_T) leaves B_h indefinite there
+    problem = ndf.ContactProblem(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=1.0, m_n=1, g_a=0.0, c_tau=0.0,
+                                 geometry=ndf.Polygon.rectangle(0, 0, 1, 1, "contact", "traction", "dirichlet",
+                                                                "traction"))
+    mesh = thin_mesh(problem, 2, 40)
+    assert ndf.minimum_angle(mesh) == pytest.approx(np.degrees(np.arctan(1 / 20)))
+    disc = ndf.Discretization(problem, mesh, "sipg", order)
+    gram = energy_gram(problem, mesh, order)
+    assert coercivity(problem, mesh, "sipg", order, disc.eta, gram=gram) > 0.3
+    u, v = disc.V.TnT()
+    form = ngs.BilinearForm(disc.V)
+    length = EdgeCoefficient(edge_length(mesh), edge_length(mesh), "|e|")
+    for term in dg_terms(problem, disc.material, mesh, u, v, disc.method, disc.penalty, order, length):
+        form += term
+    form.Assemble()
+    A = form.mat.ToDense().NumPy()
+    lower = np.linalg.cholesky(gram)
+    scaled = np.linalg.solve(lower, np.linalg.solve(lower, 0.5 * (A + A.T)).T)
+    assert np.linalg.eigvalsh(0.5 * (scaled + scaled.T))[0] < 0
+
+
+def test_the_penalty_length_is_the_edge_length_on_the_meshes_of_the_paper():
+    # h_e = min(|e|, 2 h_T+, 2 h_T-) equals |e| on both diagonals' structured meshes (legs and diagonals)
+    problem = ndf.example_6_1()
+    for diagonal in ("sw-ne", "nw-se"):
+        mesh = ndf.uniform_mesh(problem, 1 / 4, diagonal=diagonal)
+        length = penalty_length(mesh)
+        space = ngs.L2(mesh, order=0, dgjumps=True)
+        u, v = space.TnT()
+        form = ngs.BilinearForm(space)
+        form += (length.interior / edge_length(mesh) - 1) ** 2 * u * v * ngs.dx(skeleton=True)
+        form += (length.boundary / edge_length(mesh) - 1) ** 2 * u * v * ngs.ds(skeleton=True)
+        form.Assemble()
+        assert np.abs(np.asarray(form.mat.AsVector())).max() <= 1e-28

@@ -18,11 +18,11 @@ from ..estimator import estimate
 from ..examples import example
 from ..meshes import uniform_mesh
 from ..methods import get_method
-from ..problem import stress
+from ..problem import strain_of, stress
 from ..reference import energy_error, energy_norm, load_reference
 from ..solution import solve
 from ..uzawa import UzawaOptions, default_rho, uzawa
-from .manufactured import elasticity_manufactured, strain_of
+from .manufactured import elasticity_manufactured
 from .strategies import strategy_run
 
 __all__ = ["penalty_value", "energy_gram", "coercivity", "penalty_threshold", "threshold_case", "penalty_case",

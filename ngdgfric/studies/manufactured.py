@@ -11,21 +11,10 @@ import math
 
 import ngsolve as ngs
 
-from ..problem import ContactProblem, Polygon, stress
+from ..problem import ContactProblem, Polygon, strain_of, stress
 
-__all__ = ["strain_of", "body_force_and_traction", "elasticity_manufactured", "contact_manufactured",
+__all__ = ["body_force_and_traction", "elasticity_manufactured", "contact_manufactured",
            "incompressible_contact_manufactured", "friction_manufactured"]
-
-
-def _grad(u):
-    x, y = ngs.x, ngs.y
-    return ngs.CF((u[0].Diff(x), u[0].Diff(y), u[1].Diff(x), u[1].Diff(y)), dims=(2, 2))
-
-
-def strain_of(u):
-    """eps(u) of a CoefficientFunction of x, y."""
-    g = _grad(u)
-    return 0.5 * (g + g.trans)
 
 
 def body_force_and_traction(problem, u):

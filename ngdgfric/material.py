@@ -1,0 +1,181 @@
+"""The material law (1.1)-(1.3) as the DG forms see it: element by element, and across each edge.
+
+sigma = 2 mu eps + lam tr(eps) I with the Lame parameters of Section 6, mu = E / (2 (1 + nu)) and
+lam = E nu / ((1 + nu)(1 - 2 nu)).  A facet term needs the stress of each neighbour from its own
+side, but a CoefficientFunction such as ``IfPos(y - 0.5, E1, E0)`` evaluated on the interface
+y = 1/2 gives both neighbours the same branch, and the forms then mix the materials (relative errors
+of 5 % to several 100 % on a piecewise linear solution that every method must reproduce).  So data
+that vary (E or nu given as CoefficientFunctions) enter through mu and lam projected element by
+element into discontinuous fields (:func:`element_fields`): the element's L2 projection of degree 0
+where the data are constant on every element (a mesh that follows the jumps: exact), else of the
+discretisation's degree p.  Where they vary inside elements more than degree-p polynomials can follow
+(a jump that cuts elements) the element means are used and a :class:`MaterialWarning` names the datum.
+
+Across an interior edge e with neighbours T+ and T- the stresses are averaged with the weights of
+Dryja (CMAM 3, 2003) and Ern, Stephansen & Zunino (IMA J. Numer. Anal. 29, 2009),
+
+    {sigma}_w = w+ sigma+ + w- sigma-,     w+- = k-+ / (k+ + k-),    k = 2 mu + lam,
+
+and penalties scale with harmonic means 2 a+ a- / (a+ + a-) of the material on the two sides
+(:meth:`Material.harmonic`), so that coercivity and accuracy do not depend on the contrast.  For
+constant data w+- = 1/2 and the means are the data themselves: the paper's forms, number for number.
+"""
+
+from dataclasses import dataclass
+from numbers import Real
+
+import ngsolve as ngs
+import numpy as np
+
+from .errors import warn
+from .problem import coefficient
+
+__all__ = ["Material", "Lame", "EdgeCoefficient", "MaterialWarning", "element_fields", "RESOLVED"]
+
+RESOLVED = 0.1
+"""A datum counts as represented by its degree-p projection on an element when they differ by at most
+this fraction of the datum's largest value there (a jump by a factor r inside an element leaves about
+(r - 1) / (2 r)); beyond it the element means are used and :class:`MaterialWarning` is issued."""
+
+
+class MaterialWarning(UserWarning):
+    """A material datum varies inside elements more than the discretisation's polynomials can follow."""
+
+
+@dataclass(frozen=True)
+class Lame:
+    """Lame parameters ``mu`` and ``lam`` (numbers or CoefficientFunctions) seen from one side of an edge."""
+
+    mu: object
+    lam: object
+
+    @property
+    def stiffness(self):
+        """k = 2 mu + lam: the scale of the stress (the weight of the averages, the coercivity thresholds)."""
+        return 2 * self.mu + self.lam
+
+
+@dataclass(frozen=True)
+class EdgeCoefficient:
+    """A coefficient of the edge terms: ``interior`` on interior edges (it may use the neighbour's values,
+    ``Other()``), ``boundary`` on boundary edges (its element's values); numbers or CoefficientFunctions.
+    ``text`` says what it is, for reports (``str()``)."""
+
+    interior: object
+    boundary: object
+    text: str
+
+    def __str__(self):
+        return self.text
+
+    def scaled(self, factor, text):
+        """``factor`` (a number) times this coefficient, described by ``text``."""
+        return EdgeCoefficient(factor * self.interior, factor * self.boundary, text)
+
+
+def _is_number(value):
+    return isinstance(value, Real) and not isinstance(value, bool)
+
+
+BONUS = 8
+"""Extra quadrature degree of the projections and of the points that check them: data that jump inside an
+element are integrated by many points, not by the few that a polynomial of the element's degree needs."""
+
+
+def _evaluation_points(mesh, order):
+    """Gauss points of degree 2 p + :data:`BONUS` in every element, mapped (an element's points are consecutive)."""
+    rule = ngs.IntegrationRule(ngs.TRIG, 2 * order + BONUS)
+    return mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL), len(rule.weights)
+
+
+def _projection(value, mesh, degree):
+    """The element-wise L2 projection of ``value`` onto polynomials of ``degree`` (a GridFunction of L2)."""
+    field = ngs.GridFunction(ngs.L2(mesh, order=degree))
+    field.Set(value, bonus_intorder=BONUS)
+    return field
+
+
+def element_fields(problem, mesh, order):
+    """mu and lam of ``problem`` as discontinuous fields on ``mesh`` (module docstring); returns
+    (mu, lam, unresolved): GridFunctions of L2 of degree 0 if the data are constant on every element, of
+    degree ``order`` if those projections follow mu and lam within :data:`RESOLVED` of 2 mu + lam on every
+    element and keep C positive definite (mu > 0, mu + lam > 0), else of degree 0 (element means), with a
+    :class:`MaterialWarning` naming the data that vary and ``unresolved`` the number of elements off."""
+    data = (coefficient(problem.mu), coefficient(problem.lam))
+    points, per_element = _evaluation_points(mesh, order)
+    values = lambda cf: np.asarray(cf(points)).reshape(mesh.ne, per_element)  # noqa: E731
+    exact = [values(cf) for cf in data]
+    scale = np.maximum(np.max(np.abs(2 * exact[0] + exact[1]), axis=1), np.finfo(float).tiny)
+    for degree in (0, order):
+        fields = [_projection(cf, mesh, degree) for cf in data]
+        mu, lam = (values(field) for field in fields)
+        deviation = np.max(np.maximum(np.abs(mu - exact[0]), np.abs(lam - exact[1])), axis=1) / scale
+        if degree == 0 and np.all(deviation <= 1e-12):
+            return (*fields, 0)
+        valid = np.all((mu > 0) & (mu + lam > 0), axis=1)
+        if degree == order and np.all(deviation <= RESOLVED) and np.all(valid):
+            return (*fields, 0)
+    bad = np.flatnonzero((deviation > RESOLVED) | ~valid)
+    worst = int(bad[np.argmax(deviation[bad])])
+    x, y = (float(np.mean(values(c)[worst])) for c in (ngs.x, ngs.y))
+    names = " and ".join(name for name in ("E", "nu") if not _is_number(getattr(problem, name)))
+    warn(f"{names} varies inside {bad.size} of {mesh.ne} elements more than polynomials of degree {order} "
+                  f"follow (the stress scale off by up to {100 * float(deviation[worst]):.0f} % near ({x:.4g}, "
+                  f"{y:.4g})): a jump that cuts elements?  The element means are used there; expect slow "
+                  f"convergence (about h^(1/2)) unless the mesh follows the jump (edges along it)",
+                  MaterialWarning)
+    return _projection(data[0], mesh, 0), _projection(data[1], mesh, 0), bad.size
+
+
+class Material:
+    """The Lame parameters of ``problem`` element by element on ``mesh`` (module docstring).
+
+    ``own``: the :class:`Lame` parameters of the element integrated over (numbers, or L2 GridFunctions);
+    ``neighbour``: those of the element across an interior edge (``Other()``); ``constant``: E and nu are
+    numbers (then ``own`` and ``neighbour`` hold the same numbers and nothing is projected);
+    ``unresolved``: the number of elements on which varying data were replaced by their means.
+    """
+
+    def __init__(self, problem, mesh, order):
+        self.constant = _is_number(problem.E) and _is_number(problem.nu)
+        self.unresolved = 0
+        if self.constant:
+            self.own = self.neighbour = Lame(problem.mu, problem.lam)
+            return
+        mu, lam, self.unresolved = element_fields(problem, mesh, order)
+        self.own = Lame(mu, lam)
+        self.neighbour = Lame(mu.Other(), lam.Other())
+
+    @property
+    def mu(self):
+        """mu of the element integrated over."""
+        return self.own.mu
+
+    @property
+    def lam(self):
+        """lam of the element integrated over."""
+        return self.own.lam
+
+    def average(self, own, neighbour):
+        """{a}_w = w+ a+ + w- a- on interior edges, w+- = k-+ / (k+ + k-) (1/2 each for constant data)."""
+        if self.constant:
+            return 0.5 * (own + neighbour)
+        k, k_other = self.own.stiffness, self.neighbour.stiffness
+        return (k_other * own + k * neighbour) / (k + k_other)
+
+    def harmonic(self, quantity, text):
+        """The :class:`EdgeCoefficient` of ``quantity`` (a function of a :class:`Lame`): on interior edges
+        the harmonic mean 2 a+ a- / (a+ + a-) of its values on the two sides, on boundary edges its value."""
+        own = quantity(self.own)
+        if self.constant:
+            return EdgeCoefficient(own, own, text)
+        other = quantity(self.neighbour)
+        return EdgeCoefficient(2 * own * other / (own + other), own, text)
+
+    def largest(self, quantity, mesh):
+        """The largest value of ``quantity`` (a function of a :class:`Lame`) over the elements' Gauss points."""
+        value = quantity(self.own)
+        if _is_number(value):
+            return float(value)
+        points, _ = _evaluation_points(mesh, 1)
+        return float(np.max(np.asarray(value(points))))
