@@ -41,10 +41,11 @@ from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
 from .linalg import limited_blas
 from .meshes import element_diameters, netgen_mesh, refine, triangle_corners, uniform_mesh
+from .methods import get_method
 from .solution import finish, solve
 from .transfer import WarmStart, copy_orders, multiplier_snapshot
 
-__all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle"]
+__all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle", "choose_method"]
 
 
 def dorfler_mark(element_indicators, theta=0.3):
@@ -93,29 +94,60 @@ class Adaptation:
     ``levels``: one record (dict with the keys of ``FIELDS``) per solved level; ``solution``: the
     :class:`~ngdgfric.solution.Solution` of the last level (its mesh is the final mesh, not refined
     after it); ``estimate``: its :class:`~ngdgfric.estimator.Estimate`; ``stopped``: why the loop
-    ended ("tol", "max_levels", "max_ndof" or "memory").
+    ended ("tol", "max_levels", "max_ndof", "memory" or "max_seconds"); ``method``: the DG method used
+    and ``method_reason`` why (:func:`choose_method` when none was given).
     """
 
     levels: list
     solution: object
     estimate: object
     stopped: str
+    method: str = "sipg"
+    method_reason: str = "given"
+
+
+def choose_method(problem, mesh, order):
+    """(method, reason): the DG method :func:`adapt` uses when none is given.  SIPG (symmetric: the fastest
+    solves, results/work_precision.md) unless its coercivity threshold t_p (2 mu + lam) at degree ``order``
+    reaches its default penalty 30 mu somewhere (nu close to 1/2: t_1 (2 mu + lam) >= 30 mu from nu = 0.42,
+    t_2 from nu = 0.46), where the raised penalty makes SIPG lock (results/effectivity.md: errors 1.75 times
+    the best method's at nu = 0.49, 6 times at 0.4999); then Bassi et al., which does not lock there (error
+    growth x1.0-1.1 from nu = 0.3 to 0.4999 in both regimes of results/stability.md and effectivity.md) and
+    is symmetric (Brezzi et al. is as robust at 1.3-1.5 times Bassi's assembly cost)."""
+    nu = _largest(problem.nu, mesh)
+    sipg = get_method("sipg")
+    if sipg.thresholds[min(order, len(sipg.thresholds)) - 1] * (2 + 2 * nu / (1 - 2 * nu)) < sipg.default_eta:
+        return "sipg", "the default: symmetric, the fastest solves"
+    return "bassi", (f"nu reaches {nu:.6g}: SIPG's penalty would be raised above 30 mu to stay coercive and SIPG "
+                     f"then locks; Bassi et al. does not")
+
+
+def _largest(datum, mesh):
+    """The largest value of a scalar datum (a number, or a CoefficientFunction at the mesh's Gauss points)."""
+    if not isinstance(datum, ngs.CoefficientFunction):
+        return float(datum)
+    rule = ngs.IntegrationRule(ngs.TRIG, 4)
+    return float(np.max(np.asarray(datum(mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL)))))
 
 
 @limited_blas
-def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100, max_ndof=10**6, tol=None,
+def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, max_ndof=10**6, tol=None,
           solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
-          weights="energy", gamma_lin=None, solver_tol=None, **options):
+          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, **options):
     """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
 
     Stops as soon as eta_h <= ``tol`` (with the default ``weights="energy"`` eta_h estimates the
     energy error |||u - u_h|||_h, :func:`ngdgfric.estimate`), after ``max_levels`` solves, or when
     the next refined mesh would exceed ``max_ndof`` degrees of freedom or the memory budget of
     :func:`ngdgfric.checks.check_size` (tried on a copy of the mesh, so the returned solution's mesh
-    is never refined after its solve).  Defaults: hp-adaptive SIPG from p = ``order`` = 2 up to
-    ``max_order`` = 8, Doerfler theta = 0.5 (why: module docstring); the paper's loop is
-    ``hp=False, order=1, theta=0.3, weights="paper"``.  ``eta``, ``solver``, ``solver_tol`` (the
-    solver's tolerance) and further options go to :func:`ngdgfric.solve`.
+    is never refined after its solve), or when the next level would end after ``max_seconds`` (its time
+    predicted as the last level's times its growth in DOFs; the first level always runs).  Defaults:
+    hp-adaptive from p = ``order`` = 2 up to ``max_order`` = 8, Doerfler theta = 0.5 (why: module
+    docstring), ``method`` chosen by :func:`choose_method` (SIPG, or Bassi et al. for nearly
+    incompressible material) and reported; the paper's loop is
+    ``method="sipg", hp=False, order=1, theta=0.3, weights="paper"``.  ``eta``, ``solver``, ``solver_tol``
+    (the solver's tolerance) and further options go to :func:`ngdgfric.solve`.  The command line's
+    ``adaptive`` takes its defaults from this signature.
 
     ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
     linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
@@ -130,25 +162,24 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
     once the first level is done.  ``keep``: callable(level, solution, estimate) called at every
     level, e.g. to save a picture.
     """
-    _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin)
+    _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin, max_seconds)
+    start = time.perf_counter()
     if mesh is None:
         mesh = uniform_mesh(problem, 0.5) if problem.geometry.is_rectangle else netgen_mesh(problem, 0.5)
     if csv_path is not None:
         csv_path = Path(csv_path)
         check_writable(csv_path.parent)
+    method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
+    if progress is not None:
+        progress(f"method {method}: {reason}")
     loop = _Loop(problem, mesh, order, max_order if hp else None, weights, tol,
                  gamma_lin if solver == "newton" else None,
                  dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol, **options))
-    records = []
+    limits, records = dict(theta=theta, max_levels=max_levels, max_ndof=max_ndof, max_seconds=max_seconds,
+                           start=start), []
     for level in range(max_levels):
         sol, est, seconds = loop.solve(level == max_levels - 1)
-        stopped = "tol" if tol is not None and est.eta_h <= tol else "max_levels" if level == max_levels - 1 else None
-        if stopped is None:
-            refinement = dict(indicators=est.eta_T_squared, marked=_timed(seconds, "mark_refine", dorfler_mark,
-                                                                     est.eta_T_squared, theta))
-            stopped = _timed(seconds, "mark_refine", loop.too_large, max_ndof, refinement)
-            if stopped is not None:
-                sol, est = loop.settle(sol, est, True, seconds)
+        sol, est, stopped, refinement = loop.decide(level, sol, est, seconds, records, limits)
         records.append(_record(level, sol, est, loop.state, seconds))
         if keep is not None:
             keep(level, sol, est)
@@ -157,7 +188,16 @@ def adapt(problem, mesh=None, method="sipg", order=2, theta=0.5, max_levels=100,
             _timed(records[-1], "mark_refine_seconds", loop.refine, refinement)
         _report(records, csv_path, progress, solver)
         if stopped is not None:
-            return Adaptation(records, sol, est, stopped)
+            return Adaptation(records, sol, est, stopped, method, reason)
+
+
+def _out_of_time(records, sol, seconds, start, max_seconds):
+    """Whether the next level would end after ``max_seconds`` from ``start``: the time so far plus this
+    level's ``seconds`` times its growth in DOFs over the last level (2 after the first)."""
+    if max_seconds is None:
+        return False
+    growth = sol.ndof / records[-1]["ndof"] if records else 2.0
+    return time.perf_counter() - start + sum(seconds.values()) * max(growth, 1.0) > max_seconds
 
 
 class _Loop:
@@ -184,6 +224,26 @@ class _Loop:
         sol, est = self.settle(sol, None, last, seconds)
         self.sol, self.predicted = sol, est.eta_h
         return sol, est, seconds
+
+    def decide(self, level, sol, est, seconds, records, limits):
+        """(sol, est, why the loop stops or None, the refinement to make): eta_h <= tol, the last level, the
+        time limit (:func:`_out_of_time`), else Doerfler marking and the size of the refined mesh
+        (:meth:`too_large`); a level the loop stops at is solved to the full tolerance (:meth:`settle`).
+        ``limits``: theta, max_levels, max_ndof, max_seconds and the loop's start time."""
+        refinement = None
+        if self.tol is not None and est.eta_h <= self.tol:
+            stopped = "tol"
+        elif level == limits["max_levels"] - 1:
+            stopped = "max_levels"
+        elif _out_of_time(records, sol, seconds, limits["start"], limits["max_seconds"]):
+            stopped = "max_seconds"
+        else:
+            marked = _timed(seconds, "mark_refine", dorfler_mark, est.eta_T_squared, limits["theta"])
+            refinement = dict(indicators=est.eta_T_squared, marked=marked)
+            stopped = _timed(seconds, "mark_refine", self.too_large, limits["max_ndof"], refinement)
+        if stopped not in (None, "tol", "max_levels"):
+            sol, est = self.settle(sol, est, True, seconds)
+        return sol, est, stopped, refinement
 
     def settle(self, sol, est, returned, seconds):
         """:func:`_settle` with this loop's weights, tolerances and gamma_lin."""
@@ -220,7 +280,7 @@ def _record(level, sol, est, state, seconds):
                 min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()))
 
 
-def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin):
+def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin, max_seconds):
     if hp and not (isinstance(max_order, int) and max_order >= order):
         raise ValueError(f"max_order must be an integer >= order = {order}, got {max_order!r}")
     if weights not in WEIGHTS:
@@ -228,8 +288,9 @@ def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, g
     for name, value in (("max_levels", max_levels), ("max_ndof", max_ndof)):
         if not (isinstance(value, (int, np.integer)) and value >= 1):
             raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    if tol is not None and not (tol > 0):
-        raise ValueError(f"tol must be positive, got {tol!r}")
+    for name, value in (("tol", tol), ("max_seconds", max_seconds)):
+        if value is not None and not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a positive number or None, got {value!r}")
     if gamma_lin is not None and not (isinstance(gamma_lin, (int, float)) and 0 < gamma_lin < 1):
         raise ValueError(f"gamma_lin must be a number in (0, 1) or None, got {gamma_lin!r}")
 

@@ -17,6 +17,7 @@ This module parses the arguments and dispatches to the library; the files and pl
 
 import argparse
 import importlib.metadata
+import inspect
 import itertools
 import math
 import os
@@ -45,8 +46,17 @@ DEFAULT_H = 0.125
 MAX_NDOF_HELP = "refuse meshes with more DOFs (default: refuse above an estimated 8 GB of memory)"
 
 
+NOT_REACHED = 4  # the exit code of an adaptive run that stopped before --tol
+STOPS = {"max_levels": "--levels reached", "max_ndof": "the next mesh would exceed --max-ndof",
+         "memory": "the next mesh would exceed the memory budget", "max_seconds": "--max-seconds reached"}
+
+
 class UsageError(Exception):
     """Bad command-line arguments (reported in one line instead of argparse's usage + message)."""
+
+
+class NotReached(Exception):
+    """An adaptive run stopped before its --tol (its outputs are written)."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -86,19 +96,37 @@ def build_parser():
     return parser
 
 
-def _common_options(sub, several_methods=False):
-    """PROBLEM, --method, --order, --solver, --eta, --solver-tol, --out, --overwrite."""
+def _defaults(function):
+    return {name: parameter.default for name, parameter in inspect.signature(function).parameters.items()}
+
+
+DEFAULTS = {"solve": _defaults(solve), "adapt": _defaults(adapt)}
+"""The keyword defaults of :func:`ngdgfric.solve` and :func:`ngdgfric.adapt`: the command line's own defaults."""
+
+
+def default(library, name):
+    """The default of keyword ``name`` of the library's function ``library`` ("solve" or "adapt")."""
+    return DEFAULTS[library][name]
+
+
+def _common_options(sub, several_methods=False, library="solve"):
+    """PROBLEM, --method, --order, --solver, --eta, --solver-tol, --out, --overwrite; defaults those of the
+    library's function ``library`` (:func:`ngdgfric.solve`, or :func:`ngdgfric.adapt` for ``adaptive``)."""
     sub.add_argument("problem", metavar="PROBLEM", help="6.1, 6.2 (Section 6) or a TOML problem file")
+    method = default(library, "method")
     if several_methods:
-        sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=["sipg"],
-                         help="DG methods of Section 3 (default: sipg)")
+        sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=[method],
+                         help=f"DG methods of Section 3 (default: {method})")
     else:
-        sub.add_argument("--method", choices=sorted(METHODS), default="sipg",
-                         help="DG method of Section 3 (default: sipg)")
-    sub.add_argument("--order", type=_number(int), default=1, help="polynomial degree p >= 1 (default: 1)")
-    sub.add_argument("--solver", choices=sorted(SOLVERS), default="newton",
-                     help="nonlinear solver (default: newton, the problem condensed onto Gamma_C and solved by "
-                          "semismooth Newton there; uzawa: the paper's method)")
+        shown = method or "chosen for the problem: sipg, or bassi for nearly incompressible material"
+        sub.add_argument("--method", choices=sorted(METHODS), default=method,
+                         help=f"DG method of Section 3 (default: {shown})")
+    order = default(library, "order")
+    sub.add_argument("--order", type=_number(int), default=order,
+                     help=f"polynomial degree p >= 1 (default: {order}{', the lowest with hp' * (library == 'adapt')})")
+    sub.add_argument("--solver", choices=sorted(SOLVERS), default=default(library, "solver"),
+                     help=f"nonlinear solver (default: {default(library, 'solver')}, the problem condensed onto "
+                          "Gamma_C and solved by semismooth Newton there; uzawa: the paper's method)")
     sub.add_argument("--eta", type=_number(float), default=None,
                      help="penalty parameter (default: 30 mu for the edge penalties, Section 6)")
     sub.add_argument("--solver-tol", type=_number(float), default=None,
@@ -143,20 +171,31 @@ def _adaptive_parser(commands):
     sub = commands.add_parser("adaptive", help="adaptive loop of Section 6; write CSV and a PNG of eta_h vs DOFs",
                               description="SOLVE -> ESTIMATE -> MARK (Doerfler) -> REFINE (newest vertex "
                                           "bisection, or h/p with --hp), one progress line per level.")
-    _common_options(sub)
+    _common_options(sub, library="adapt")
     _mesh_options(sub, "h = 1/2, or Netgen maxh = 1/2 for other polygons")
-    sub.add_argument("--theta", type=_number(float, high=1.0, what="in (0, 1]"), default=0.3,
-                     help="Doerfler parameter (default: 0.3)")
-    sub.add_argument("--levels", type=_number(int), default=10, help="maximal number of solves (default: 10)")
-    sub.add_argument("--max-ndof", type=_number(int), default=10**5,
-                     help="stop before a solve with more DOFs (default: 1e5)")
-    sub.add_argument("--tol", type=_number(float), default=None,
-                     help="stop when eta_h <= TOL (an estimate of the energy error |||u - u_h|||_h)")
-    sub.add_argument("--weights", choices=["energy", "paper"], default="energy",
-                     help="estimator: 'energy' (default, in the units of the energy norm) or 'paper' "
+    theta, levels, max_ndof = (default("adapt", name) for name in ("theta", "max_levels", "max_ndof"))
+    sub.add_argument("--theta", type=_number(float, high=1.0, what="in (0, 1]"), default=theta,
+                     help=f"Doerfler parameter (default: {theta})")
+    sub.add_argument("--levels", type=_number(int), default=levels,
+                     help=f"maximal number of solves (default: {levels})")
+    sub.add_argument("--max-ndof", type=_number(int), default=max_ndof,
+                     help=f"stop before a solve with more DOFs (default: {max_ndof:.0e})")
+    sub.add_argument("--max-seconds", type=_number(float), default=default("adapt", "max_seconds"),
+                     help="stop before a level that would end after this many seconds (default: no limit)")
+    sub.add_argument("--tol", type=_number(float), default=default("adapt", "tol"),
+                     help="stop when eta_h <= TOL (an estimate of the energy error |||u - u_h|||_h); a run that "
+                          f"stops before exits with code {NOT_REACHED}")
+    weights = default("adapt", "weights")
+    sub.add_argument("--weights", choices=["energy", "paper"], default=weights,
+                     help=f"estimator (default: {weights}): 'energy' (in the units of the energy norm) or 'paper' "
                           "(Section 4 as printed)")
-    sub.add_argument("--hp", action="store_true", help="hp refinement (ngdgfric.hp.hp_refine)")
-    sub.add_argument("--max-order", type=_number(int), default=6, help="largest degree with --hp (default: 6)")
+    hp = default("adapt", "hp")
+    sub.add_argument("--hp", action=argparse.BooleanOptionalAction, default=hp,
+                     help=f"hp refinement (ngdgfric.hp.hp_refine), or h refinement only "
+                          f"(default: {'--hp' if hp else '--no-hp'})")
+    max_order = default("adapt", "max_order")
+    sub.add_argument("--max-order", type=_number(int), default=max_order,
+                     help=f"largest degree with --hp (default: {max_order})")
 
 
 def _version():
@@ -242,7 +281,7 @@ def outputs(args, tag):
         return [Path(f"{stem}.{suffix}") for suffix in ("csv", "vtu", "png")]
     if args.command == "uniform":
         return [args.out / f"{tag}_uniform.{suffix}" for suffix in ("csv", "md")]
-    stem = args.out / f"{tag}_adaptive_{args.method}_p{args.order}{'_hp' if args.hp else ''}"
+    stem = args.out / f"{tag}_adaptive_{args.method or 'auto'}_p{args.order}{'_hp' if args.hp else ''}"
     return [Path(f"{stem}.{suffix}") for suffix in ("csv", "png")]
 
 
@@ -272,17 +311,20 @@ def cmd_uniform(args, problem, tag):
 def cmd_adaptive(args, problem, tag):
     mesh, described = _mesh(problem, args.h, args.maxh, None, args.order, args.max_ndof)
     kind = "hp" if args.hp else "h"
-    say(f"{problem.name}: {args.method} P{args.order}, {kind}-adaptive from {described}, theta = {args.theta:g}")
+    say(f"{problem.name}: P{args.order}, {kind}-adaptive from {described}, theta = {args.theta:g}")
     csv_path, png_path = outputs(args, tag)
     adaptation = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta,
                        max_levels=args.levels, max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
-                       solver_tol=args.solver_tol,
+                       solver_tol=args.solver_tol, max_seconds=args.max_seconds,
                        csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights)
     records = adaptation.levels
     slope = (records, args.order) if not args.hp and len(records) > 1 else None
-    write_adaptive_png(png_path, f"{problem.name}: theta = {args.theta:g}", f"{args.method} {kind}-adaptive",
+    write_adaptive_png(png_path, f"{problem.name}: theta = {args.theta:g}", f"{adaptation.method} {kind}-adaptive",
                        records, adaptation.solution.mesh, slope)
     say(f"wrote {csv_path}, {png_path}")
+    if args.tol is not None and adaptation.stopped != "tol":
+        raise NotReached(f"stopped before --tol {args.tol:g} ({STOPS[adaptation.stopped]}): eta_h = "
+                         f"{records[-1]['eta_h']:.4e} after {len(records)} levels, {records[-1]['ndof']} DOFs")
     return records
 
 
@@ -317,7 +359,8 @@ def main(argv=None):
 
     0: success; 2: bad input (arguments, problem file, problem data, sizes, output files), or not
     enough memory, reported in one line ``ngdgfric: error: ...`` on stderr; 1: the nonlinear solver
-    failed; 3: an internal error (one line; the traceback with NGDGFRIC_TRACEBACK=1); 130: interrupted.
+    failed; 3: an internal error (one line; the traceback with NGDGFRIC_TRACEBACK=1); 4: ``adaptive``
+    stopped before its ``--tol`` (levels, DOFs, memory or time; its files are written); 130: interrupted.
     """
     try:
         run(argv)
@@ -329,6 +372,8 @@ def main(argv=None):
         return _fail("not enough memory: use a coarser mesh, a lower --order or --max-ndof", 2)
     except SolverError as exc:
         return _fail(exc, 1)
+    except NotReached as exc:
+        return _fail(exc, NOT_REACHED)
     except KeyboardInterrupt:
         return _fail("interrupted", 130)
     except Exception as exc:  # a bug: one line, not a traceback, unless asked for

@@ -1,10 +1,11 @@
 """Errors raised by the solvers, and warnings that point at the user's code."""
 
 import sys
+import time
 import warnings
 from pathlib import Path
 
-__all__ = ["SolverError", "warn"]
+__all__ = ["SolverError", "TimeLimitError", "deadline", "check_deadline", "warn"]
 
 PACKAGE = str(Path(__file__).resolve().parent)
 
@@ -16,6 +17,23 @@ class SolverError(RuntimeError):
         super().__init__(message)
         self.history = list(history)
         self.solver = solver
+
+
+class TimeLimitError(SolverError):
+    """A solver reached its time limit (option ``max_seconds``) before its tolerance."""
+
+
+def deadline(max_seconds):
+    """The ``time.perf_counter()`` reading at which a run limited to ``max_seconds`` (None: unlimited) ends."""
+    return None if max_seconds is None else time.perf_counter() + max_seconds
+
+
+def check_deadline(when, solver, history, what):
+    """Raise :class:`TimeLimitError` for ``solver`` (with its ``history``) if the ``deadline`` ``when`` has passed;
+    ``what`` says how far it got."""
+    if when is not None and time.perf_counter() > when:
+        raise TimeLimitError(f"{solver} stopped at its time limit (max_seconds) {what}", history=history,
+                             solver=solver)
 
 
 def warn(message, category):

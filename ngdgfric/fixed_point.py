@@ -25,17 +25,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from .contact import frozen_bound
-from .errors import SolverError
+from .errors import SolverError, TimeLimitError, check_deadline, deadline
 from .newton import NewtonOptions, newton
 from .nonlinear import relative_change
-from .options import SolverOptions, callback, choice, positive_integer, positive_number
+from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
 from .transfer import starting_point
 from .uzawa import UzawaOptions, uzawa
 
 __all__ = ["fixed_point", "FixedPointOptions", "INNER"]
 
 INNER = {"newton": (newton, NewtonOptions), "uzawa": (uzawa, UzawaOptions)}
-OUTER = ("solver_tol", "maxit", "progress")
+OUTER = ("solver_tol", "maxit", "progress", "max_seconds")
 
 
 def _inner_options(value, name):
@@ -53,17 +53,21 @@ class FixedPointOptions(SolverOptions):
         "fixed point 3: relative change 1.2e-05".
     inner: the options of the inner solver, :class:`~ngdgfric.newton.NewtonOptions` (the default) or
         :class:`~ngdgfric.uzawa.UzawaOptions`, whose type chooses it.  As keywords (:meth:`from_keywords`):
-        ``inner="newton"`` or ``"uzawa"`` and that solver's options other than solver_tol, maxit and
-        progress; the inner solve gets the outer solver_tol.
+        ``inner="newton"`` or ``"uzawa"`` and that solver's options other than solver_tol, maxit, progress
+        and max_seconds; the inner solve gets the outer solver_tol.
+    max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) after this long
+        (each inner solve gets the time that is left).
     """
 
     solver = "fixed_point"
-    checks = dict(solver_tol=positive_number, maxit=positive_integer, progress=callback, inner=_inner_options)
+    checks = dict(solver_tol=positive_number, maxit=positive_integer, progress=callback, inner=_inner_options,
+                  max_seconds=optional(positive_number))
 
     solver_tol: float = 1e-8
     maxit: int = 100
     progress: Callable[[str], None] | None = None
     inner: NewtonOptions | UzawaOptions = NewtonOptions(solver_tol=1e-8)
+    max_seconds: float | None = None
 
     @classmethod
     def from_keywords(cls, **options):
@@ -95,13 +99,19 @@ def fixed_point(disc, options=None, initial=None):
     inner_solver, inner = INNER[options.inner.solver][0], options.inner.solver
     inner_options = dataclasses.replace(options.inner, solver_tol=options.solver_tol)  # the outer tolerance
     start = time.perf_counter()
+    until = deadline(options.max_seconds)
     u, lam_tau = starting_point(disc, initial)
     du = u.vec.CreateVector()
     history, inner_iterations, factorizations = [], [], 0
     for k in range(1, options.maxit + 1):
+        check_deadline(until, "fixed point", history, f"after {k - 1} iterations")
+        if until is not None:
+            inner_options = dataclasses.replace(inner_options, max_seconds=max(until - time.perf_counter(), 1e-9))
         try:
             u_new, lam_tau_new, info = inner_solver(disc, inner_options, initial=(u, lam_tau),
                                                 problem=frozen_bound(disc.problem, u))
+        except TimeLimitError:
+            raise
         except SolverError as error:
             raise SolverError(f"fixed point: the inner {inner} solve {k} failed: {error}", history=history,
                               solver="fixed_point") from error

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 from . import semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
+from .errors import deadline
 from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
 from .reduced import ReducedContact
 from .traces import ContactTraces
@@ -60,17 +61,21 @@ class NewtonOptions(SolverOptions):
         (:class:`ngdgfric.condensation.Condensation`).
     energy_tol: None, or also stop once the linearisation estimate eta_lin <= energy_tol (module
         docstring); then ``info["state"]`` can continue the solve (:class:`NewtonState`).
+    max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) once the solve has
+        run this long (checked between iterations; the factorisation itself is not interrupted).
     """
 
     solver = "newton"
     checks = dict(solver_tol=positive_number, maxit=positive_integer, progress=callback,
-                  linear_solver=choice(*LINEAR_SOLVERS), energy_tol=optional(positive_number))
+                  linear_solver=choice(*LINEAR_SOLVERS), energy_tol=optional(positive_number),
+                  max_seconds=optional(positive_number))
 
     solver_tol: float = 1e-13
     maxit: int = 100
     progress: Callable[[str], None] | None = None
     linear_solver: str = "auto"
     energy_tol: float | None = None
+    max_seconds: float | None = None
 
 
 class NewtonState:
@@ -100,13 +105,14 @@ class NewtonState:
         u; returns (u, lam_tau, info) (see :func:`newton`)."""
         start = time.perf_counter()
         reduced, traces, disc = self.reduced, self.traces, self.disc
+        until = deadline(None if options.max_seconds is None else options.max_seconds - self.condense_seconds)
         f, info = semismooth.solve(reduced, self.f, options.solver_tol, options.maxit, options.progress,
-                                   options.energy_tol)
+                                   options.energy_tol, until)
         seconds = dict(newton=time.perf_counter() - start)
         start_recover = time.perf_counter()
         u_vec = self.condensation.displacement(f)
         seconds["recover"] = time.perf_counter() - start_recover
-        f, u_vec, consistency = self._make_consistent(f, u_vec, info, options, seconds)
+        f, u_vec, consistency = self._make_consistent(f, u_vec, info, options, seconds, until)
         self.f = f
         u, lam_tau = starting_point(disc)
         u.vec.FV().NumPy()[:] = u_vec
@@ -119,12 +125,13 @@ class NewtonState:
         self.condense_seconds = 0.0  # a resumed run does not condense again
         return u, lam_tau, info
 
-    def _make_consistent(self, f, u_vec, info, options, seconds):
+    def _make_consistent(self, f, u_vec, info, options, seconds, until):
         """The traces of the computed u differ from w0 - W f by the solve's round-off amplified by cond(A),
         which a stiff compliance (c_n up to 1e10) turns into a KKT residual: shift w0 so that w(f) are the
         traces of u, re-solve the points and move u with the forces, u -= A^-1 B^T df (Newton steps on
         the whole nonlinear system, whose round-off is relative to the steps), at most ``MAX_CONSISTENCY``
-        times.  ``info`` and ``seconds`` (newton, recover) are updated; returns (f, u_vec, re-solves)."""
+        times, until the deadline ``until``.  ``info`` and ``seconds`` (newton, recover) are updated; returns
+        (f, u_vec, re-solves)."""
         reduced, traces = self.reduced, self.traces
         for consistency in range(MAX_CONSISTENCY + 1):
             reduced.shift(traces.apply(u_vec) - reduced.traces(f))
@@ -133,7 +140,7 @@ class NewtonState:
                 break
             start_newton = time.perf_counter()
             f_new, more = semismooth.solve(reduced, f, options.solver_tol, options.maxit,
-                                           energy_tol=options.energy_tol)
+                                           energy_tol=options.energy_tol, deadline=until)
             for key in ("iterations", "history", "steps"):
                 info[key] += more[key]
             info.update(linearization=more["linearization"], converged=more["converged"])

@@ -52,14 +52,17 @@ loosened the stopping test at sticking points.)
 import numpy as np
 
 from .complementary_energy import SIGMA, energy_step
-from .errors import SolverError
+from .errors import SolverError, TimeLimitError, check_deadline
 
 __all__ = ["solve", "iterate", "merit", "SIGMA"]
 
 PROXIMAL_START, PROXIMAL_DECREASE = 1e-3, 100.0  # mu_0 and mu_k / mu_{k+1} of the proximal point method
+# m_t > 0: the inner solves T(f) stop at INNER x the outer relative KKT residual, at most INNER_LOOSEST, at least
+# the outer solver_tol
+INNER, INNER_LOOSEST = 1e-3, 1e-8
 
 
-def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None):
+def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None):
     """Globalised semismooth Newton for the :class:`~ngdgfric.reduced.ReducedContact` ``problem`` from f0
     (default 0); returns (f, info).
 
@@ -74,17 +77,20 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     "continuation s = ...", "proximal mu = ..."); ``penetrating``, ``stick``: set sizes at the end;
     ``residual``.  Redundant problems with energy go through the proximal point method; without energy,
     a failed iteration is followed by a continuation (module docstring).
-    Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations.
+    Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations, and
+    :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
     """
     f = np.zeros(2 * problem.M) if f0 is None else np.asarray(f0, dtype=float).copy()
     if problem.energy_merit and problem.regularization > 0:
-        return _proximal(problem, problem.project(f), solver_tol, maxit, progress, energy_tol)
+        return _proximal(problem, problem.project(f), solver_tol, maxit, progress, energy_tol, deadline)
     try:
-        return iterate(problem, f, solver_tol, maxit, progress, energy_tol)
+        return iterate(problem, f, solver_tol, maxit, progress, energy_tol, deadline=deadline)
+    except TimeLimitError:
+        raise
     except SolverError as error:
         if problem.energy_merit:
             raise
-        return _continuation(problem, solver_tol, maxit, progress, error)
+        return _continuation(problem, solver_tol, maxit, progress, error, deadline)
 
 
 def _info(problem, s, solver_tol, iterations, history, initial, steps):
@@ -94,16 +100,17 @@ def _info(problem, s, solver_tol, iterations, history, initial, steps):
                 linearization=problem.linearization(s), converged=problem.converged(s, solver_tol))
 
 
-def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None, counted=0):
+def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None, counted=0, deadline=None):
     """The iteration of :func:`solve` from f, with the globalisation of the problem's kind (module docstring).
     ``outer``: the problem whose stopping test also ends it and whose KKT residual is recorded (a
     proximal subproblem's original problem); default ``problem``.  ``counted``: iterations done before
-    (for the numbers in the progress messages)."""
+    (for the numbers in the progress messages); ``deadline``: as in :func:`solve`."""
     if problem.energy_merit:
         f = problem.project(f)
     outer = problem if outer is None else outer
     s = problem.evaluate(f)
-    history, steps, memory = [], [], dict(recent=[], fixed_point=None, changes=[])
+    history, steps = [], []
+    memory = dict(recent=[], fixed_point=None, changes=[], solver_tol=solver_tol, maxit=maxit)
     initial = problem.residual(s)
     for k in range(maxit + 1):
         outer_done = outer is not problem and outer.done(outer.evaluate(s.f), solver_tol, energy_tol)
@@ -111,7 +118,10 @@ def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None
             return s.f, _info(problem, s, solver_tol, k, history, initial, steps)
         if k == maxit:
             break
-        f, kind = _step(problem, s, problem.newton_direction(s), memory, k, history)
+        last = history[-1] if history else initial
+        check_deadline(deadline, "semismooth Newton on the contact points", history,
+                       f"after {counted + k} iterations (relative KKT residual {last:.3e})")
+        f, kind = _step(problem, s, problem.newton_direction(s), memory, k, history, deadline)
         s = problem.evaluate(f)
         steps.append(kind)
         history.append(outer.residual(s if outer is problem else outer.evaluate(f)))
@@ -122,14 +132,16 @@ def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None
                       f"last steps {steps[-3:]})", history=history, solver="newton")
 
 
-def _step(problem, s, d, memory, k, history):
+def _step(problem, s, d, memory, k, history, deadline=None):
     """The next f from the state s (iteration k) and its Newton direction d, by the globalisation of the
     problem's kind; ``memory``: the merit values so far (``recent``), and for m_t > 0 T(f) if known
     (``fixed_point``) and |f - T(f)| per iteration (``changes``).  Returns (f, kind of step)."""
     if problem.energy_merit:
         return energy_step(problem, s, d)
     if problem.m_t > 0:
-        fixed_point = _fixed_point_step(problem, s) if memory["fixed_point"] is None else memory["fixed_point"]
+        inner = dict(solver_tol=max(memory["solver_tol"], min(INNER * problem.residual(s), INNER_LOOSEST)),
+                     maxit=memory["maxit"], deadline=deadline)
+        fixed_point = _fixed_point_step(problem, s, inner) if memory["fixed_point"] is None else memory["fixed_point"]
         change = np.max(np.abs(s.f - fixed_point)) / problem.scale(s)
         changes = memory["changes"]
         changes.append(change)
@@ -139,7 +151,7 @@ def _step(problem, s, d, memory, k, history):
                               "iterations): the bound map is not a contraction here, and the quasi-variational "
                               "inequality (m_t > 0) may have no solution or several", history=history,
                               solver="newton")
-        f, kind, memory["fixed_point"] = _qvi_step(problem, s, d, fixed_point)
+        f, kind, memory["fixed_point"] = _qvi_step(problem, s, d, fixed_point, inner)
         return f, kind
     memory["recent"].append(merit(problem, s))
     f, kind = _merit_step(problem, s, d, memory["recent"])
@@ -182,23 +194,27 @@ def _merit_step(problem, s, d, recent):
     return None, "stalled"
 
 
-def _qvi_step(problem, s, d, fixed_point):
+def _qvi_step(problem, s, d, fixed_point, inner):
     """m_t > 0: the Newton point if it lowers the fixed-point residual r(f) = |f - T(f)|_inf (T: the
-    solution with the bound frozen at f), else T(f).  ``fixed_point``: T(s.f).  Returns
-    (new f, kind, T(new f) or None)."""
+    solution with the bound frozen at f, solved with the keywords ``inner``), else T(f).  ``fixed_point``:
+    T(s.f).  Returns (new f, kind, T(new f) or None)."""
     residual = np.max(np.abs(s.f - fixed_point))
     for alpha in (1.0, 0.5):
         trial = s.f + alpha * d
-        trial_fixed_point = _fixed_point_step(problem, problem.evaluate(trial))
+        trial_fixed_point = _fixed_point_step(problem, problem.evaluate(trial), inner)
         if np.max(np.abs(trial - trial_fixed_point)) <= (1 - SIGMA * alpha) * residual:
             return trial, "newton" if alpha == 1 else f"newton x{alpha:g}", trial_fixed_point
     return fixed_point, "fixed point", None
 
 
-def _fixed_point_step(problem, s):
+def _fixed_point_step(problem, s, inner):
     """T(f): the solution of the problem with the friction bound frozen at its value at f (m_t = 0, a
-    spatially varying c_tau = beta / omega), by :func:`solve` with its own globalisation."""
-    return solve(problem.variant(c_tau=s.beta / problem.omega, m_t=0.0), s.f, solver_tol=1e-13, maxit=200)[0]
+    spatially varying c_tau = beta / omega), by :func:`solve` with its own globalisation and the keywords
+    ``inner`` (solver_tol, maxit, deadline): an inexact inner solve, to :data:`INNER` times the outer KKT
+    residual at f, at most :data:`INNER_LOOSEST`, but not below the outer solver_tol (T only steers the outer
+    iteration, whose own test decides convergence; a fixed 1e-13 made round-off-bound inner solves fail
+    where the outer would have stopped, and ignored a looser solver_tol)."""
+    return solve(problem.variant(c_tau=s.beta / problem.omega, m_t=0.0), s.f, **inner)[0]
 
 
 def _homotopy(problem, s):
@@ -210,7 +226,7 @@ def _homotopy(problem, s):
     return problem.variant(W=symmetric_part + s * (problem.W - symmetric_part), symmetric=s == 0)
 
 
-def _continuation(problem, solver_tol, maxit, progress, error):
+def _continuation(problem, solver_tol, maxit, progress, error, deadline=None):
     """After a failure without energy: follow the solution from an easy problem to this one
     (:func:`_homotopy`).  NIPG: s = 0 (the symmetric problem, solved by the energy method), then
     steps in s doubled after a success and halved after a failure, from 1/16.  m_t > 0: s = 1e-6
@@ -227,7 +243,10 @@ def _continuation(problem, solver_tol, maxit, progress, error):
     while done < 1:
         s = next_value() if done >= 0 else 0.0
         try:
-            f, info = iterate(_homotopy(problem, s), f.copy(), solver_tol, maxit, progress, counted=iterations)
+            f, info = iterate(_homotopy(problem, s), f.copy(), solver_tol, maxit, progress, counted=iterations,
+                              deadline=deadline)
+        except TimeLimitError:
+            raise
         except SolverError:
             if done < 0 or (geometric and done == 0):
                 raise SolverError(f"{error} (and the continuation failed at its start s = {s:g})",
@@ -246,7 +265,7 @@ def _continuation(problem, solver_tol, maxit, progress, error):
     return f, info
 
 
-def _proximal(problem, f, solver_tol, maxit, progress, energy_tol):
+def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None):
     """The proximal point method of the module docstring (redundant points, with energy), from f."""
     mu, iterations, history, steps = PROXIMAL_START, 0, [], []
     initial = problem.residual(problem.evaluate(f))
@@ -260,7 +279,9 @@ def _proximal(problem, f, solver_tol, maxit, progress, energy_tol):
         steps.append(f"proximal mu = {mu:g}")
         try:
             f, info = iterate(subproblem, f, solver_tol, maxit - iterations, progress, energy_tol, outer=problem,
-                              counted=iterations)
+                              counted=iterations, deadline=deadline)
+        except TimeLimitError:
+            raise
         except SolverError as error:
             iterations += len(error.history)
             history += error.history

@@ -30,7 +30,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import evaluate_on_contact, friction_matrix, normal_tangent, project_unit
-from .errors import SolverError
+from .errors import SolverError, check_deadline, deadline
 from .linalg import direct_inverse, threads
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
 from .options import SolverOptions, callback, optional, positive_integer, positive_number
@@ -54,17 +54,19 @@ class UzawaOptions(SolverOptions):
         "uzawa k: relative change ..., complementarity ...".
     rho: step size of the multiplier update; None: :func:`default_rho`.
     kkt_tol: the complementarity residual's part of the stopping test (kkt_tol = solver_tol: a strict test).
+    max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) after this long.
     """
 
     solver = "uzawa"
     checks = dict(solver_tol=positive_number, maxit=positive_integer, progress=callback,
-                  rho=optional(positive_number), kkt_tol=positive_number)
+                  rho=optional(positive_number), kkt_tol=positive_number, max_seconds=optional(positive_number))
 
     solver_tol: float = 1e-8
     maxit: int = 100000
     progress: Callable[[str], None] | None = None
     rho: float | None = None
     kkt_tol: float = 1e-6
+    max_seconds: float | None = None
 
 
 def default_rho(disc, problem=None, iterations=30, safety=1.5):
@@ -140,6 +142,7 @@ def uzawa(disc, options=None, initial=None, problem=None):
         raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {problem.m_t!r}: use "
                          "solver='newton', or solver='fixed_point' with inner='uzawa'")
     start = time.perf_counter()
+    until = deadline(options.max_seconds)
     u, lam_tau = starting_point(disc, initial)
     rho = default_rho(disc, problem) if options.rho is None else options.rho
     op, update = _operators(disc, problem, u, lam_tau, rho)
@@ -156,6 +159,8 @@ def uzawa(disc, options=None, initial=None, problem=None):
         kkt.append(complementarity(disc, u, lam_tau))
         if _stop(options, rho, history, kkt, k):
             break
+        check_deadline(until, f"Uzawa (rho = {rho:.4g})", history,
+                       f"after {k} iterations (relative change {history[-1]:.3e}, complementarity {kkt[-1]:.3e})")
     else:
         _fail(rho, history, f"did not reach solver_tol = {options.solver_tol:g} in {options.maxit} iterations "
                             f"(last relative change {history[-1]:.3e}, complementarity residual {kkt[-1]:.3e})")

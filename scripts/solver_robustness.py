@@ -58,6 +58,7 @@ from ngdgfric.output import markdown_table
 from ngdgfric.reduced import ReducedContact
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.studies.manufactured import contact_manufactured, friction_manufactured
+from ngdgfric.studies.scenes import strip
 from ngdgfric.uzawa import REPORT_EVERY
 
 # ============================================================================ PARAMETERS
@@ -138,6 +139,10 @@ def case(id, family, method, order, mesh, size, name="", nu=None, E=None, c_n=No
         g_a = BASE_G_A[family] if g_a is None else g_a
     elif family == "manufactured":  # contact_manufactured: m_n = 1, m_t = 0, c_tau and g_a its own
         m_n, c_tau, g_a = 1.0, None, "manufactured"
+    elif family == "strip":  # scenes.strip: E = E / 100 E on its halves, g_a = 0
+        nu, E = 0.3 if nu is None else nu, 1e3 if E is None else E
+        c_n, m_n, c_tau, g_a = (1e6 if c_n is None else c_n), (2.0 if m_n is None else m_n), \
+            (10.0 if c_tau is None else c_tau), "0"
     else:  # friction_manufactured: m_n = 1, g_a its own
         m_n, g_a = 1.0, "manufactured"
     return dict(id=id, name=name, family=family, method=method, order=order, mesh=mesh, size=size, nu=float(nu),
@@ -176,6 +181,7 @@ def named_cases():
              name="friction bound m_t = 2, E = 1"),
         dict(family="friction", method="sipg", order=1, E=1e3, c_n=10.0, c_tau=1e6, m_t=1.0,
              name="friction bound m_t = 1, huge c_tau"),
+        *strip_cases(),
     ]
     for spec in more:
         spec = dict(spec)
@@ -187,6 +193,22 @@ def named_cases():
             spec.setdefault("nu", 0.3)
         cases.append(case(f"N{len(cases) + 1:02d}", family, method, order, mesh, size, **spec))
     return cases
+
+
+def strip_cases():
+    """Varying E with m_t > 0 (issue 26): the bimaterial strip of ngdgfric.studies.scenes.strip (E = 1e3 / 1e5,
+    c_n = 1e6, m_n = 2, c_tau = 10, m_t = 1, where the default solver's inner solves used to fail), on
+    several meshes, methods and orders, and variations of its contrast, compliance and bound."""
+    base = dict(family="strip", m_t=1.0, order=2, size=1 / 2)
+    return [dict(base, name="bimaterial strip, m_t = 1 (issue 26)"),
+            dict(base, size=1 / 4, name="bimaterial strip, m_t = 1, h = 1/4"),
+            dict(base, method="nipg", name="bimaterial strip, NIPG"),
+            dict(base, method="bassi", order=3, mesh="netgen", size=0.4, name="bimaterial strip, Netgen, P3"),
+            dict(base, method="ldg", order=1, size=1 / 8, name="bimaterial strip, LDG P1"),
+            dict(base, method="brezzi", m_t=2.0, name="bimaterial strip, m_t = 2"),
+            dict(base, c_n=1e8, m_n=1.0, c_tau=100.0, name="bimaterial strip, stiffer, larger bound"),
+            dict(base, E=1.0, c_n=1e3, c_tau=0.01, name="bimaterial strip, E = 1 / 100"),
+            dict(base, mesh="hp-adapted", size=8, order_kind="hp", name="bimaterial strip, hp-adapted")]
 
 
 def _pick(rng, values, p=None):
@@ -259,6 +281,9 @@ def build_problem(spec):
     if family == "friction":
         return friction_manufactured(m_t=int(spec["m_t"]), E=E, nu=spec["nu"], c_n=spec["c_n"], c_tau=spec["c_tau"],
                                      K=50 * E / 1000)[0]
+    if family == "strip":
+        return dataclasses.replace(strip(E0=E, E1=100 * E, c_n=spec["c_n"], m_n=spec["m_n"], c_tau=spec["c_tau"],
+                                         m_t=spec["m_t"], pressure=0.1 * E).problem, nu=spec["nu"])
     x = ngs.x
     return dataclasses.replace(BASES[family](), nu=spec["nu"], E=E * (1 + x / 4) if spec["E_varies"] else E,
                                c_n=spec["c_n"] * (1 + x) if spec["c_n_varies"] else spec["c_n"], m_n=spec["m_n"],
@@ -272,6 +297,8 @@ def adapt_base(family):
         return contact_manufactured()[0]
     if family == "friction":
         return friction_manufactured(m_t=1)[0]
+    if family == "strip":
+        return strip().problem
     return BASES[family]()
 
 

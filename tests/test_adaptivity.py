@@ -1,4 +1,5 @@
 import csv
+import dataclasses
 import subprocess
 import sys
 import time
@@ -9,6 +10,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.adaptivity import _out_of_time, choose_method
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -147,3 +149,70 @@ def test_solver_tol_reaches_every_solve_and_finish(monkeypatch):
         monkeypatch.setattr(ndf.adaptivity, name, spy)
     ndf.adapt(ndf.example_6_2(), max_levels=3, gamma_lin=0.1, solver_tol=1e-12, progress=None)
     assert {name for name, _ in seen} == {"solve", "finish"} and {tol for _, tol in seen} == {1e-12}
+
+
+def readme_loop():
+    """The code block under "The paper's loop, by hand" in README.md."""
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    section = text.split("## The paper's loop, by hand", 1)[1]
+    return section.split("```python\n", 1)[1].split("```", 1)[0]
+
+
+def test_the_hand_written_loop_of_the_readme_runs_and_equals_adapt(capsys):
+    # the README's SOLVE -> ESTIMATE -> MARK -> REFINE loop, as written there, with every Solution kept
+    # across the refinements that follow it (it used to crash: "active_dofs size doesn't match FESpace")
+    namespace = {}
+    exec(compile(readme_loop(), "README.md", "exec"), namespace)
+    printed = [line.split() for line in capsys.readouterr().out.splitlines()]
+    sol, mesh = namespace["sol"], namespace["mesh"]
+    assert len(printed) == 8 and mesh.ne > sol.mesh.ne  # refined after the last solve; sol has its own mesh
+    again = ndf.estimate(sol, weights="paper")
+    assert again.eta_h == pytest.approx(float(printed[-1][2]), rel=1e-12)
+    assert ndf.kkt_residuals(sol)["equilibrium"] < 1e-10
+    run = ndf.adapt(ndf.example_6_1(), method="sipg", order=1, hp=False, theta=0.3, weights="paper", max_levels=8,
+                    progress=None)
+    assert [r["ndof"] for r in run.levels] == [int(row[1]) for row in printed]
+    assert [r["eta_h"] for r in run.levels] == pytest.approx([float(row[2]) for row in printed], rel=1e-8)
+
+
+def test_solutions_kept_by_adapt_stay_valid_after_the_mesh_is_refined():
+    kept = []
+    ndf.adapt(ndf.example_6_2(), max_levels=4, progress=None, keep=lambda level, sol, est: kept.append((sol, est)))
+    for sol, est in kept:
+        assert ndf.estimate(sol).eta_h == pytest.approx(est.eta_h, rel=1e-10)
+        assert ndf.energy_norm(sol) > 0
+
+
+def test_adapt_chooses_a_method_that_does_not_lock_and_says_why():
+    run = ndf.adapt(dataclasses.replace(ndf.example_6_1(), nu=0.4999), max_levels=1, progress=None)
+    assert run.method == "bassi" and "nu reaches 0.4999" in run.method_reason
+    assert run.solution.method == "bassi"
+    run = ndf.adapt(ndf.example_6_1(), max_levels=1, progress=None)
+    assert run.method == "sipg" and "default" in run.method_reason
+    given = ndf.adapt(dataclasses.replace(ndf.example_6_1(), nu=0.4999), method="brezzi", max_levels=1,
+                      progress=None)
+    assert (given.method, given.method_reason) == ("brezzi", "given")
+    # the switch is where SIPG's default penalty would be raised: t_2 (2 mu + lam) >= 30 mu from nu = 0.4604
+    assert choose_method(dataclasses.replace(ndf.example_6_1(), nu=0.46), None, 2)[0] == "sipg"
+    assert choose_method(dataclasses.replace(ndf.example_6_1(), nu=0.461), None, 2)[0] == "bassi"
+
+
+def test_adapt_stops_before_a_level_that_would_end_after_max_seconds():
+    run = ndf.adapt(ndf.example_6_1(), max_seconds=1e-9, progress=None)  # the first level always runs
+    assert run.stopped == "max_seconds" and len(run.levels) == 1 and run.solution.state is None
+    assert ndf.adapt(ndf.example_6_1(), max_seconds=1e9, max_levels=3, progress=None).stopped == "max_levels"
+    with pytest.raises(ValueError, match="max_seconds must be a positive number or None, got -1"):
+        ndf.adapt(ndf.example_6_1(), max_seconds=-1)
+
+
+def test_the_time_limit_predicts_the_next_level_from_the_growth_in_dofs():
+    class Sol:
+        ndof = 3000
+
+    start = time.perf_counter()
+    records = [dict(ndof=1000)]
+    # 1 s so far (this level included), this level took 2 s and tripled the DOFs: the next would end at 1 + 6 s
+    assert _out_of_time(records, Sol, dict(solve=1.5, estimate=0.5), start - 1.0, 6.5)
+    assert not _out_of_time(records, Sol, dict(solve=1.5, estimate=0.5), start - 1.0, 7.5)
+    assert _out_of_time([], Sol, dict(solve=1.0), start, 1.5)  # first level: growth 2 assumed, ends near 2 s
+    assert not _out_of_time(records, Sol, dict(solve=1.0), start, None)

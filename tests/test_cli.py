@@ -2,6 +2,7 @@
 
 import csv
 import dataclasses
+import inspect
 from pathlib import Path
 
 import ngsolve as ngs
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.cli import main
+from ngdgfric.cli import build_parser, main
 from ngdgfric.problem_file import example_file, load_problem, tomllib
 
 H = 0.25
@@ -71,6 +72,34 @@ def test_solve_command_matches_the_api(tmp_path, capsys):
     assert float(printed[0]["eta_h"]) == pytest.approx(expected["eta_h"], rel=1e-9)
 
 
+def test_the_command_line_has_the_libraries_defaults():
+    # one source: every option of `adaptive` and `solve` defaults to the keyword of ndf.adapt / ndf.solve
+    adaptive = build_parser().parse_args(["adaptive", "6.1"])
+    options = dict(method="method", order="order", theta="theta", levels="max_levels", max_ndof="max_ndof",
+                   tol="tol", hp="hp", max_order="max_order", weights="weights", solver="solver",
+                   max_seconds="max_seconds", eta="eta", solver_tol="solver_tol")
+    signature = inspect.signature(ndf.adapt).parameters
+    assert {name: getattr(adaptive, name) for name in options} == {
+        name: signature[keyword].default for name, keyword in options.items()}
+    assert (adaptive.order, adaptive.theta, adaptive.levels, adaptive.max_ndof, adaptive.hp) == (2, 0.5, 100, 10**6,
+                                                                                                 True)
+    solve = build_parser().parse_args(["solve", "6.1"])
+    signature = inspect.signature(ndf.solve).parameters
+    keywords = ("method", "order", "solver")
+    assert (solve.method, solve.order, solve.solver) == tuple(signature[k].default for k in keywords)
+
+
+def test_an_adaptive_run_that_stops_before_its_tolerance_exits_with_4(tmp_path, capsys):
+    assert main(["adaptive", "6.2", "--levels", "2", "--tol", "1e-9", "--out", str(tmp_path)]) == 4
+    err = capsys.readouterr().err
+    assert "stopped before --tol 1e-09 (--levels reached): eta_h = " in err and "after 2 levels" in err
+    assert (tmp_path / "6_2_adaptive_auto_p2_hp.csv").exists()  # the levels done are written
+    assert main(["adaptive", "6.2", "--tol", "1e3", "--out", str(tmp_path), "--overwrite"]) == 0
+    assert main(["adaptive", "6.2", "--no-hp", "--order", "1", "--max-seconds", "1e-9", "--tol", "1e-9",
+                 "--out", str(tmp_path)]) == 4
+    assert "(--max-seconds reached)" in capsys.readouterr().err
+
+
 def test_uniform_and_adaptive_commands(tmp_path, capsys):
     assert main(["uniform", "6.2", "--levels", "2", "--method", "sipg", "nipg", "--out", str(tmp_path)]) == 0
     with open(tmp_path / "6_2_uniform.csv") as handle:
@@ -78,20 +107,21 @@ def test_uniform_and_adaptive_commands(tmp_path, capsys):
     assert [r["method"] for r in rows] == ["sipg", "nipg"]
     assert "| sipg | 2^-1 |" in (tmp_path / "6_2_uniform.md").read_text()
     assert main(["adaptive", "6.1", "--levels", "3", "--out", str(tmp_path)]) == 0
-    assert capsys.readouterr().out.count("level ") == 3
-    with open(tmp_path / "6_1_adaptive_sipg_p1.csv") as handle:
+    out = capsys.readouterr().out
+    assert out.count("level ") == 3 and "method sipg: the default" in out
+    with open(tmp_path / "6_1_adaptive_auto_p2_hp.csv") as handle:
         levels = list(csv.DictReader(handle))
     assert [int(r["level"]) for r in levels] == [0, 1, 2]
-    assert (tmp_path / "6_1_adaptive_sipg_p1.png").stat().st_size > 0
+    assert (tmp_path / "6_1_adaptive_auto_p2_hp.png").stat().st_size > 0
     # a re-run with other options does not touch an earlier run's output unless asked to
-    before = (tmp_path / "6_1_adaptive_sipg_p1.csv").read_bytes()
+    before = (tmp_path / "6_1_adaptive_auto_p2_hp.csv").read_bytes()
     assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path)]) == 2
     assert "--overwrite" in capsys.readouterr().err
-    assert (tmp_path / "6_1_adaptive_sipg_p1.csv").read_bytes() == before
+    assert (tmp_path / "6_1_adaptive_auto_p2_hp.csv").read_bytes() == before
     # --weights paper: the same loop with the estimator of Section 4 as printed (larger: E = 2000)
     assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path),
                  "--overwrite"]) == 0
-    with open(tmp_path / "6_1_adaptive_sipg_p1.csv") as handle:
+    with open(tmp_path / "6_1_adaptive_auto_p2_hp.csv") as handle:
         paper = list(csv.DictReader(handle))
     assert float(paper[0]["eta_h"]) > 20 * float(levels[0]["eta_h"])
 

@@ -12,6 +12,7 @@ from ngdgfric.contact import rounding_residual
 from ngdgfric.solution import finish
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.studies.manufactured import contact_manufactured
+from ngdgfric.studies.scenes import strip
 
 
 def assert_kkt_at_roundoff(sol):
@@ -205,3 +206,17 @@ def test_hp_mesh_with_redundant_contact_points_is_solved_by_the_proximal_point_m
     assert any(step.startswith("proximal") for step in sol.info["steps"])
     assert_kkt_at_roundoff(sol)
     assert max_rel_diff(sol, ndf.solve(p, mesh, order=orders, solver="uzawa", solver_tol=1e-12)) <= 1e-7
+
+
+@pytest.mark.parametrize("method", ["sipg", "nipg", "brezzi"])
+def test_varying_material_with_a_penetration_dependent_bound_is_solved(method):
+    # the bimaterial strip of issue 26 (E = 1e3 / 1e5, c_n = 1e6, m_n = 2, c_tau = 10, m_t = 1, P2): the inner
+    # solves T(f) of the coupled Newton method had a hard-coded solver_tol = 1e-13 and stalled at 5e-10
+    scene = strip()
+    mesh = scene.mesh(0)
+    sol = ndf.solve(scene.problem, mesh, method=method, order=2)
+    assert_kkt_at_roundoff(sol)
+    fixed_point = ndf.solve(scene.problem, mesh, method=method, order=2, solver="fixed_point", solver_tol=1e-10)
+    assert max_rel_diff(sol, fixed_point) <= 1e-8  # an independent iteration on the same discrete problem
+    loose = ndf.solve(scene.problem, mesh, method=method, order=2, solver_tol=1e-3)
+    assert loose.info["residual"] <= 1e-3 and loose.iterations <= sol.iterations

@@ -117,3 +117,22 @@ def test_error_against_itself_is_its_jump_part(saved):
     _, jumps = energy_norm_squared_parts(problem, reference.mesh, reference.u)
     assert errors["energy_volume"] < 1e-12 * ndf.energy_norm(reference)
     assert errors["energy"] == pytest.approx(jumps**0.5, rel=1e-12)
+
+
+def test_data_given_as_functions_work_in_the_true_error_tools(tmp_path):
+    # E and nu as CoefficientFunctions (energy_error used to raise TypeError: lam times a numpy array)
+    problem = dataclasses.replace(ndf.example_6_2(), E=2500 * (1 + 0.1 * ngs.x), nu=0.3 + 0.05 * ngs.y)
+    fine = ndf.solve(problem, ndf.uniform_mesh(problem, 0.125), order=3)
+    ndf.save_reference(fine, tmp_path / "varying.npz", eta_h=1.0)
+    reference = ndf.load_reference(tmp_path / "varying.npz", problem)
+    coarse = ndf.solve(problem, ndf.uniform_mesh(problem, 0.125), order=1)  # P1 on the reference's mesh
+    errors = reference_errors(coarse, reference)
+    # energy / relative is the reference's own energy (int C eps(u_ref) : eps(u_ref))^(1/2), by point values
+    # of E and nu at the P1 solution's Gauss points; NGSolve integrates the same symbolically
+    own = energy_norm_squared_parts(problem, reference.mesh, reference.u)[0] ** 0.5
+    assert 0 < errors["energy"] < ndf.energy_norm(coarse)
+    assert errors["energy"] / errors["relative"] == pytest.approx(own, rel=1e-6)
+    for other, name in ((dataclasses.replace(problem, nu=0.3), r"\(nu, m_n, m_t\)"),
+                        (dataclasses.replace(problem, nu=0.3 + 0.06 * ngs.y), "nu = ")):
+        with pytest.raises(ValueError, match=name):
+            ndf.load_reference(tmp_path / "varying.npz", other)

@@ -1,10 +1,15 @@
 """solve() and the Solution record: defaults, the warm-start conversion, progress lines, timings."""
 
+import time
+import warnings
+
 import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.errors import TimeLimitError
 from ngdgfric.solution import DEFAULT_SOLVER_TOL, finish
+from ngdgfric.studies.scenes import layers_indented
 from ngdgfric.transfer import WarmStart
 
 
@@ -47,3 +52,26 @@ def test_record_and_progress_lines(example):
 def test_unknown_solver_is_refused_before_assembly():
     with pytest.raises(ValueError, match="solver must be one of"):
         ndf.solve(ndf.example_6_1(), None, solver="gauss-seidel")
+
+
+@pytest.mark.parametrize("solver", ["newton", "uzawa", "fixed_point"])
+def test_a_time_limit_stops_every_solver_with_a_named_error(example, solver):
+    p, mesh = example
+    start = time.perf_counter()
+    with pytest.raises(TimeLimitError, match=r"stopped at its time limit \(max_seconds\) after \d+ iterations"):
+        ndf.solve(p, mesh, solver=solver, max_seconds=1e-6)
+    assert time.perf_counter() - start < 5
+    with pytest.raises(ValueError, match="max_seconds must be a positive finite number"):
+        ndf.solve(p, mesh, solver=solver, max_seconds=0)
+    assert issubclass(TimeLimitError, ndf.SolverError)
+
+
+def test_a_body_loaded_by_a_penetration_only_has_kkt_residuals_at_round_off():
+    # f = 0 and g = 0: the residual was divided by ||F|| = 0 (1e285) and the solver warned of an overflow
+    scene = layers_indented(E1=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sol = ndf.solve(scene.problem, scene.mesh(1), order=2)
+        kkt = ndf.kkt_residuals(sol)
+    assert kkt["equilibrium"] <= 1e-12 and kkt["complementarity"] <= 1e-14
+    assert ndf.energy_norm(sol, scene.exact) <= 1e-10 * ndf.energy_norm(sol)
