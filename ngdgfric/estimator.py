@@ -41,6 +41,9 @@ instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an
 discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
 error (measured on :func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured`, NIPG, P3,
 nu = 0.4999, h = 1/16, before the calibration below: effectivity 12.5 with p_h, 5.5 with p~_h).
+Where the material jumps across edges (:attr:`ngdgfric.material.Material.jumps`) the pressure jumps with
+it and is not averaged: the terms use sigma_h(u_h) itself (still divided by 2 mu).
+
 Calibrated constant: every element indicator is multiplied by p_T^(-1/2).  The hp weights h/p
 make residual estimators reliable with a constant independent of p but efficient only up to
 powers of p (Melenk & Wohlmuth, Adv. Comput. Math. 15, 2001), and eta_h / |||u - u_h|||_h grew
@@ -195,14 +198,17 @@ def estimate(sol, weights="energy"):
 
 def _stress_and_volume_term(sol, weights, q):
     """(sigma, the neighbour's sigma, the integrals of eta_1^2) for the ``weights`` of :func:`estimate`:
-    sigma_h(u_h) for "paper", sigma~_h = 2 mu eps_h(u_h) + p~_h I for "energy" (mu, lam each element's own)."""
+    sigma_h(u_h) for "paper", sigma~_h = 2 mu eps_h(u_h) + p~_h I for "energy" (mu, lam each element's own),
+    but sigma_h(u_h) where the material jumps: the pressure lam div u jumps there too, and a continuous
+    p~_h would leave ||p_h - p~_h|| = O(1) along the interface (eta_h falling like N^(-1/2), seen on a
+    bimaterial strip)."""
     problem, u, disc = sol.problem, sol.u, sol.discretization
     material = disc.material
     h_T = ngs.GridFunction(ngs.L2(sol.mesh, order=0))
     h_T.vec.FV().NumPy()[:] = element_diameters(sol.mesh)
     zero = ngs.CF((0, 0))
     varying = disc.order > 1 or not material.constant  # div sigma_h(u_h) = 0 for P1 and a constant material
-    if weights == "paper":
+    if weights == "paper" or material.jumps:
         residual = coefficient(problem.f) + (div_stress(material, u) if varying else zero)
         volume = (h_T / disc.p) ** 2 * residual * residual * ngs.dx(bonus_intorder=q)
         sigma = stress(material.own, strain(u))

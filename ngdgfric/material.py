@@ -133,18 +133,24 @@ class Material:
     ``own``: the :class:`Lame` parameters of the element integrated over (numbers, or L2 GridFunctions);
     ``neighbour``: those of the element across an interior edge (``Other()``); ``constant``: E and nu are
     numbers (then ``own`` and ``neighbour`` hold the same numbers and nothing is projected);
-    ``unresolved``: the number of elements on which varying data were replaced by their means.
+    ``unresolved``: the number of elements on which varying data were replaced by their means; ``jumps``:
+    the material differs across some interior edge (a jump along the mesh, or element means of one that
+    cuts elements), so that stresses and the pressure jump there.
     """
 
     def __init__(self, problem, mesh, order):
         self.constant = _is_number(problem.E) and _is_number(problem.nu)
-        self.unresolved = 0
+        self.unresolved, self.jumps = 0, False
         if self.constant:
             self.own = self.neighbour = Lame(problem.mu, problem.lam)
             return
         mu, lam, self.unresolved = element_fields(problem, mesh, order)
         self.own = Lame(mu, lam)
         self.neighbour = Lame(mu.Other(), lam.Other())
+        if mu.space.globalorder == 0:
+            jump = self.own.stiffness - self.neighbour.stiffness
+            size = ngs.Integrate(jump * jump * ngs.dx(element_boundary=True), mesh)
+            self.jumps = bool(size > 1e-20 * ngs.Integrate(self.own.stiffness**2 * ngs.dx(element_boundary=True), mesh))
 
     @property
     def mu(self):
