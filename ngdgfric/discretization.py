@@ -94,12 +94,12 @@ class Discretization:
         if not isinstance(problem, ContactProblem):
             raise ValueError(f"problem must be a ContactProblem, got {problem!r}")
         check_mesh(problem, mesh)
+        self.problem, self.mesh = problem, mesh
         self.method = get_method(method)
         order = check_order(order, mesh)
         self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
         check_size(self.orders, max_ndof)
         check_data(problem, mesh, int(self.orders.max()))
-        self.problem, self.mesh = problem, mesh
         self.order = int(self.orders.max())
         self.p = self.order if np.ndim(order) == 0 or np.all(order == self.order) else order_function(mesh, order)
         lowest = int(self.orders.min())  # the lowest order has the highest SIPG threshold
@@ -108,7 +108,8 @@ class Discretization:
         self.penalty = penalty(self.method, self.material, eta, lowest)
         varying_default = eta is None and not self.material.constant and self.method.penalty == "edge"
         self.eta = self.penalty if varying_default else self.penalty.boundary
-        check_penalty(self._largest_law(), self.method, self.eta, lowest, penalty_check)
+        check_penalty(self.problem if eta is None else self._largest_law(), self.method, self.eta, lowest,
+                      penalty_check)
         self.timings = {}
         self._gauss = self._traces = None
         start = time.perf_counter()
@@ -123,7 +124,7 @@ class Discretization:
         self.timings["setup"] = time.perf_counter() - start
 
     def _largest_law(self):
-        """The Lame parameters the penalty check uses: the problem's, or the largest on the mesh."""
+        """The Lame parameters a given eta is checked with: the problem's, or the largest on the mesh."""
         if self.material.constant:
             return self.problem
         return Lame(*(self.material.largest(lambda law, name=name: getattr(law, name), self.mesh)

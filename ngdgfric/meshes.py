@@ -256,10 +256,10 @@ def refine(mesh, marked, bisections=1):
 
 def snapshot(mesh):
     """A copy of ``mesh`` with the same vertices and elements in the same order (Netgen's ``Copy``, which
-    keeps the refinement data: the copy refines as the mesh would).  A discretisation lives on its own
-    snapshot, so that refining the mesh it was given (which updates the spaces still alive on that mesh,
-    and renumbers its elements) leaves its solutions valid: 0.08 s for 1.3e5 triangles.  Anything but an
-    NGSolve mesh is returned as it is (for :func:`check_mesh` to name)."""
+    keeps the refinement data: the copy refines as the mesh would).  A solution (:func:`ngdgfric.solve`) lives
+    on its own snapshot, so that refining the mesh it was given (which updates the spaces still alive on that
+    mesh, and renumbers its elements) leaves it valid: 0.08 s for 1.3e5 triangles.  Anything but an NGSolve
+    mesh is returned as it is (for :func:`check_mesh` to name)."""
     return ngs.Mesh(mesh.ngmesh.Copy()) if isinstance(mesh, ngs.Mesh) else mesh
 
 

@@ -89,7 +89,7 @@ MAX_LENGTH = 1000
 # section: {key: kind}; kind "scalar" (number or expression), "vector" (pair of those), "number",
 # "name", "points", "names"; keys in REQUIRED must be present
 SCHEMA = {
-    "material": {"E": "scalar", "nu": "number"},
+    "material": {"E": "scalar", "nu": "scalar"},
     "geometry": {"vertices": "points", "labels": "names"},
     "boundaries": {"dirichlet": "name", "traction": "name", "contact": "name"},
     "loads": {"f": "vector", "g": "vector"},

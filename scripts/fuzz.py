@@ -532,7 +532,8 @@ def file_cases():
         "boundary-empty": ('[boundaries] dirichlet = ""', toml({"boundaries.dirichlet": '""'}), ["dirichlet"]),
         "boundary-same": ('[boundaries] dirichlet = "contact"', toml({"boundaries.dirichlet": '"contact"'}),
                           ["dirichlet", "contact", "boundaries"]),
-        "expr-in-nu": ('nu = "0.4" (an expression where a number is needed)', toml({"material.nu": '"0.4"'}), ["nu"]),
+        "expr-in-nu": ('nu = "0.4 + 0.2*x" (an expression that reaches 0.6)', toml({"material.nu": '"0.4 + 0.2*x"'}),
+                       ["nu"]),
     }
     for kind, (description, text, expect) in structure.items():
         cases.append(cli_toml(f"toml-{kind}", f"problem file: {description}", text, expect=expect))

@@ -2,6 +2,7 @@
 
 import importlib
 
+import numpy as np
 import pytest
 
 
@@ -109,3 +110,18 @@ def test_time_to_accuracy(tmp_path):
         assert row["ratio"] == pytest.approx(row["loop_seconds"] / row["linear_seconds"])
     for name in ("time_to_accuracy.csv", "time_to_accuracy.md", "time_to_accuracy.png"):
         assert (tmp_path / name).stat().st_size > 0
+
+
+def test_scenes(tmp_path):
+    # three scenes, two methods, P1, two meshes, coarse references: the exact solution across an aligned jump
+    # is reproduced, the cut jump converges, the L-shape is measured against its hp reference, adapt reaches tol
+    rows, adapts = run("scenes", tmp_path, "--workers", "1", "--scene", "layers-indented", "layers-cut", "l-shape")
+    assert all(r["status"] == "solved" for r in rows) and len(rows) == 3 * 2 * 2
+    assert all(r["relative"] <= 1e-10 for r in rows if r["scene"] == "layers-indented")
+    cut = [r["error"] for r in rows if r["scene"] == "layers-cut" and r["method"] == "sipg"]
+    assert 0.4 < np.log(cut[0] / cut[1]) / np.log(4) < 0.8  # h^(1/2): h = 1/2 -> 1/8
+    assert all(r["equilibrium"] <= 10 * max(r["rounding"], 1e-14) for r in rows)
+    shape = [a for a in adapts if a["scene"] == "l-shape"][0]
+    assert shape["stopped"] == "tol" and shape["error"] <= shape["tol"]
+    text = (tmp_path / "scenes.md").read_text()
+    assert "12 solves, 0 failures" in text and "| exact |" in text and "Regenerate" in text

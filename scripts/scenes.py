@@ -1,0 +1,296 @@
+"""Scenes a user writes every day, beyond the paper's two rectangles (issue 26): results/scenes.md/.csv.
+
+Nine scenes of :mod:`ngdgfric.studies.scenes`: material jumps along the mesh (three exact piecewise
+linear solutions, one loaded by a penetration only) and across it (an exact solution with a kink inside
+elements), a re-entrant corner, a block on a rigid cylinder (compared with Hertz theory), a nearly
+incompressible body (exact divergence-free solution, nu = 0.4999), a bimaterial strip with the
+penetration-dependent friction bound (m_t = 1) and a wedge meshed by Netgen with 6.6 degree triangles.
+
+For every scene, method (the five of Section 3) and p = 1, 2, 3, the scene's family of meshes is solved
+with the default solver and measured: the true energy error |||u - u_h|||_h (against the exact solution,
+or against an hp reference computed here by hp-adaptive SIPG to a relative estimated error of
+``REFERENCE_RTOL``), its observed rate in h, the estimator eta_h and its effectivity eta_h / error, the
+KKT residuals of Lemma 3.1 against the round-off floor (``ndf.contact.rounding_residual``), Newton
+iterations and seconds.  Then ``ndf.adapt(problem, tol=rtol |||u|||)`` with its defaults (method chosen by
+the library) and its true error against tol.
+
+    python scripts/scenes.py [--quick] [--scene NAME ...] [--workers N] [--out DIR]
+"""
+
+import argparse
+import math
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+from common import RESULTS, command_line, in_processes, run_script, say, write_csv
+
+import ngdgfric as ndf
+from ngdgfric.contact import contact_state, rounding_residual
+from ngdgfric.files import write_text
+from ngdgfric.methods import METHODS
+from ngdgfric.output import markdown_table
+from ngdgfric.studies import slope
+from ngdgfric.studies.scenes import (
+    columns,
+    hertz,
+    hertz_solution,
+    incompressible,
+    l_shape,
+    layers_indented,
+    layers_pressure,
+    strip,
+    wedge,
+)
+
+# ============================================================================ PARAMETERS
+SCENES = {"layers-pressure": layers_pressure, "layers-indented": layers_indented, "columns": columns,
+          "layers-cut": lambda: layers_indented(c=1 / 3), "l-shape": l_shape, "hertz": hertz,
+          "incompressible": incompressible, "strip-mt": strip, "wedge": wedge}
+ORDERS = (1, 2, 3)
+RTOL = {"layers-cut": 0.1}  # adapt's target relative to |||u|||; 1e-2 elsewhere (h^(1/2) where a jump cuts elements)
+DEFAULT_RTOL = 1e-2
+REFERENCE_RTOL, REFERENCE_MAX_NDOF = 1e-5, 400_000  # the hp references: eta_h <= 1e-5 |||u|||
+QUICK = dict(orders=(1,), methods=("sipg", "bassi"), levels=2, reference_rtol=1e-3, rtol=0.1)
+FIELDS = ["scene", "method", "order", "level", "ndof", "error", "relative", "eta_h", "effectivity", "iterations",
+          "seconds", "lam_excess", "complementarity", "equilibrium", "rounding", "status", "warnings"]
+ADAPT_FIELDS = ["scene", "method", "tol", "stopped", "levels", "ndof", "p_max", "seconds", "eta_h", "error",
+                "error_over_tol", "in_band"]
+
+
+def parse(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="two methods, P1, two meshes, coarse references")
+    parser.add_argument("--scene", nargs="+", choices=sorted(SCENES), default=list(SCENES))
+    parser.add_argument("--workers", type=int, default=2, help="processes (default 2; 1: no pool)")
+    parser.add_argument("--out", type=Path, default=RESULTS)
+    return parser.parse_args(argv)
+
+
+# ============================================================================ REFERENCES
+def reference_path(out, name, quick):
+    folder = out / ".cache" / "scenes"
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder / f"{name}{'_quick' * quick}.npz"
+
+
+def make_reference(name, path, rtol):
+    """The hp reference of a scene without an exact solution: hp-adaptive SIPG (the library's defaults) to
+    eta_h <= rtol |||u_h||| (|||u_h||| of a first P2 solve), stored at ``path`` (kept: a rerun reuses it)."""
+    scene = SCENES[name]()
+    if not path.exists():
+        scale = ndf.energy_norm(ndf.solve(scene.problem, scene.mesh(0), order=2))
+        start = time.perf_counter()
+        run = ndf.adapt(scene.problem, scene.mesh(0), method="sipg", tol=rtol * scale, max_ndof=REFERENCE_MAX_NDOF,
+                        progress=None)
+        ndf.save_reference(run.solution, path, run.estimate.eta_h,
+                           description=f"hp SIPG, {len(run.levels)} levels, {run.solution.ndof} DOFs, "
+                                       f"{time.perf_counter() - start:.0f} s, stopped: {run.stopped}")
+    return ndf.load_reference(path, scene.problem)
+
+
+def true_error(scene, reference):
+    """The function sol -> |||u - u_h|||_h of a scene (exact solution or reference)."""
+    if scene.exact is not None:
+        return lambda sol: ndf.energy_norm(sol, scene.exact)
+    return lambda sol: ndf.energy_error(sol, reference)
+
+
+# ============================================================================ ONE CASE
+def run_case(item):
+    """All meshes of one (scene, method, order): rows of FIELDS."""
+    name, method, order, levels, reference_file = item
+    scene = SCENES[name]()
+    reference = None if reference_file is None else ndf.load_reference(reference_file, scene.problem)
+    error_of, rows = true_error(scene, reference), []
+    for level in range(levels):
+        row = dict(scene=name, method=method, order=order, level=level, status="failed")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                mesh = scene.mesh(level)
+                start = time.perf_counter()
+                sol = ndf.solve(scene.problem, mesh, method=method, order=order)
+                row["seconds"] = time.perf_counter() - start
+            except ndf.SolverError as error:
+                rows.append(dict(row, status=f"failed: {str(error)[:100]}"))
+                continue
+        est, error = ndf.estimate(sol), error_of(sol)
+        kkt = ndf.kkt_residuals(sol)
+        row.update(ndof=sol.ndof, error=error, relative=error / ndf.energy_norm(sol), eta_h=est.eta_h,
+                   effectivity=est.eta_h / error if error > 1e-9 * ndf.energy_norm(sol) else None,
+                   iterations=sol.iterations, rounding=rounding_residual(sol), status="solved", **kkt,
+                   warnings="; ".join(sorted({type(w.message).__name__ for w in caught})))
+        rows.append(row)
+    return rows
+
+
+def run_adapt(item):
+    """``ndf.adapt`` with its defaults to tol = rtol |||u|||: a row of ADAPT_FIELDS (and the Hertz data)."""
+    name, rtol, reference_file, max_ndof = item
+    scene = SCENES[name]()
+    reference = None if reference_file is None else ndf.load_reference(reference_file, scene.problem)
+    scale = ndf.energy_norm(reference) if reference is not None else \
+        ndf.energy_norm(ndf.solve(scene.problem, scene.mesh(scene.levels - 1), order=3))
+    tol = rtol * scale
+    start = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = ndf.adapt(scene.problem, scene.mesh(0), tol=tol, max_ndof=max_ndof, progress=None)
+    seconds = time.perf_counter() - start
+    error = true_error(scene, reference)(run.solution)
+    row = dict(scene=name, method=run.method, tol=tol, stopped=run.stopped, levels=len(run.levels),
+               ndof=run.solution.ndof, p_max=run.levels[-1]["p_max"], seconds=seconds, eta_h=run.estimate.eta_h,
+               error=error, error_over_tol=error / tol, in_band=bool(tol / 10 <= error <= tol))
+    if name == "hertz":
+        row["hertz"] = hertz_comparison(scene, reference if reference is not None else run.solution)
+    return row
+
+
+def hertz_comparison(scene, solution):
+    """Contact force P, half-width a and peak pressure p0 of ``solution`` (a Reference or Solution of the Hertz
+    scene) against Hertz theory for the same P: a dict."""
+    sol = solution if isinstance(solution, ndf.Solution) else \
+        ndf.solve(scene.problem, solution.mesh, order=np.asarray(solution.orders, dtype=np.int64))
+    state = contact_state(sol)
+    disc = sol.discretization
+    weights = disc.traces.omega
+    force = float(np.sum(weights * state["pressure"]))
+    problem = scene.problem
+    a, p0 = hertz_solution(force, problem.E, problem.nu, radius=1.0)
+    touching = state["pressure"] > 1e-6 * state["pressure"].max()
+    width = float(np.max(np.abs(state["x"][touching])))
+    peak = float(state["pressure"].max())
+    inside = np.abs(state["x"]) < a
+    profile = p0 * np.sqrt(np.clip(1 - (state["x"] / a) ** 2, 0, None))
+    return dict(force=force, a=width, a_hertz=a, p0=peak, p0_hertz=p0,
+                profile=float(np.max(np.abs(state["pressure"][inside] - profile[inside])) / p0))
+
+
+# ============================================================================ REPORT
+INTRO = ("Scenes of `ngdgfric.studies.scenes` beyond the paper's rectangles, each solved by the five DG methods "
+         "at p = 1, 2, 3 on a family of meshes (the default solver), then by `ndf.adapt(problem, tol)` with its "
+         "defaults.  Errors are true energy errors |||u - u_h|||_h against the exact solution or an hp reference "
+         "(hp-adaptive SIPG far below the errors studied), relative to |||u_h|||_h; the rate is the observed "
+         "order in h over the last two meshes (\"exact\": the solution lies in V_h and every level is at "
+         "round-off); eta_h / error is the effectivity of the default estimator where the error is above "
+         "round-off.")
+def rate(rows):
+    """The observed rate in h from the last two solved levels, -2 d log(error) / d log(DOFs), formatted;
+    "exact" where every level is at round-off (relative error <= 1e-10)."""
+    solved = [r for r in rows if r["status"] == "solved" and r["error"] > 0]
+    if solved and all(r["relative"] <= 1e-10 for r in solved):
+        return "exact"
+    if len(solved) < 2:
+        return "-"
+    return f"{-2 * slope([r['ndof'] for r in solved[-2:]], [r['error'] for r in solved[-2:]]):.2f}"
+
+
+def fmt(value, spec=".2e"):
+    return "-" if value is None or (isinstance(value, float) and math.isnan(value)) else format(value, spec)
+
+
+def scene_table(name, rows):
+    """Markdown rows for one scene: method, p, errors on the levels, rate, effectivities, iterations, seconds,
+    KKT equilibrium / round-off floor."""
+    lines = []
+    for method in dict.fromkeys(r["method"] for r in rows):
+        for order in sorted({r["order"] for r in rows if r["method"] == method}):
+            case = [r for r in rows if r["method"] == method and r["order"] == order]
+            solved = [r for r in case if r["status"] == "solved"]
+            effectivity = [r["effectivity"] for r in solved if r["effectivity"] is not None]
+            ratio = max((r["equilibrium"] / max(r["rounding"], 1e-14) for r in solved), default=None)
+            lines.append((method, order, " / ".join(fmt(r["relative"]) for r in solved) or "-",
+                          rate(case), f"{min(effectivity):.2f}-{max(effectivity):.2f}" if effectivity
+                          else "-", max((r["iterations"] for r in solved), default="-"),
+                          fmt(sum(r["seconds"] for r in solved), ".2f"), fmt(ratio, ".2g"),
+                          len(case) - len(solved)))
+    header = ["method", "p", "relative errors (levels)", "rate", "eta_h / error", "Newton its", "seconds",
+              "equilibrium / round-off", "failures"]
+    return markdown_table(header, lines)
+
+
+def write_report(out, rows, adapts, references, quick):
+    failures = [r for r in rows if r["status"] != "solved"]
+    solved = [r for r in rows if r["status"] == "solved"]
+    worst_kkt = max(r["equilibrium"] / max(r["rounding"], 1e-14) for r in solved)
+    worst_lam = max(r["lam_excess"] for r in solved)
+    worst_comp = max(r["complementarity"] for r in solved)
+    lines = [f"# User scenes{' (quick run)' * quick}", "", f"Regenerate with `{command_line()}`.", "",
+             INTRO, "",
+             f"**{len(rows)} solves, {len(failures)} failures**; KKT residuals of Lemma 3.1: |lam_tau| - 1 <= "
+             f"{worst_lam:.1e}, complementarity <= {worst_comp:.1e}, equilibrium at most {worst_kkt:.2g} times the "
+             "round-off floor (the equilibrium residual of u_h rounded once more).", "",
+             "## The scenes", "",
+             markdown_table(["scene", "what", "measured against"],
+                            [(name, SCENES[name]().description, references[name]) for name in
+                             dict.fromkeys(r["scene"] for r in rows)]), ""]
+    for name in dict.fromkeys(r["scene"] for r in rows):
+        lines += [f"## {name}", "", SCENES[name]().description + ".", "",
+                  scene_table(name, [r for r in rows if r["scene"] == name]), ""]
+    lines += ["## `adapt(problem, tol)` with its defaults", "",
+              "tol = rtol |||u||| (rtol = 1e-2; 1e-1 for the jump that cuts elements, where every method converges "
+              "like h^(1/2)); the method is the library's choice.", "",
+              markdown_table(["scene", "method", "tol", "stopped", "levels", "DOFs", "p max", "seconds", "eta_h",
+                              "true error", "error / tol", "in [tol/10, tol]"],
+                             [(a["scene"], a["method"], fmt(a["tol"]), a["stopped"], a["levels"], a["ndof"],
+                               a["p_max"], f"{a['seconds']:.1f}", fmt(a["eta_h"]), fmt(a["error"]),
+                               f"{a['error_over_tol']:.3g}", "yes" if a["in_band"] else "no") for a in adapts]), ""]
+    hertz_rows = [a["hertz"] for a in adapts if "hertz" in a]
+    if hertz_rows:
+        h = hertz_rows[0]
+        lines += ["## Hertz", "", "The contact of the hp reference against Hertz's line contact of a rigid cylinder "
+                  "(R = 1) on an elastic half-space in plane strain for the same total force P (Johnson, Contact "
+                  "Mechanics, Section 4.2); the block is finite (2 x 1, clamped on top) and the contact compliant "
+                  "(c_n = 1e3 E), so a few per cent are expected.", "",
+                  markdown_table(["P", "half-width a", "Hertz a", "peak p0", "Hertz p0", "max |p - p_Hertz| / p0"],
+                                 [(fmt(h["force"], ".4e"), fmt(h["a"], ".4f"), fmt(h["a_hertz"], ".4f"),
+                                   fmt(h["p0"], ".4e"), fmt(h["p0_hertz"], ".4e"), f"{h['profile']:.3f}")]), ""]
+    write_text(out / "scenes.md", "\n".join(lines))
+
+
+# ============================================================================ MAIN
+def main(argv=None):
+    args = parse(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    methods = QUICK["methods"] if args.quick else list(METHODS)
+    orders = QUICK["orders"] if args.quick else ORDERS
+    references, files = {}, {}
+    for name in args.scene:
+        scene = SCENES[name]()
+        if scene.exact is not None:
+            references[name], files[name] = "exact solution", None
+            continue
+        path = reference_path(args.out, name, args.quick)
+        reference = make_reference(name, path, QUICK["reference_rtol"] if args.quick else REFERENCE_RTOL)
+        files[name] = str(path)
+        references[name] = f"hp reference ({reference.u.space.ndof} DOFs, eta_h = {reference.eta_h:.2e})"
+        say(f"reference {name}: {reference.description}")
+    items = [(name, method, order, QUICK["levels"] if args.quick else SCENES[name]().levels, files[name])
+             for name in args.scene for method in methods for order in orders]
+    rows = []
+    for _, case_rows in in_processes(run_case, items, args.workers):
+        rows += case_rows
+        last = case_rows[-1]
+        say(f"{last['scene']} {last['method']} P{last['order']}: {last['status']}, relative error "
+            f"{fmt(last.get('relative'))}")
+        write_csv(args.out / "scenes.csv", rows, FIELDS)
+    order_of = {(name, method, order): k for k, (name, method, order, *_) in enumerate(items)}
+    rows.sort(key=lambda r: (order_of[(r["scene"], r["method"], r["order"])], r["level"]))
+    write_csv(args.out / "scenes.csv", rows, FIELDS)
+    adapt_items = [(name, QUICK["rtol"] if args.quick else RTOL.get(name, DEFAULT_RTOL), files[name],
+                    20_000 if args.quick else 300_000) for name in args.scene]
+    adapts = [None] * len(adapt_items)
+    for index, row in in_processes(run_adapt, adapt_items, args.workers):
+        adapts[index] = row
+        say(f"adapt {row['scene']}: {row['stopped']} after {row['levels']} levels, error / tol = "
+            f"{row['error_over_tol']:.3g}")
+    write_csv(args.out / "scenes_adapt.csv", [{k: a[k] for k in ADAPT_FIELDS} for a in adapts], ADAPT_FIELDS)
+    write_report(args.out, rows, adapts, references, args.quick)
+    say(f"wrote {args.out / 'scenes.md'}")
+    return rows, adapts
+
+
+if __name__ == "__main__":
+    run_script(main)
