@@ -60,6 +60,7 @@ PROXIMAL_START, PROXIMAL_DECREASE = 1e-3, 100.0  # mu_0 and mu_k / mu_{k+1} of t
 # m_t > 0: the inner solves T(f) stop at INNER x the outer relative KKT residual, at most INNER_LOOSEST, at least
 # the outer solver_tol
 INNER, INNER_LOOSEST = 1e-3, 1e-8
+CONTINUATION_BUDGET = 5  # the continuation gives up after this many times maxit iterations in all
 
 
 def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None):
@@ -232,8 +233,10 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None):
     steps in s doubled after a success and halved after a failure, from 1/16.  m_t > 0: s = 1e-6
     (c_tau tiny: the bound map contracts), then s multiplied by a factor (4 at first) that is squared
     after a success and square-rooted after a failure.  Each solve starts from the last solution.
-    Raises the original ``error`` (with a note) when the step (factor) falls below 1/1024 (1.001)."""
-    f, iterations, steps, history = np.zeros(2 * problem.M), 0, [], []
+    Raises the original ``error`` (with a note) when the step (factor) falls below 1/1024 (1.001), or when the
+    iterations of all its solves, failed ones included, pass :data:`CONTINUATION_BUDGET` x maxit (a NIPG problem
+    with c_n / E = 1e8 and m_n = 1.5 took 4000 iterations, a minute, before the step was that small)."""
+    f, iterations, steps, history, spent = np.zeros(2 * problem.M), 0, [], [], 0
     geometric = problem.m_t > 0
     done, step = (0.0, 1e-6) if geometric else (-1.0, 1.0)  # s = 1e-6, or s = 0 first
 
@@ -247,16 +250,19 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None):
                               deadline=deadline)
         except TimeLimitError:
             raise
-        except SolverError:
+        except SolverError as failure:
             if done < 0 or (geometric and done == 0):
                 raise SolverError(f"{error} (and the continuation failed at its start s = {s:g})",
                                   history=error.history, solver="newton") from error
             step = np.sqrt(step) if geometric else step / 2
-            if (geometric and step < 1.001) or (not geometric and step < 1 / 1024):
-                raise SolverError(f"{error} (and the continuation stopped at s = {done:g})",
-                                  history=error.history, solver="newton") from error
+            spent += max(len(failure.history), 1)
+            if (geometric and step < 1.001) or (not geometric and step < 1 / 1024) \
+                    or spent > CONTINUATION_BUDGET * maxit:
+                raise SolverError(f"{error} (and the continuation stopped at s = {done:g} after {spent} "
+                                  f"iterations)", history=error.history, solver="newton") from error
             continue
         iterations += info["iterations"]
+        spent += info["iterations"]
         steps += [f"continuation s = {s:g}"] + info["steps"]
         history += info["history"]
         step = (4.0 if done == 0 else step * step) if geometric else (1 / 16 if done < 0 else 2 * step)
