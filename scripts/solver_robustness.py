@@ -18,14 +18,15 @@ counted against the case.
 Cases: a fixed list of named hard cases (the failures reported in issue 12, the extremes of
 tests/test_newton.py, and nine cases of the bimaterial strip of issue 26: E = 1e3 / 1e5 on its halves
 with the penetration-dependent friction bound, m_t = 1, 2, on uniform, Netgen and hp-adapted meshes) and
-``COUNT`` cases drawn by ``numpy.random.default_rng(SEED)`` over: the five DG methods; p = 1, 2, 3 (a few
-p = 4); m_n in {1, 1.5, 2, 3}; m_t in {0, 0.5, 1, 2} (mostly 0); c_n in {0, 1e-6, ..., 1e10}; c_tau in {0, 1e-3, ..., 1e9}; nu in {0, ..., 0.4999}; initial
-penetration, gap and spatially varying g_a; spatially varying E, c_n, c_tau; problems: Examples 6.1
-and 6.2 (``dataclasses.replace``), the manufactured contact solution at E = 1, 1e3, 1e6 (data
-scaled with E), the manufactured solution with the friction bound c_tau (u_n - g_a)_+^{m_t}
-(m_t = 1, 2), an L-shaped block, and a square with two adjacent contact sides (an element with
-two contact edges); meshes: uniform h = 1/4, 1/8, 1/16 (1/32 in named cases), Netgen, h-adapted
-and hp-adapted (variable order per element) by ``ndf.adapt`` on the family's base problem.
+``COUNT`` cases drawn by ``numpy.random.default_rng(SEED)`` over: the five DG methods; p = 1, 2, 3 (a
+few p = 4); m_n in {1, 1.5, 2, 3}; m_t in {0, 0.5, 1, 2} (mostly 0); c_n in {0, 1e-6, ..., 1e10}; c_tau
+in {0, 1e-3, ..., 1e9}; nu in {0, ..., 0.4999}; initial penetration, gap and spatially varying g_a;
+spatially varying E, c_n, c_tau; problems: Examples 6.1 and 6.2 (``dataclasses.replace``), the
+manufactured contact solution at E = 1, 1e3, 1e6 (data scaled with E), the manufactured solution with
+the friction bound c_tau (u_n - g_a)_+^{m_t} (m_t = 1, 2), an L-shaped block, and a square with two
+adjacent contact sides (an element with two contact edges); meshes: uniform h = 1/4, 1/8, 1/16 (1/32 in
+named cases), Netgen, h-adapted and hp-adapted (variable order per element) by ``ndf.adapt`` on the
+family's base problem.
 
 Writes solver_robustness.csv (one row per case, rewritten after every case, so an interrupted
 run keeps what is done) and solver_robustness.md into --out (default results/).
