@@ -40,7 +40,7 @@ __all__ = ["Scene", "layers_pressure", "layers_indented", "columns", "l_shape", 
 @dataclasses.dataclass(frozen=True)
 class Scene:
     """A user's problem: ``problem``, ``mesh(k)`` the k-th mesh of a refinement family (k = 0, 1, ...,
-    each about four times the elements of the last), ``exact`` (a CoefficientFunction, or None: measured
+    each with two to four times the elements of the last), ``exact`` (a CoefficientFunction, or None: measured
     against a reference), ``description`` (one line) and ``levels`` (how many meshes a study uses)."""
 
     name: str
