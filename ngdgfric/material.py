@@ -33,9 +33,10 @@ from .problem import coefficient
 __all__ = ["Material", "Lame", "EdgeCoefficient", "MaterialWarning", "element_fields", "RESOLVED"]
 
 RESOLVED = 0.1
-"""A datum counts as represented by its degree-p projection on an element when they differ by at most
-this fraction of the datum's largest value there (a jump by a factor r inside an element leaves about
-(r - 1) / (2 r)); beyond it the element means are used and :class:`MaterialWarning` is issued."""
+"""mu and lam count as represented by their degree-p projections on an element when these differ from them
+by at most this fraction of the largest stress scale 2 mu + lam there (a jump by a factor r inside an
+element leaves about (r - 1) / (2 r)); beyond it the element means are used and :class:`MaterialWarning`
+is issued."""
 
 
 class MaterialWarning(UserWarning):
@@ -147,10 +148,10 @@ class Material:
         mu, lam, self.unresolved = element_fields(problem, mesh, order)
         self.own = Lame(mu, lam)
         self.neighbour = Lame(mu.Other(), lam.Other())
-        if mu.space.globalorder == 0:
+        if mu.space.globalorder == 0:  # (an expression with Other() is 0 on boundary edges: interior ones count)
             jump = self.own.stiffness - self.neighbour.stiffness
-            size = ngs.Integrate(jump * jump * ngs.dx(element_boundary=True), mesh)
-            self.jumps = bool(size > 1e-20 * ngs.Integrate(self.own.stiffness**2 * ngs.dx(element_boundary=True), mesh))
+            scale = ngs.Integrate(self.own.stiffness**2 * ngs.dx(element_boundary=True), mesh)
+            self.jumps = bool(ngs.Integrate(jump * jump * ngs.dx(element_boundary=True), mesh) > 1e-20 * scale)
 
     @property
     def mu(self):
