@@ -10,10 +10,11 @@ The entry points (solve, finish, estimate, adapt) limit OpenBLAS to NGDGFRIC_BLA
 from .adaptivity import Adaptation, adapt, dorfler_mark, minimum_angle, refine
 from .contact import contact_state, kkt_residuals
 from .discretization import Discretization
-from .errors import SolverError
+from .errors import SolverError, TimeLimitError
 from .estimator import Estimate, estimate
 from .examples import example_6_1, example_6_2
 from .hp import HPState, hp_refine
+from .material import MaterialWarning
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
 from .methods import METHODS
 from .problem import ContactProblem, Polygon
@@ -24,7 +25,8 @@ from .transfer import WarmStart
 
 __all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "load_problem", "example_file",
            "uniform_mesh", "netgen_mesh", "check_mesh", "Discretization", "METHODS",
-           "solve", "finish", "Solution", "WarmStart", "SolverError", "contact_state", "kkt_residuals",
+           "solve", "finish", "Solution", "WarmStart", "SolverError", "TimeLimitError", "MaterialWarning",
+           "contact_state", "kkt_residuals",
            "estimate", "Estimate", "dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle",
            "HPState", "hp_refine",
            "energy_norm", "Reference", "energy_error", "load_reference", "save_reference"]
