@@ -60,10 +60,14 @@ PROXIMAL_START, PROXIMAL_DECREASE = 1e-3, 100.0  # mu_0 and mu_k / mu_{k+1} of t
 # m_t > 0: the inner solves T(f) stop at INNER x the outer relative KKT residual, at most INNER_LOOSEST, at least
 # the outer solver_tol
 INNER, INNER_LOOSEST = 1e-3, 1e-8
-CONTINUATION_BUDGET = 5  # the continuation gives up after this many times maxit iterations in all
+# the continuation inside an inner solve T(f) gives up after this many times maxit iterations in all: a NIPG
+# problem with c_n / E = 1e8, m_n = 1.5, m_t = 2 spent 4000 iterations, over a minute, in continuations nested
+# in the outer one; failing fast there, the outer continuation solved it in 1 s.  The outer continuation has
+# no such budget (a corner problem with m_t = 0.5, c_tau / c_n = 1e4 needs 500 iterations there)
+INNER_BUDGET = 5
 
 
-def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None):
+def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None, budget=None):
     """Globalised semismooth Newton for the :class:`~ngdgfric.reduced.ReducedContact` ``problem`` from f0
     (default 0); returns (f, info).
 
@@ -80,6 +84,7 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     a failed iteration is followed by a continuation (module docstring).
     Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations, and
     :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
+    ``budget``: the continuation's iterations in all, as a multiple of maxit (None: no limit but its step).
     """
     f = np.zeros(2 * problem.M) if f0 is None else np.asarray(f0, dtype=float).copy()
     if problem.energy_merit and problem.regularization > 0:
@@ -91,7 +96,7 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     except SolverError as error:
         if problem.energy_merit:
             raise
-        return _continuation(problem, solver_tol, maxit, progress, error, deadline)
+        return _continuation(problem, solver_tol, maxit, progress, error, deadline, budget)
 
 
 def _info(problem, s, solver_tol, iterations, history, initial, steps):
@@ -141,7 +146,7 @@ def _step(problem, s, d, memory, k, history, deadline=None):
         return energy_step(problem, s, d)
     if problem.m_t > 0:
         inner = dict(solver_tol=max(memory["solver_tol"], min(INNER * problem.residual(s), INNER_LOOSEST)),
-                     maxit=memory["maxit"], deadline=deadline)
+                     maxit=memory["maxit"], deadline=deadline, budget=INNER_BUDGET)
         fixed_point = _fixed_point_step(problem, s, inner) if memory["fixed_point"] is None else memory["fixed_point"]
         change = np.max(np.abs(s.f - fixed_point)) / problem.scale(s)
         changes = memory["changes"]
@@ -211,7 +216,7 @@ def _qvi_step(problem, s, d, fixed_point, inner):
 def _fixed_point_step(problem, s, inner):
     """T(f): the solution of the problem with the friction bound frozen at its value at f (m_t = 0, a
     spatially varying c_tau = beta / omega), by :func:`solve` with its own globalisation and the keywords
-    ``inner`` (solver_tol, maxit, deadline): an inexact inner solve, to :data:`INNER` times the outer KKT
+    ``inner`` (solver_tol, maxit, deadline, budget): an inexact inner solve, to :data:`INNER` times the outer KKT
     residual at f, at most :data:`INNER_LOOSEST`, but not below the outer solver_tol (T only steers the outer
     iteration, whose own test decides convergence; a fixed 1e-13 made round-off-bound inner solves fail
     where the outer would have stopped, and ignored a looser solver_tol)."""
@@ -227,15 +232,14 @@ def _homotopy(problem, s):
     return problem.variant(W=symmetric_part + s * (problem.W - symmetric_part), symmetric=s == 0)
 
 
-def _continuation(problem, solver_tol, maxit, progress, error, deadline=None):
+def _continuation(problem, solver_tol, maxit, progress, error, deadline=None, budget=None):
     """After a failure without energy: follow the solution from an easy problem to this one
     (:func:`_homotopy`).  NIPG: s = 0 (the symmetric problem, solved by the energy method), then
     steps in s doubled after a success and halved after a failure, from 1/16.  m_t > 0: s = 1e-6
     (c_tau tiny: the bound map contracts), then s multiplied by a factor (4 at first) that is squared
     after a success and square-rooted after a failure.  Each solve starts from the last solution.
     Raises the original ``error`` (with a note) when the step (factor) falls below 1/1024 (1.001), or when the
-    iterations of all its solves, failed ones included, pass :data:`CONTINUATION_BUDGET` x maxit (a NIPG problem
-    with c_n / E = 1e8 and m_n = 1.5 took 4000 iterations, a minute, before the step was that small)."""
+    iterations of all its solves, failed ones included, pass ``budget`` x maxit (if given)."""
     f, iterations, steps, history, spent = np.zeros(2 * problem.M), 0, [], [], 0
     geometric = problem.m_t > 0
     done, step = (0.0, 1e-6) if geometric else (-1.0, 1.0)  # s = 1e-6, or s = 0 first
@@ -257,7 +261,7 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None):
             step = np.sqrt(step) if geometric else step / 2
             spent += max(len(failure.history), 1)
             if (geometric and step < 1.001) or (not geometric and step < 1 / 1024) \
-                    or spent > CONTINUATION_BUDGET * maxit:
+                    or (budget is not None and spent > budget * maxit):
                 raise SolverError(f"{error} (and the continuation stopped at s = {done:g} after {spent} "
                                   f"iterations)", history=error.history, solver="newton") from error
             continue
