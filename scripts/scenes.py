@@ -260,7 +260,7 @@ def write_report(out, rows, adapts, references, quick):
                   "Mechanics, Section 4.2); the block is finite (2 x 1, clamped on top) and the contact compliant "
                   "(c_n = 1e3 E), so a few per cent are expected; the pressure differs most at the ends x = +-a of "
                   "the contact, where Hertz's profile has an infinite slope and the compliance smooths it.", "",
-                  markdown_table(["P", "half-width a", "Hertz a", "peak p0", "Hertz p0", "max |p - p_Hertz| / p0"],
+                  markdown_table(["P", "half-width a", "Hertz a", "peak p0", "Hertz p0", "max abs(p - p_Hertz) / p0"],
                                  [(fmt(h["force"], ".4e"), fmt(h["a"], ".4f"), fmt(h["a_hertz"], ".4f"),
                                    fmt(h["p0"], ".4e"), fmt(h["p0_hertz"], ".4e"), f"{h['profile']:.3f}")]), ""]
     write_text(out / "scenes.md", "\n".join(lines))
