@@ -16,7 +16,8 @@ linear u_h, so eta_1 involves f only); for m_t > 0, eta_4 carries the friction b
 the friction force of (1.9) does; for p > 1 they carry the usual hp weights h/p and the element
 residual f + div sigma_h(u_h).  With a variable order (hp), p is p_T of the element integrated
 over (volume terms and the element's share of edge terms) and eta_3 uses the penalty of the
-forms, with p_e = max(p_T+, p_T-).  eta_3 uses the method's edge penalty eta p^2/h_e (for the lifting
+forms, with p_e = max(p_T+, p_T-).  eta_3 uses the method's edge penalty eta p^2/h_e with the forms' h_e
+(:func:`ngdgfric.forms.penalty_length`; the others use the edge length |e|) (for the lifting
 methods 2 mu eta p^2/h_e, see :meth:`ngdgfric.methods.Method.jump_weight`).  Edge terms of interior edges are shared
 half-half by the two neighbours; boundary edges go to their element.  The element values are
 those of ``Integrate(..., element_wise=True)``, computed for all six terms in one assembly
