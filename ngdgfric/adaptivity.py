@@ -26,6 +26,7 @@ into bisecting Gamma_C (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DO
 results/time_to_accuracy.md), and gamma_lin = 0.01 kept the path but not the iterations.
 """
 
+import dataclasses
 import gc
 import math
 import time
@@ -115,8 +116,8 @@ def choose_method(problem, mesh, order):
     growth x1.0-1.1 from nu = 0.3 to 0.4999 in both regimes of results/stability.md and effectivity.md) and
     is symmetric (Brezzi et al. is as robust at 1.3-1.5 times Bassi's assembly cost)."""
     nu = _largest(problem.nu, mesh)
-    sipg = get_method("sipg")
-    if sipg.thresholds[min(order, len(sipg.thresholds)) - 1] * (2 + 2 * nu / (1 - 2 * nu)) < sipg.default_eta:
+    law, sipg = dataclasses.replace(problem, E=1.0, nu=nu), get_method("sipg")  # the thresholds scale with E
+    if sipg.default(law, order) == sipg.default_eta * sipg.eta_scale(law):  # not raised
         return "sipg", "the default: symmetric, the fastest solves"
     return "bassi", (f"nu reaches {nu:.6g}: SIPG's penalty would be raised above 30 mu to stay coercive and SIPG "
                      f"then locks; Bassi et al. does not")

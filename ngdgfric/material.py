@@ -22,13 +22,12 @@ constant data w+- = 1/2 and the means are the data themselves: the paper's forms
 """
 
 from dataclasses import dataclass
-from numbers import Real
 
 import ngsolve as ngs
 import numpy as np
 
 from .errors import warn
-from .problem import coefficient
+from .problem import coefficient, is_number
 
 __all__ = ["Material", "Lame", "EdgeCoefficient", "MaterialWarning", "element_fields", "RESOLVED"]
 
@@ -74,10 +73,6 @@ class EdgeCoefficient:
         return EdgeCoefficient(factor * self.interior, factor * self.boundary, text)
 
 
-def _is_number(value):
-    return isinstance(value, Real) and not isinstance(value, bool)
-
-
 BONUS = 8
 """Extra quadrature degree of the projections and of the points that check them: data that jump inside an
 element are integrated by many points, not by the few that a polynomial of the element's degree needs."""
@@ -119,7 +114,7 @@ def element_fields(problem, mesh, order):
     bad = np.flatnonzero((deviation > RESOLVED) | ~valid)
     worst = int(bad[np.argmax(deviation[bad])])
     x, y = (float(np.mean(values(c)[worst])) for c in (ngs.x, ngs.y))
-    names = " and ".join(name for name in ("E", "nu") if not _is_number(getattr(problem, name)))
+    names = " and ".join(name for name in ("E", "nu") if not is_number(getattr(problem, name)))
     warn(f"{names} varies inside {bad.size} of {mesh.ne} elements more than polynomials of degree {order} "
                   f"follow (the stress scale off by up to {100 * float(deviation[worst]):.0f} % near ({x:.4g}, "
                   f"{y:.4g})): a jump that cuts elements?  The element means are used there; expect slow "
@@ -140,7 +135,7 @@ class Material:
     """
 
     def __init__(self, problem, mesh, order):
-        self.constant = _is_number(problem.E) and _is_number(problem.nu)
+        self.constant = is_number(problem.E) and is_number(problem.nu)
         self.unresolved, self.jumps = 0, False
         if self.constant:
             self.own = self.neighbour = Lame(problem.mu, problem.lam)
@@ -182,7 +177,7 @@ class Material:
     def largest(self, quantity, mesh):
         """The largest value of ``quantity`` (a function of a :class:`Lame`) over the elements' Gauss points."""
         value = quantity(self.own)
-        if _is_number(value):
+        if is_number(value):
             return float(value)
         points, _ = _evaluation_points(mesh, 1)
         return float(np.max(np.asarray(value(points))))

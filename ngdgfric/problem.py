@@ -15,7 +15,7 @@ import ngsolve as ngs
 
 from .geometry import check_polygon
 
-__all__ = ["ContactProblem", "Polygon", "strain", "strain_of", "stress", "von_mises", "coefficient"]
+__all__ = ["ContactProblem", "Polygon", "strain", "strain_of", "stress", "von_mises", "coefficient", "is_number"]
 
 
 def coefficient(value):
@@ -26,7 +26,8 @@ def coefficient(value):
     return ngs.CF(tuple(value)) if isinstance(value, (tuple, list)) else ngs.CF(value)
 
 
-def _is_number(value):
+def is_number(value):
+    """Whether a datum is a (real, non-boolean) number rather than a CoefficientFunction or anything else."""
     return isinstance(value, Real) and not isinstance(value, bool)
 
 
@@ -45,7 +46,7 @@ def _finite(name, value):
 def _check_scalar(name, value):
     """A datum is a finite real number or a scalar CoefficientFunction (checked pointwise by
     :func:`ngdgfric.checks.check_data` on a mesh)."""
-    if _is_number(value):
+    if is_number(value):
         _finite(name, value)
         return
     if isinstance(value, ngs.CoefficientFunction):
@@ -73,7 +74,7 @@ def _check_vector(name, value):
 
 def _check_number(name, value, low=None, high=None, low_open=False, high_open=True):
     """A finite number in [low, high) (or with the given open/closed ends); CFs are checked later, pointwise."""
-    if not _is_number(value):
+    if not is_number(value):
         return
     _finite(name, value)
     if low is not None and (value < low or (low_open and value == low)):
@@ -197,7 +198,7 @@ class ContactProblem:
                 continue
             if kind == "scalar":
                 _check_scalar(name, value)
-            elif not _is_number(value):
+            elif not is_number(value):
                 raise ValueError(f"{name} must be a number, got {value!r}")
             _check_number(name, value, low=low, low_open=low_open, high=high)
         if not isinstance(self.geometry, Polygon):

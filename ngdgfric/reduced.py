@@ -159,8 +159,8 @@ class ReducedContact:
         return max(float(np.max(np.abs(s.w), initial=0.0)), float(np.max(gaps, initial=0.0)), np.finfo(float).tiny)
 
     def scale(self, s):
-        """The force scale S = max(|f|_inf, max |w0| / W_qq, max (g_a - w0_n)_+ ... see ``force_scale``) (for
-        the projected Newton's epsilon)."""
+        """The force scale S = max(|f|_inf, max_q max(|w0_q|, (w0_n - g_a)_+) / W_qq) (for the projected Newton's
+        epsilon): the forces the loads, or the initial penetrations, cause."""
         return max(self.force_scale, float(np.max(np.abs(s.f), initial=0.0)))
 
     def linearization(self, s):

@@ -27,7 +27,7 @@ from .discretization import dg_space
 from .files import atomic_path
 from .forms import edge_length, jump_inner
 from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
-from .problem import coefficient, strain, strain_of, stress
+from .problem import coefficient, is_number, strain, strain_of, stress
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
            "energy_norm", "energy_norm_squared_parts", "difference"]
@@ -70,19 +70,15 @@ def fingerprint(problem, mesh, points, triangles, segments):
         return points[cells[np.unique(np.linspace(0, len(cells) - 1, min(len(cells), SAMPLES)).astype(int))]].mean(1)
 
     where = np.concatenate([sample(triangles), sample(segments)])
-    varying_nu = {} if _is_number(problem.nu) else dict(fp_nu=_values_at(problem.nu, mesh, where))
+    varying_nu = {} if is_number(problem.nu) else dict(fp_nu=_values_at(problem.nu, mesh, where))
     return dict(fp_vertices=np.asarray(problem.geometry.vertices), fp_labels=np.asarray(problem.geometry.labels),
                 fp_names=np.asarray(problem.boundary_names()), fp_numbers=_numbers(problem),
                 fp_points=where, fp_data=_data_at(problem, mesh, where), **varying_nu)
 
 
-def _is_number(value):
-    return not isinstance(value, ngs.CoefficientFunction)
-
-
 def _numbers(problem):
     """(nu, m_n, m_t), nu as NaN where it varies (then its values are the key ``fp_nu``)."""
-    return np.array([float(problem.nu) if _is_number(problem.nu) else np.nan, problem.m_n, problem.m_t])
+    return np.array([float(problem.nu) if is_number(problem.nu) else np.nan, problem.m_n, problem.m_t])
 
 
 def _values_at(datum, mesh, where):
@@ -263,19 +259,25 @@ def energy_norm_squared_parts(problem, mesh, w, element_wise=False):
     With ``element_wise`` both are numpy arrays over elements (edge terms of interior edges split
     half-half between the two neighbours, Dirichlet edges to their element).
     """
-    n = ngs.specialcf.normal(2)
-    h_e = edge_length(mesh)
-    on_dirichlet = facet_indicator(mesh, problem.dirichlet)
-    jw = w - w.Other()
     bonus = max(2 * _order(w.space) + 2 - 5, 0)  # quadrature order 2p + 2 (Integrate's default is 5)
-    boundary = ngs.dx(element_boundary=True, bonus_intorder=bonus)
     volume = ngs.Integrate(ngs.InnerProduct(stress(problem, strain(w)), strain(w)) * ngs.dx(bonus_intorder=bonus),
                            mesh, element_wise=element_wise)
+    jumps = _jump_part(problem, mesh, w, element_wise)
+    return (volume.NumPy().copy(), jumps) if element_wise else (volume, jumps)
+
+
+def _jump_part(problem, mesh, w, element_wise=False, dirichlet_value=None):
+    """sum_{e in E_h^o} h_e^-1 ||[w]||_e^2 for a DG function ``w``, with [w] = w - ``dirichlet_value`` on the
+    Dirichlet edges (a 2-vector CoefficientFunction; None: the jump [w] = w of Section 3); a numpy array over elements
+    with ``element_wise`` (interior edges split half-half, Dirichlet edges to their element)."""
+    n = ngs.specialcf.normal(2)
+    h_e = edge_length(mesh)
+    jw, off = w - w.Other(), w if dirichlet_value is None else w - dirichlet_value
+    boundary = ngs.dx(element_boundary=True, bonus_intorder=max(2 * _order(w.space) + 2 - 5, 0))
     interior = ngs.Integrate(0.5 * jump_inner(jw, jw, n) / h_e * boundary, mesh, element_wise=element_wise)
-    dirichlet = ngs.Integrate(on_dirichlet * jump_inner(w, w, n) / h_e * boundary, mesh, element_wise=element_wise)
-    if element_wise:
-        return volume.NumPy().copy(), interior.NumPy() + dirichlet.NumPy()
-    return volume, interior + dirichlet
+    dirichlet = ngs.Integrate(facet_indicator(mesh, problem.dirichlet) * jump_inner(off, off, n) / h_e * boundary,
+                              mesh, element_wise=element_wise)
+    return interior.NumPy() + dirichlet.NumPy() if element_wise else interior + dirichlet
 
 
 def difference(u, w, extra_order=2):
@@ -320,11 +322,4 @@ def energy_norm(sol, w=None):
     e = strain(u) - strain_of(w)
     order = max(2 * _order(u.space) + 4, EXACT_ORDER)
     volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)
-    n = ngs.specialcf.normal(2)
-    jump = u - u.Other()
-    boundary = ngs.dx(element_boundary=True, bonus_intorder=max(2 * _order(u.space) + 2 - 5, 0))
-    interior = ngs.Integrate(0.5 * jump_inner(jump, jump, n) / edge_length(mesh) * boundary, mesh)
-    off = u - w
-    dirichlet = ngs.Integrate(facet_indicator(mesh, problem.dirichlet) * jump_inner(off, off, n) / edge_length(mesh)
-                              * boundary, mesh)
-    return (volume + interior + dirichlet) ** 0.5
+    return (volume + _jump_part(problem, mesh, u, dirichlet_value=w)) ** 0.5
