@@ -43,6 +43,7 @@ from .hp import HPState, hp_refine
 from .linalg import limited_blas
 from .meshes import element_diameters, netgen_mesh, refine, triangle_corners, uniform_mesh
 from .methods import get_method
+from .reference import energy_norm
 from .solution import finish, solve
 from .transfer import WarmStart, copy_orders, multiplier_snapshot
 
@@ -134,11 +135,13 @@ def _largest(datum, mesh):
 @limited_blas
 def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, max_ndof=10**6, tol=None,
           solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
-          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, **options):
+          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, rtol=None, **options):
     """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
 
-    Stops as soon as eta_h <= ``tol`` (with the default ``weights="energy"`` eta_h estimates the
-    energy error |||u - u_h|||_h, :func:`ngdgfric.estimate`), after ``max_levels`` solves, or when
+    Stops as soon as eta_h <= ``tol`` or eta_h <= ``rtol`` |||u_h|||_h (a relative tolerance: with the default
+    ``weights="energy"`` eta_h estimates the energy error |||u - u_h|||_h, :func:`ngdgfric.estimate`, so
+    ``rtol=1e-3`` asks for 0.1 % of the solution's energy norm, :func:`ngdgfric.energy_norm`; the level's
+    target is in the CSV as ``target``), after ``max_levels`` solves, or when
     the next refined mesh would exceed ``max_ndof`` degrees of freedom or the memory budget of
     :func:`ngdgfric.checks.check_size` (tried on a copy of the mesh, so the returned solution's mesh
     is never refined after its solve), or when the next level would end after ``max_seconds`` (its time
@@ -163,17 +166,17 @@ def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, m
     once the first level is done.  ``keep``: callable(level, solution, estimate) called at every
     level, e.g. to save a picture.
     """
-    _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin, max_seconds)
+    _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, (tol, rtol), gamma_lin, max_seconds)
     start = time.perf_counter()
     if mesh is None:
-        mesh = uniform_mesh(problem, 0.5) if problem.geometry.is_rectangle else netgen_mesh(problem, 0.5)
+        mesh = initial_mesh(problem)
     if csv_path is not None:
         csv_path = Path(csv_path)
         check_writable(csv_path.parent)
     method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
     if progress is not None:
         progress(f"method {method}: {reason}")
-    loop = _Loop(problem, mesh, order, max_order if hp else None, weights, tol,
+    loop = _Loop(problem, mesh, order, max_order if hp else None, weights, (tol, rtol),
                  gamma_lin if solver == "newton" else None,
                  dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol, **options))
     limits, records = dict(theta=theta, max_levels=max_levels, max_ndof=max_ndof, max_seconds=max_seconds,
@@ -181,7 +184,7 @@ def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, m
     for level in range(max_levels):
         sol, est, seconds = loop.solve(level == max_levels - 1)
         sol, est, stopped, refinement = loop.decide(level, sol, est, seconds, records, limits)
-        records.append(_record(level, sol, est, loop.state, seconds))
+        records.append(_record(level, sol, est, loop.state, seconds, loop.tol))
         if keep is not None:
             keep(level, sol, est)
         if stopped is None:
@@ -205,9 +208,10 @@ class _Loop:
     """The state the levels of :func:`adapt` hand on: the mesh and its :class:`HPState`, the previous
     solution on the refined mesh (a warm start) and the eta_h the next level starts from."""
 
-    def __init__(self, problem, mesh, order, max_order, weights, tol, gamma_lin, solve_options):
+    def __init__(self, problem, mesh, order, max_order, weights, tolerances, gamma_lin, solve_options):
         self.problem, self.mesh, self.order, self.max_order = problem, mesh, order, max_order
-        self.weights, self.tol, self.gamma_lin, self.solve_options = weights, tol, gamma_lin, solve_options
+        self.weights, self.gamma_lin, self.solve_options = weights, gamma_lin, solve_options
+        self.tolerances, self.tol = tolerances, None
         self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
         # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
         # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
@@ -221,6 +225,7 @@ class _Loop:
                                                                                     * self.predicted)
         orders = self.order if self.max_order is None else self.state.orders
         sol = solve(self.problem, self.mesh, order=orders, initial=self.previous, **inexact, **self.solve_options)
+        self.tol = target(self.tolerances, sol)
         seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
         sol, est = self.settle(sol, None, last, seconds)
         self.sol, self.predicted = sol, est.eta_h
@@ -271,17 +276,35 @@ class _Loop:
         return HPState.uniform(mesh, self.order)
 
 
-def _record(level, sol, est, state, seconds):
-    """The CSV row of a level (keys ``FIELDS``)."""
+def _record(level, sol, est, state, seconds, tol):
+    """The CSV row of a level (keys ``FIELDS``; ``tol``: the level's target eta_h, :func:`target`)."""
     mesh = sol.mesh
     return dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta_h=est.eta_h,
                 **{k: math.sqrt(v) for k, v in est.terms_squared.items()}, eta_lin=sol.info.get("linearization", 0.0),
                 iterations=sol.iterations, solve_seconds=seconds["solve"], estimate_seconds=seconds["estimate"],
                 mark_refine_seconds=seconds["mark_refine"], h_min=float(element_diameters(mesh).min()),
-                min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()))
+                min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()),
+                target=math.nan if tol is None else tol)
 
 
-def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, gamma_lin, max_seconds):
+def target(tolerances, sol):
+    """The eta_h a level must reach for ``tolerances`` (tol, rtol) (either may be None): the larger of tol and
+    rtol |||u_h|||_h (:func:`ngdgfric.energy_norm`), None if both are None."""
+    tol, rtol = tolerances
+    relative = None if rtol is None else rtol * energy_norm(sol)
+    given = [value for value in (tol, relative) if value is not None]
+    return max(given) if given else None
+
+
+def initial_mesh(problem):
+    """The first mesh of :func:`adapt`: uniform h = 1/2 on a rectangle, else Netgen with maxh = min(1/2, a
+    quarter of the domain's diameter)."""
+    if problem.geometry.is_rectangle:
+        return uniform_mesh(problem, 0.5)
+    return netgen_mesh(problem, min(0.5, problem.geometry.diameter() / 4))
+
+
+def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tolerances, gamma_lin, max_seconds):
     if hp and not (isinstance(max_order, int) and max_order >= order):
         raise ValueError(f"max_order must be an integer >= order = {order}, got {max_order!r}")
     if weights not in WEIGHTS:
@@ -289,7 +312,7 @@ def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tol, g
     for name, value in (("max_levels", max_levels), ("max_ndof", max_ndof)):
         if not (isinstance(value, (int, np.integer)) and value >= 1):
             raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    for name, value in (("tol", tol), ("max_seconds", max_seconds)):
+    for name, value in (("tol", tolerances[0]), ("rtol", tolerances[1]), ("max_seconds", max_seconds)):
         if value is not None and not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise ValueError(f"{name} must be a positive number or None, got {value!r}")
     if gamma_lin is not None and not (isinstance(gamma_lin, (int, float)) and 0 < gamma_lin < 1):

@@ -16,6 +16,8 @@ assembled.
 import ngsolve as ngs
 import numpy as np
 
+from .problem import pattern
+
 __all__ = ["check_data", "check_size", "estimated_bytes", "DataError", "MEMORY_BUDGET"]
 
 # bytes; the default limit of check_size, which estimates the peak memory of a solve as the sum over
@@ -47,8 +49,8 @@ def _rule(order, shape):
 
 # datum: (lower bound or None, whether the lower bound itself is excluded, upper bound (excluded) or None)
 VOLUME = {"E": (0.0, True, None), "nu": (-1.0, True, 0.5), "f": (None, False, None)}
-BOUNDARY = {"traction": {"g": (None, False, None)}, "contact": {"g_a": (None, False, None), "c_n": (0.0, False, None),
-                                                               "c_tau": (0.0, False, None)}}
+BOUNDARY = {"traction": {"g": (None, False, None)}, "dirichlet": {"u_D": (None, False, None)},
+            "contact": {"g_a": (None, False, None), "c_n": (0.0, False, None), "c_tau": (0.0, False, None)}}
 
 
 def check_data(problem, mesh, order):
@@ -57,10 +59,12 @@ def check_data(problem, mesh, order):
     if _varying(problem, VOLUME):
         _check_on(problem, VOLUME, mesh.MapToAllElements(_rule(order, ngs.TRIG), ngs.VOL), "Omega")
     for part, data in BOUNDARY.items():
-        name = getattr(problem, part)
-        if _varying(problem, data) and name in mesh.GetBoundaries():
-            points = mesh.MapToAllElements(_rule(order, ngs.SEGM), mesh.Boundaries(name))
-            _check_on(problem, data, points, f"the boundary {name!r}")
+        if not _varying(problem, data):
+            continue
+        for name in problem.sides(part):
+            if name in mesh.GetBoundaries():
+                points = mesh.MapToAllElements(_rule(order, ngs.SEGM), mesh.Boundaries(pattern([name])))
+                _check_on(problem, data, points, f"the boundary {name!r}")
 
 
 def _as_cf(value):

@@ -41,7 +41,7 @@ def contact_rule(order):
 
 def contact_measure(problem, mesh, order):
     """ds on Gamma_C (skeleton form, as L2 spaces need) with the contact Gauss rule."""
-    return ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.contact), intrules=contact_rule(order))
+    return ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("contact")), intrules=contact_rule(order))
 
 
 def normal_tangent():
@@ -139,12 +139,12 @@ def residual(disc, u, lam_tau):
 def multiplier_space(problem, mesh, order):
     """Degree-p facet space on Gamma_C for the scalar multiplier lam_tau (the vector multiplier is lam_tau t)."""
     full = ngs.FacetFESpace(mesh, order=order)
-    return ngs.Compress(full, active_dofs=full.GetDofs(mesh.Boundaries(problem.contact)))
+    return ngs.Compress(full, active_dofs=full.GetDofs(mesh.Boundaries(problem.where("contact"))))
 
 
 def contact_points(problem, mesh, order):
     """The Gauss points of all edges of Gamma_C, mapped, in a fixed order (for evaluation)."""
-    return mesh.MapToAllElements(contact_rule(order), mesh.Boundaries(problem.contact))
+    return mesh.MapToAllElements(contact_rule(order), mesh.Boundaries(problem.where("contact")))
 
 
 def evaluate_on_contact(cf, points, volume=True):
@@ -167,7 +167,7 @@ class ContactGauss:
                                    np.asarray(ngs.y(self.points)).ravel()]).reshape(-1, self.q, 2)
         ends, dofs = [], []
         for el in mesh.Elements(ngs.BND):
-            if el.mat == problem.contact:
+            if el.mat in problem.sides("contact"):
                 ends.append([mesh[v].point for v in el.vertices])
                 dofs.append(list(Q.GetDofNrs(el)))
         self.ends = np.asarray(ends, dtype=float).reshape(-1, 2, 2)
@@ -239,7 +239,7 @@ def contact_state(sol):
     """
     points = sol.discretization.contact_points()
     n, t = normal_tangent()
-    u, problem = sol.u, sol.problem
+    u, problem = sol.u, sol.discretization.problem
     sigma_n_vec = stress(sol.discretization.material, strain(u)) * n
     return {
         "x": np.asarray(ngs.x(points)).ravel(),

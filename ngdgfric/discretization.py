@@ -17,7 +17,7 @@ from .forms import dg_terms, edge_length, load_terms, penalty_length
 from .liftings import lifting_terms
 from .linalg import sparse_sum, threads
 from .material import Lame, Material
-from .meshes import check_mesh
+from .meshes import check_mesh, curve
 from .methods import check_penalty, get_method, penalty
 from .problem import ContactProblem
 from .traces import ContactTraces
@@ -87,16 +87,21 @@ class Discretization:
     contact Gauss points and the trace matrix, built on first use).
 
     Before assembly: the mesh must fit the problem (:func:`ngdgfric.meshes.check_mesh`), the DOFs
-    the size limit ``max_ndof`` and the data be valid pointwise (:mod:`ngdgfric.checks`).
+    the size limit ``max_ndof`` and the data be valid pointwise (:mod:`ngdgfric.checks`).  On a domain with
+    curved sides the mesh is curved to the largest order (:func:`ngdgfric.meshes.curve`; the solution's own
+    copy of the mesh, :func:`ngdgfric.solve`).  ``problem`` is the given problem with its data per region
+    and per side made CoefficientFunctions on the mesh (:meth:`~ngdgfric.problem.ContactProblem.on`).
     """
 
     def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn", max_ndof=None):
         if not isinstance(problem, ContactProblem):
             raise ValueError(f"problem must be a ContactProblem, got {problem!r}")
         check_mesh(problem, mesh)
-        self.problem, self.mesh = problem, mesh
         self.method = get_method(method)
         order = check_order(order, mesh)
+        curve(problem, mesh, int(np.max(order)))
+        self.problem, self.mesh = problem.on(mesh), mesh
+        problem = self.problem
         self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
         check_size(self.orders, max_ndof)
         check_data(problem, mesh, int(self.orders.max()))
@@ -140,13 +145,16 @@ class Discretization:
                                  self.h_penalty):
                 a += term
             a.Assemble()
-            lifts = lifting_terms(problem, self.material, mesh, self.V, self.order, self.method,
-                                  self.penalty.boundary)
+            lifts, lifted_load = lifting_terms(problem, self.material, mesh, self.V, self.order, self.method,
+                                               self.penalty.boundary)
             A = sparse_sum([(1.0, a.mat), *lifts]) if lifts else a.mat
             f = ngs.LinearForm(self.V)
-            for term in load_terms(problem, mesh, v):
+            for term in load_terms(problem, self.material, mesh, v, self.method, self.penalty, self.p,
+                                   self.h_penalty):
                 f += term
             f.Assemble()
+            if lifted_load is not None:
+                f.vec.data += lifted_load
         return A, f.vec
 
     @functools.cached_property
@@ -187,7 +195,7 @@ class Discretization:
         """For each edge on Gamma_C, the V-dofs of its element."""
         groups = []
         for el in self.mesh.Elements(ngs.BND):
-            if el.mat == self.problem.contact:
+            if el.mat in self.problem.sides("contact"):
                 volume = self.mesh[el.edges[0]].elements[0]
                 groups.append(list(self.V.GetDofNrs(volume)))
         return groups

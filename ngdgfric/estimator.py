@@ -7,7 +7,9 @@
     eta_5^2 = sum_{e in E_h^F} (h_e/p) ||sigma_h(u_h) n - g||_e^2
     eta_6^2 = sum_{e in E_h^C} (h_e/p) ||sigma_h,n(u_h) + c_n (u_hn - g_a)_+^{m_n}||_e^2
 
-These are the terms of ``estimate(sol, weights="paper")``; the default (``weights="energy"``) divides
+with [u_h] = u_h - u_D on Gamma_D (a prescribed displacement) and, on symmetry sides, the jump of the
+normal part (u_h . n) n in eta_3 and the tangential traction sigma_h(u_h) n . t (which must vanish there) in
+eta_5.  These are the terms of ``estimate(sol, weights="paper")``; the default (``weights="energy"``) divides
 the residual terms by 2 mu and replaces the pressure part of sigma_h(u_h) by a continuous average
 (below), so that eta_h estimates |||u - u_h|||_h in its units.
 
@@ -71,11 +73,11 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, friction_bound, normal_tangent
-from .forms import edge_order, edge_penalty, jump_inner
+from .forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
 from .linalg import limited_blas, threads
 from .material import BONUS
 from .meshes import element_diameters, facet_indicator
-from .problem import coefficient, strain, stress
+from .problem import PARTS, coefficient, strain, stress
 
 __all__ = ["Estimate", "estimate", "div_stress"]
 
@@ -156,7 +158,7 @@ def estimate(sol, weights="energy"):
     if weights not in WEIGHTS:
         raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
     disc = sol.discretization
-    problem, mesh, u, p = sol.problem, sol.mesh, sol.u, disc.p
+    problem, mesh, u, p = disc.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
     h_e, h_penalty = disc.h_e, disc.h_penalty
     weight = disc.method.jump_weight(disc.material, disc.penalty)
@@ -165,17 +167,20 @@ def estimate(sol, weights="energy"):
     # Integrate with 5 + bonus
     q = 2 * disc.order + 2
     boundary = ngs.dx(element_boundary=True, bonus_intorder=q)
-    on = {name: facet_indicator(mesh, name) for name in problem.boundary_names()}
+    on = {part: facet_indicator(mesh, problem.where(part)) for part in PARTS}
     sigma, neighbour, volume = _stress_and_volume_term(sol, weights, q)
     sigma_n = sigma * n
     traction_residual, bound = sigma_n - coefficient(problem.g), friction_bound(problem, u)
+    off, normal = u - coefficient(problem.u_D), normal_part(u, n)
     parts = element_integrals(mesh, {
         "eta1": volume,
-        "eta3": on[problem.dirichlet] * edge_penalty(weight.boundary, p, h_penalty.boundary) * jump_inner(u, u, n)
+        "eta3": edge_penalty(weight.boundary, p, h_penalty.boundary)
+        * (on["dirichlet"] * jump_inner(off, off, n) + SYMMETRY_WEIGHT * on["symmetry"] * jump_inner(normal, normal, n))
         * boundary,
-        "eta4": on[problem.contact] * h_e / p * (sigma_n * t + bound * sol.lam_tau) ** 2 * boundary,
-        "eta5": on[problem.traction] * h_e / p * ngs.InnerProduct(traction_residual, traction_residual) * boundary,
-        "eta6": on[problem.contact] * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
+        "eta4": on["contact"] * h_e / p * (sigma_n * t + bound * sol.lam_tau) ** 2 * boundary,
+        "eta5": h_e / p * (on["traction"] * ngs.InnerProduct(traction_residual, traction_residual)
+                           + on["symmetry"] * (sigma_n * t) ** 2) * boundary,
+        "eta6": on["contact"] * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2 * boundary,
     })
     # the jump terms need the neighbour (Other()), which only Integrate provides on element boundaries
     # (on boundary edges u - u.Other() evaluates to zero, so these terms cover interior edges only)
@@ -203,7 +208,7 @@ def _stress_and_volume_term(sol, weights, q):
     but sigma_h(u_h) where the material jumps: the pressure lam div u jumps there too, and a continuous
     p~_h would leave ||p_h - p~_h|| = O(1) along the interface (eta_h falling like N^(-1/2), seen on a
     bimaterial strip)."""
-    problem, u, disc = sol.problem, sol.u, sol.discretization
+    problem, u, disc = sol.discretization.problem, sol.u, sol.discretization
     material = disc.material
     h_T = ngs.GridFunction(ngs.L2(sol.mesh, order=0))
     h_T.vec.FV().NumPy()[:] = element_diameters(sol.mesh)
@@ -227,7 +232,7 @@ def _material_oscillation(sol, order):
     """Per element int_T (C - C_h) eps_h(u_h) : (C - C_h) eps_h(u_h) / (2 mu) dx with the problem's C and
     mu at every point: the stress the forms' element-wise material C_h (:mod:`ngdgfric.material`) misses, in
     energy units (zero where C_h = C, on a mesh that follows the material's jumps).  Gauss degree ``order``."""
-    problem, u = sol.problem, sol.u
+    problem, u = sol.discretization.problem, sol.u
     missed = stress(problem, strain(u)) - stress(sol.discretization.material.own, strain(u))
     density = ngs.InnerProduct(missed, missed) / (2 * coefficient(problem.mu))
     return ngs.Integrate(density * ngs.dx(bonus_intorder=max(order - 5, 0)), sol.mesh, element_wise=True).NumPy()

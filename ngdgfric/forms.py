@@ -12,7 +12,9 @@ enters every term from the element's own side (:class:`ngdgfric.material.Materia
 :class:`~ngdgfric.material.EdgeCoefficient` (harmonic means across material jumps).
 
 Jumps are the symmetric tensor jumps of Section 2.1, [v] = sym(v+ (x) n+ + v- (x) n-), on
-interior edges and [v] = sym(v (x) n) on Dirichlet edges (E_h^o = E_h^i u E_h^D); the
+interior edges and [v] = sym((v - u_D) (x) n) on Dirichlet edges (E_h^o = E_h^i u E_h^D; the paper has
+u_D = 0; a prescribed displacement moves its part to the right-hand side, :func:`load_terms`), and
+[v] = sym((v . n) n (x) n) on symmetry sides (u . n = 0, tangential part free); the
 averages are {sigma} = (sigma+ + sigma-)/2 and {sigma} = sigma on the boundary.  For p = 1 the
 edge penalty is the paper's eta h_e^-1; for p > 1 it carries the usual factor p_e^2, which keeps
 the coercivity threshold of eta independent of h and p up to a constant.  With a variable order
@@ -32,10 +34,10 @@ Section 6 (the diagonals, 2 h_T = |e|, are the edges on which the SIPG threshold
 import ngsolve as ngs
 
 from .material import EdgeCoefficient
-from .problem import coefficient, strain, stress
+from .problem import coefficient, is_number, strain, stress
 
 __all__ = ["edge_length", "penalty_length", "element_areas", "edge_penalty", "edge_order", "dg_terms", "load_terms",
-           "jump_inner"]
+           "jump_inner", "normal_part", "has_dirichlet_data", "SYMMETRY_WEIGHT"]
 
 
 def jump_inner(a, b, n):
@@ -106,12 +108,14 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
     :class:`~ngdgfric.material.Material` on the mesh; ``penalty``: eta as an
     :class:`~ngdgfric.material.EdgeCoefficient`; ``order``: p, or the element order GridFunction of a
     variable-order space; ``h``: the penalty length (default :func:`penalty_length`).
+
+    On the symmetry sides the boundary terms act on the normal component only (Nitsche's method for
+    u . n = 0 with a free tangential component): [u] = sym((u . n) n (x) n), {sigma(v)} . [u] = (u . n)
+    (sigma(v) n . n), and [u]:[v] = (u . n)(v . n).
     """
     s = method.symmetry
     n = ngs.specialcf.normal(2)
-    dirichlet = mesh.Boundaries(problem.dirichlet)
     interior = ngs.dx(skeleton=True)
-    boundary = ngs.ds(skeleton=True, definedon=dirichlet)
     ju, jv = u - u.Other(), v - v.Other()
     own, other = material.own, material.neighbour
     avg_sn = lambda w: material.average(stress(own, strain(w)) * n, stress(other, strain(w.Other())) * n)  # noqa: E731
@@ -119,20 +123,65 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
         ngs.InnerProduct(stress(own, strain(u)), strain(v)) * ngs.dx,
         -s * ju * avg_sn(v) * interior,
         -jv * avg_sn(u) * interior,
-        -s * u * (stress(own, strain(v)) * n) * boundary,
-        -v * (stress(own, strain(u)) * n) * boundary,
     ]
+    h = penalty_length(mesh) if h is None and method.penalty == "edge" else h
+    consistency, penalties = [], []
+    for part, (pu, pv), weight in _supports(problem, mesh, u, v, n):
+        boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where(part)))
+        consistency += [-s * pu * (stress(own, strain(v)) * n) * boundary,
+                        -pv * (stress(own, strain(u)) * n) * boundary]
+        penalties.append(weight * edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(pu, pv, n)
+                         * boundary if method.penalty == "edge" else None)
+    terms += consistency
     if method.penalty == "edge":
-        h = penalty_length(mesh) if h is None else h
         terms += [edge_penalty(penalty.interior, edge_order(order), h.interior) * jump_inner(ju, jv, n) * interior,
-                  edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(u, v, n) * boundary]
+                  *penalties]
     return terms
 
 
-def load_terms(problem, mesh, v):
-    """(f, v) of (1.4): body force on Omega and traction g on Gamma_F."""
+# the weight of a symmetry side's jump terms in the penalty and the energy norm: half of an interior edge's
+# in the body mirrored at that side (its jump u - (mirror image of u) is 2 (u . n) n, jump_inner of it 4 times
+# that of (u . n) n, and the edge belongs to two halves), so that half a symmetric scene is exactly the
+# restriction of the whole (tests/test_scenes.py); the consistency terms and the liftings need no weight
+SYMMETRY_WEIGHT = 2.0
+
+
+def _supports(problem, mesh, u, v, n):
+    """The supported boundary parts present on ``mesh`` with the parts of u, v their jumps see and the weight of
+    their penalty: u, v on Gamma_D (weight 1), (u . n) n, (v . n) n on the symmetry sides (SYMMETRY_WEIGHT)."""
+    found = set(mesh.GetBoundaries())
+    parts = [("dirichlet", (u, v), 1.0)]
+    if any(name in found for name in problem.sides("symmetry")):
+        parts.append(("symmetry", (normal_part(u, n), normal_part(v, n)), SYMMETRY_WEIGHT))
+    return parts
+
+
+def normal_part(w, n):
+    """(w . n) n: what a symmetry side's jump sees of w."""
+    return (w * n) * n
+
+
+def has_dirichlet_data(problem):
+    """Whether u_D is not the constant zero (then B_h's boundary terms put u_D on the right-hand side)."""
+    value = problem.u_D
+    return not (isinstance(value, (tuple, list)) and all(is_number(c) and c == 0 for c in value))
+
+
+def load_terms(problem, material, mesh, v, method, penalty, order, h=None):
+    """The right-hand side of (3.1): (f, v) of (1.4), the traction g on Gamma_F, and, for a prescribed
+    displacement u_D on Gamma_D, the part of B_h's Dirichlet terms that u_D carries (B_h with [u] = u - u_D on
+    Gamma_D): -s <u_D, sigma_h(v) n> + eta p^2 / h_e [u_D]:[v] (the lifting terms' part comes from
+    :func:`ngdgfric.liftings.lifting_terms`)."""
     f, g = coefficient(problem.f), coefficient(problem.g)
     terms = [f * v * ngs.dx]
-    if problem.traction in mesh.GetBoundaries():
-        terms.append(g * v * ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.traction)))
+    if any(name in mesh.GetBoundaries() for name in problem.sides("traction")):
+        terms.append(g * v * ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("traction"))))
+    if has_dirichlet_data(problem):
+        n = ngs.specialcf.normal(2)
+        u_D = coefficient(problem.u_D)
+        boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("dirichlet")))
+        terms.append(-method.symmetry * u_D * (stress(material.own, strain(v)) * n) * boundary)
+        if method.penalty == "edge":
+            h = penalty_length(mesh) if h is None else h
+            terms.append(edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(u_D, v, n) * boundary)
     return terms

@@ -33,8 +33,9 @@ from typing import NamedTuple
 import ngsolve as ngs
 import numpy as np
 
+from .forms import has_dirichlet_data, normal_part
 from .linalg import diagonal, threads
-from .problem import stress
+from .problem import coefficient, stress
 
 __all__ = ["lifting_space", "EdgeColour", "edge_colours", "lifting_matrices", "lifting_terms"]
 
@@ -73,8 +74,8 @@ def edge_colours(problem, mesh):
         raise RuntimeError(f"{space.ndof} facet dofs but {numbering[-1] + 1} edges of triangles")
     dof_of_facet = np.where(in_use, numbering, -1)
     on_boundary = np.zeros(space.ndof, dtype=bool)
-    for name in (problem.traction, problem.contact):
-        on_boundary |= np.array(list(space.GetDofs(mesh.Boundaries(name))), dtype=bool)
+    for part in ("traction", "contact"):
+        on_boundary |= np.array(list(space.GetDofs(mesh.Boundaries(problem.where(part)))), dtype=bool)
     excluded = (dof_of_facet < 0) | on_boundary[dof_of_facet]  # not an edge of the mesh, or on Gamma_F, Gamma_C
     colour = _greedy_colours(edge_of, excluded)
     colours = []
@@ -119,12 +120,14 @@ def _diagonal_inverse(mat):
 
 
 def lifting_matrices(problem, material, mesh, V, order, local=True, total=False):
-    """(list of R_c, P = M^-1 K M^-1) as NGSolve sparse matrices (module docstring).
+    """(list of R_c, P = M^-1 K M^-1, list of r_c) as NGSolve sparse matrices and vectors (module docstring).
 
     ``material``: the :class:`~ngdgfric.material.Material` (C element by element in K, and the weights of
     the average {tau}, the same as in the consistency terms of :func:`ngdgfric.forms.dg_terms`);
     ``local``: the matrices R_c of the edge colours; ``total``: append R = sum_c R_c (assembled
-    directly, over all of E_h^o).
+    directly, over all of E_h^o).  On symmetry sides the lifting sees the normal part (u . n) n of u
+    (:func:`ngdgfric.forms.normal_part`).  r_c: the liftings of the prescribed displacement u_D on Gamma_D
+    (the jump there is u - u_D, so r_e[u] = R_c u - r_c), None if u_D = 0.
     """
     S = lifting_space(mesh, order)
     cells = lifting_space(mesh, order, dgjumps=False)  # block-diagonal patterns for M and K
@@ -132,7 +135,9 @@ def lifting_matrices(problem, material, mesh, V, order, local=True, total=False)
     tau = S.TestFunction()
     sigma_T, tau_T = cells.TnT()
     n = ngs.specialcf.normal(2)
-    dirichlet = mesh.Boundaries(problem.dirichlet)
+    dirichlet = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("dirichlet")))
+    symmetry = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("symmetry"))) \
+        if any(name in mesh.GetBoundaries() for name in problem.sides("symmetry")) else None
     jump = u - u.Other()
     with threads(V.ndof):
         mass = ngs.BilinearForm(cells)
@@ -143,40 +148,79 @@ def lifting_matrices(problem, material, mesh, V, order, local=True, total=False)
         stiffness.Assemble()
         m_inv = _diagonal_inverse(mass.mat)
         P = m_inv @ stiffness.mat.DeleteZeroElements(0.0) @ m_inv  # C couples not every pair
+
         def assemble(facets, indicator):
             # the skeleton loop visits only the colour's facets (2.6 times faster than multiplying
             # by the indicator on all of them, at 49k DOFs)
             form = ngs.BilinearForm(trialspace=V, testspace=S)
             form += -jump * (material.average(tau, tau.Other()) * n) * ngs.dx(skeleton=True,
                                                                                  definedonelements=facets)
-            form += -indicator * u * (tau * n) * ngs.ds(skeleton=True, definedon=dirichlet)
+            form += -indicator * u * (tau * n) * dirichlet
+            if symmetry is not None:
+                form += -indicator * normal_part(u, n) * (tau * n) * symmetry
             form.Assemble()
             return form.mat.DeleteZeroElements(0.0)  # the pattern holds all facet couplings
 
-        R = [assemble(*colour) for colour in edge_colours(problem, mesh)] if local else []
+        trace = _dirichlet_trace(problem, mesh, order)
+
+        def boundary_data(indicator):
+            if trace is None:
+                return None
+            form = ngs.BilinearForm(trialspace=trace.space, testspace=cells)  # test space S crashed NGSolve
+            form += -indicator * trace.space.TrialFunction() * (tau_T * n) * dirichlet
+            form.Assemble()
+            lifted = form.mat.CreateColVector()
+            lifted.data = form.mat * trace.vec
+            return lifted
+
+        colours = edge_colours(problem, mesh) if local else []
+        R = [assemble(*colour) for colour in colours]
+        r = [boundary_data(colour.indicator) for colour in colours]
         if total:
             everywhere = ngs.BitArray(mesh.nfacet)
             everywhere.Set()
             R.append(assemble(everywhere, ngs.CF(1.0)))
-    return R, P
+            r.append(boundary_data(ngs.CF(1.0)))
+    return R, P, r
+
+
+def _dirichlet_trace(problem, mesh, order):
+    """u_D on Gamma_D as a GridFunction of a vector facet space: its L2 projection onto polynomials of degree
+    ``order`` + 2 on every Dirichlet edge (exact for polynomial data of that degree; a LinearForm with the
+    symmetric tensor test functions of Sigma_h falls back to an unoptimised path of NGSolve that prints
+    "called base class apply trans"), None if u_D = 0."""
+    if not has_dirichlet_data(problem):
+        return None
+    trace = ngs.GridFunction(ngs.FacetFESpace(mesh, order=order + 2) ** 2)
+    trace.Set(coefficient(problem.u_D), ngs.BND, definedon=mesh.Boundaries(problem.where("dirichlet")))
+    return trace
 
 
 def lifting_terms(problem, material, mesh, V, order, method, eta):
-    """The lifting terms of ``method`` as (weight, sparse matrix on V) pairs (none if it has none),
-    to be added to B_h's matrix by :func:`ngdgfric.linalg.sparse_sum` (the local terms lie in the
-    DG pattern, so they are scattered into it without a union pattern).
+    """The lifting terms of ``method``: (pairs (weight, sparse matrix on V), to be added to B_h's matrix by
+    :func:`ngdgfric.linalg.sparse_sum` (the local terms lie in the DG pattern, so they are scattered into it
+    without a union pattern), and the load vector they give a prescribed displacement u_D (None if u_D = 0 or
+    the method has no liftings)).
 
     Bassi et al. (B_h^(3)): eta sum_e (C r_e, r_e); Brezzi et al. (B_h^(4)): that plus
-    (C r_0, r_0); LDG (B_h^(5)): (C r_0, r_0).
+    (C r_0, r_0); LDG (B_h^(5)): (C r_0, r_0).  With [u] = u - u_D on Gamma_D, (C r_e[u], r_e[v]) =
+    v^T R^T P (R u - r), so u_D adds eta R^T P r to the right-hand side.
     """
     if method.penalty != "lift" and not method.global_lift:
-        return []
+        return [], None
     local = method.penalty == "lift"
-    R, P = lifting_matrices(problem, material, mesh, V, order, local=local, total=method.global_lift)
-    terms = []
+    R, P, r = lifting_matrices(problem, material, mesh, V, order, local=local, total=method.global_lift)
+    weights = [eta] * (len(R) - 1 if method.global_lift else len(R)) + [1.0] * method.global_lift
+    terms, load = [], None
     with threads(V.ndof):
-        if local:
-            terms += [(eta, R_c.CreateTranspose() @ P @ R_c) for R_c in (R[:-1] if method.global_lift else R)]
-        if method.global_lift:
-            terms.append((1.0, R[-1].CreateTranspose() @ P @ R[-1]))
-    return terms
+        for weight, R_c, r_c in zip(weights, R, r, strict=True):
+            R_t = R_c.CreateTranspose()
+            terms.append((weight, R_t @ P @ R_c))
+            if r_c is not None:
+                if load is None:
+                    load = ngs.BaseVector(V.ndof)
+                    load[:] = 0.0
+                lifted = r_c.CreateVector()
+                lifted.data = P * r_c
+                load.data += weight * (R_t * lifted)
+    return terms, load

@@ -5,15 +5,21 @@ for minutes (a 1 x 1e-5 rectangle with maxh = 1: more than 6 minutes of CPU).  T
 in a forked child and sent back as arrays; the parent waits in short polls, so Ctrl-C stops it at
 once, and a child still busy after ``timeout`` seconds is killed and reported as a ValueError.
 Where fork is not available the mesh is made in this process.
+
+The child writes the mesh to a temporary Netgen ``.vol`` file (it keeps every boundary segment's curve and
+parameter, which ``mesh.Curve`` and refinement onto curved sides need; sending the pickled mesh with its
+geometry hung) and sends the exact coordinates (the file keeps 16 digits); the parent reads the file, restores
+the coordinates and attaches the geometry again.
 """
 
 import multiprocessing
+import os
 import pickle
+import tempfile
 import time
 
 import netgen.meshing as nm
 import numpy as np
-from netgen.geom2d import SplineGeometry
 
 __all__ = ["generate", "default_timeout", "triangles_of"]
 
@@ -24,73 +30,60 @@ def default_timeout(elements):
     return 10 + 1e-4 * elements
 
 
-def _mesh(vertices, labels, maxh):
-    spline = SplineGeometry()
-    points = [spline.AppendPoint(x, y) for x, y in vertices]
-    for k, label in enumerate(labels):
-        spline.Append(["line", points[k], points[(k + 1) % len(points)]], bc=label, leftdomain=1, rightdomain=0)
-    return spline.GenerateMesh(maxh=maxh)
-
-
 def triangles_of(ngmesh):
     """(points (n, 2), triangles (m, 3) of 0-based vertex numbers) of a 2D Netgen mesh, in its element order."""
     points = np.asarray(ngmesh.Coordinates())[:, :2].copy()  # copies: the mesh may be freed
     return points, ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
 
 
-def _arrays(ngmesh):
-    """The mesh as arrays: coordinates, triangles, segments with their region, region names."""
-    segments = ngmesh.Elements1D().NumPy()
-    names = [ngmesh.GetBCName(k) for k in range(int(segments["index"].max()))] if len(segments) else []
-    return (*triangles_of(ngmesh), segments["nodes"][:, :2].copy(), segments["index"].copy(), names)
-
-
-def _rebuild(points, triangles, segments, regions, names):
-    """The Netgen mesh of :func:`_arrays`, numbered as the original (the geometry is not needed:
-    the sides are straight)."""
-    ngmesh = nm.Mesh(dim=2)
-    ngmesh.AddPoints(np.column_stack([points, np.zeros(len(points))]))
-    ngmesh.AddElements(dim=2, index=ngmesh.AddRegion("omega", dim=2), data=triangles.astype(np.int32), base=0)
-    for name in names:
-        ngmesh.AddRegion(name, dim=1)
-    for (a, b), region in zip(segments, regions, strict=True):
-        ngmesh.Add(nm.Element1D([nm.PointId(int(a)), nm.PointId(int(b))], index=int(region)))
-    return ngmesh
-
-
-def _child(connection, vertices, labels, maxh):
-    try:  # arrays, not the pickled mesh: unpickling a fresh Netgen mesh with its geometry hung
-        connection.send_bytes(pickle.dumps(("mesh", _arrays(_mesh(vertices, labels, maxh)))))
+def _child(connection, geometry, maxh, path):
+    try:
+        ngmesh = geometry.spline_geometry().GenerateMesh(maxh=maxh)
+        ngmesh.Save(path)
+        connection.send_bytes(pickle.dumps(("mesh", (path, np.array(ngmesh.Coordinates())))))
     except Exception as exc:  # netgen.libngpy._meshing.NgException and whatever else Netgen raises
         connection.send_bytes(pickle.dumps(("error", f"{type(exc).__name__}: {exc}")))
     finally:
         connection.close()
 
 
-def generate(vertices, labels, maxh, timeout):
-    """The Netgen mesh (netgen.meshing.Mesh) of the polygon ``vertices`` with side ``labels``;
+def _load(geometry, path, coordinates):
+    """The mesh saved at ``path`` with the exact ``coordinates`` (the .vol file keeps 16 digits) and its geometry."""
+    ngmesh = nm.Mesh(dim=2)
+    ngmesh.Load(path)
+    ngmesh.Coordinates()[:] = coordinates  # a writable view of the mesh's points
+    ngmesh.SetGeometry(geometry.spline_geometry())
+    return ngmesh
+
+
+def generate(geometry, maxh, timeout):
+    """The Netgen mesh (netgen.meshing.Mesh, with its geometry) of a :class:`ngdgfric.domain.Geometry`;
     RuntimeError with Netgen's message if it fails, TimeoutError after ``timeout`` seconds."""
     try:
         context = multiprocessing.get_context("fork")
     except ValueError:  # no fork on this platform
-        return _mesh(vertices, labels, maxh)
-    receive, send = context.Pipe(duplex=False)
-    child = context.Process(target=_child, args=(send, vertices, labels, maxh), daemon=True)
-    child.start()
-    send.close()
-    try:
-        deadline = time.monotonic() + timeout
-        while not receive.poll(0.1):
-            if time.monotonic() > deadline:
-                raise TimeoutError(f"Netgen did not finish within {timeout:.0f} s")
-            if not child.is_alive() and not receive.poll(0.1):
-                raise RuntimeError(f"Netgen's process ended without a mesh (exit code {child.exitcode})")
-        kind, payload = pickle.loads(receive.recv_bytes())
-    finally:
-        if child.is_alive():
-            child.kill()
-        child.join()
-        receive.close()
-    if kind == "error":
-        raise RuntimeError(payload)
-    return _rebuild(*payload)
+        ngmesh = geometry.spline_geometry().GenerateMesh(maxh=maxh)
+        ngmesh.SetGeometry(geometry.spline_geometry())
+        return ngmesh
+    with tempfile.TemporaryDirectory(prefix="ngdgfric-") as folder:
+        path = os.path.join(folder, "mesh.vol")
+        receive, send = context.Pipe(duplex=False)
+        child = context.Process(target=_child, args=(send, geometry, maxh, path), daemon=True)
+        child.start()
+        send.close()
+        try:
+            deadline = time.monotonic() + timeout
+            while not receive.poll(0.1):
+                if time.monotonic() > deadline:
+                    raise TimeoutError(f"Netgen did not finish within {timeout:.0f} s")
+                if not child.is_alive() and not receive.poll(0.1):
+                    raise RuntimeError(f"Netgen's process ended without a mesh (exit code {child.exitcode})")
+            kind, payload = pickle.loads(receive.recv_bytes())
+        finally:
+            if child.is_alive():
+                child.kill()
+            child.join()
+            receive.close()
+        if kind == "error":
+            raise RuntimeError(payload)
+        return _load(geometry, *payload)

@@ -1,4 +1,4 @@
-"""Meshes of a problem's polygon with boundary labels Gamma_D, Gamma_F, Gamma_C.
+"""Meshes of a problem's domain with named sides (Gamma_D, Gamma_F, Gamma_C, symmetry) and regions.
 
 The mesh generators estimate the number of elements before meshing and refuse above
 ``max_elements`` (default :data:`MAX_ELEMENTS`), with the estimate in the message: h = 1e-5 on the
@@ -11,11 +11,12 @@ import netgen.meshing as nm
 import ngsolve as ngs
 import numpy as np
 
-from .geometry import distances_to_sides
+from .domain import INTERFACE
 from .mesher import default_timeout, generate, triangles_of
 
 __all__ = ["uniform_mesh", "netgen_mesh", "refine", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
-           "element_diameters", "triangle_corners", "estimated_elements", "snapshot", "same_mesh", "MAX_ELEMENTS"]
+           "element_diameters", "triangle_corners", "estimated_elements", "snapshot", "same_mesh", "curve",
+           "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 MAX_ELEMENTS = 10**6
@@ -32,9 +33,7 @@ def estimated_elements(problem, h=None, maxh=None):
         if h is not None:
             x0, y0, x1, y1 = geometry.bounds
             return 2 * np.ceil(np.float64(x1 - x0) / h) * np.ceil(np.float64(y1 - y0) / h)
-        v = np.asarray(geometry.vertices)
-        perimeter = float(np.sum(np.linalg.norm(np.roll(v, -1, axis=0) - v, axis=1)))
-        return float(np.ceil(4 / math.sqrt(3) * geometry.signed_area / np.float64(maxh) ** 2 + perimeter / maxh))
+        return float(np.ceil(4 / math.sqrt(3) * geometry.area / np.float64(maxh) ** 2 + geometry.perimeter / maxh))
 
 
 def _is_size(value):
@@ -135,7 +134,9 @@ def mesh_arrays(mesh):
 
 
 def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
-    """Unstructured Netgen triangulation of the problem's polygon with mesh size ``maxh``.
+    """Unstructured Netgen triangulation of the problem's domain with mesh size ``maxh`` (following the
+    interfaces of its regions; with its geometry attached, so that it can be curved, :func:`curve`, and
+    refined onto curved sides).
 
     ValueError above about ``max_elements`` triangles (:func:`estimated_elements`; None: no limit),
     when Netgen fails, or when it has not finished after ``timeout`` seconds (default
@@ -150,69 +151,92 @@ def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
     if timeout is None:
         timeout = default_timeout(estimated_elements(problem, maxh=maxh))
     try:
-        ngmesh = generate(geometry.vertices, geometry.labels, maxh, timeout)
+        ngmesh = generate(geometry, maxh, timeout)
     except (RuntimeError, TimeoutError) as exc:
-        raise ValueError(f"Netgen could not mesh the polygon {_shown(geometry)} with maxh = {maxh:g}: {exc}") from None
+        raise ValueError(f"Netgen could not mesh the {geometry.kind} {_shown(geometry)} with maxh = {maxh:g}: "
+                         f"{exc}") from None
     mesh = ngs.Mesh(ngmesh)
     if mesh.ne == 0:
-        raise ValueError(f"Netgen made no elements for the polygon {_shown(geometry)} with maxh = {maxh:g}")
+        raise ValueError(f"Netgen made no elements for the {geometry.kind} {_shown(geometry)} with maxh = {maxh:g}")
     check_mesh(problem, mesh)
     return mesh
 
 
 def _shown(geometry, count=6):
-    """The polygon's first vertices for a message."""
-    vertices = [f"({x:.10g}, {y:.10g})" for x, y in geometry.vertices]
+    """The first vertices of the domain's loops for a message."""
+    vertices = [f"({x:.10g}, {y:.10g})" for _, loop in geometry.region_loops for x, y in loop.vertices]
     more = f", ... ({len(vertices)} vertices)" if len(vertices) > count else ""
     return "[" + ", ".join(vertices[:count]) + more + "]"
 
 
 def check_mesh(problem, mesh):
-    """Raise ValueError unless ``mesh`` is a mesh of the problem's polygon: its boundary names are
-    the problem's (Gamma_D, Gamma_F, Gamma_C), every boundary edge lies on a side of the polygon
-    with its name, and the mesh has the polygon's area and side lengths (to FIT relative)."""
+    """Raise ValueError unless ``mesh`` is a mesh of the problem's domain: its boundary names are the
+    problem's (and the interfaces between regions), its regions the domain's, every boundary edge lies on a
+    side of the domain with its name, and the mesh has the domain's area and side lengths (to FIT relative;
+    on curved sides the chords' segments are added exactly, :meth:`ngdgfric.domain.Geometry.chord_correction`)."""
     if not isinstance(mesh, ngs.Mesh) or mesh.dim != 2:
         raise ValueError(f"mesh must be a 2D NGSolve Mesh, got {mesh!r}")
+    geometry = problem.geometry
     found = set(mesh.GetBoundaries())
-    required = {problem.dirichlet, problem.contact}
-    if problem.traction in problem.geometry.labels:
-        required.add(problem.traction)
+    required = {name for part in ("dirichlet", "contact") for name in problem.sides(part)
+                if name in geometry.side_names}
+    required |= set(geometry.side_names)
     missing = sorted(required - found)
     if missing:
         raise ValueError(f"mesh has no boundary named {', '.join(map(repr, missing))}; "
                          f"its boundaries are {sorted(found)}")
-    unknown = sorted(found - set(problem.boundary_names()))
+    unknown = sorted(found - set(problem.boundary_names()) - {INTERFACE})
     if unknown:
         raise ValueError(f"mesh boundary {', '.join(map(repr, unknown))} is not one of the problem's "
                          f"names {problem.boundary_names()}")
-    _check_fit(problem.geometry, *mesh_arrays(mesh))
+    regions = set(mesh.GetMaterials())
+    if len(geometry.region_names) > 1 and regions != set(geometry.region_names):
+        raise ValueError(f"the mesh's regions {sorted(regions)} are not the domain's {sorted(geometry.region_names)}")
+    _check_fit(geometry, *mesh_arrays(mesh))
 
 
 def _check_fit(geometry, points, triangles, segments, labels):
     """ValueError unless the mesh (arrays of :func:`mesh_arrays`) fills ``geometry``."""
-    sides = np.asarray(geometry.vertices)
-    starts, ends, names = sides, np.roll(sides, -1, axis=0), np.asarray(geometry.labels)
-    gap = FIT * float(np.max(np.ptp(sides, axis=0)))
+    gap = FIT * geometry.diameter()
+    kind = geometry.kind
+    correction = 0.0
     for label in map(str, np.unique(labels)):
-        ends_of_edges = points[segments[labels == label]].reshape(-1, 2)
-        distance = np.min(distances_to_sides(ends_of_edges, starts[names == label], ends[names == label]), axis=1)
+        ends = points[segments[labels == label]]
+        distance = geometry.side_distances(label, ends.reshape(-1, 2))
         if distance.max() > gap:
             k = int(np.argmax(distance))
-            raise ValueError(f"the mesh does not fit the problem's polygon: its boundary point "
-                             f"({ends_of_edges[k, 0]:.6g}, {ends_of_edges[k, 1]:.6g}) labelled {label!r} is "
-                             f"{distance[k]:.3g} away from the polygon's sides labelled {label!r}")
-        length = np.sum(np.linalg.norm(np.diff(points[segments[labels == label]], axis=1), axis=2))
-        expected = np.sum(np.linalg.norm((ends - starts)[names == label], axis=1))
-        if abs(length - expected) > FIT * expected:
-            raise ValueError(f"the mesh does not fit the problem's polygon: its boundary {label!r} has length "
-                             f"{length:.10g}, the polygon's sides labelled {label!r} {expected:.10g}")
+            point = ends.reshape(-1, 2)[k]
+            raise ValueError(f"the mesh does not fit the problem's {kind}: its boundary point "
+                             f"({point[0]:.6g}, {point[1]:.6g}) labelled {label!r} is {distance[k]:.3g} away from "
+                             f"the {kind}'s sides labelled {label!r}")
+        if label == INTERFACE:
+            continue
+        chords = np.sum(np.linalg.norm(np.diff(ends, axis=1), axis=2))
+        expected = geometry.side_length(label)
+        if chords > expected * (1 + FIT) or (not geometry.curved and chords < expected * (1 - FIT)):
+            raise ValueError(f"the mesh does not fit the problem's {kind}: its boundary {label!r} has length "
+                             f"{chords:.10g}, the {kind}'s sides labelled {label!r} {expected:.10g}")
+        correction += geometry.chord_correction(label, ends)
     a, b = (points[triangles[:, k]] - points[triangles[:, 0]] for k in (1, 2))
-    area = 0.5 * np.sum(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
-    if abs(area - geometry.signed_area) > FIT * geometry.signed_area:
-        raise ValueError(f"the mesh does not fit the problem's polygon: its area is {area:.10g}, the polygon's "
-                         f"{geometry.signed_area:.10g}")
+    area = 0.5 * np.sum(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])) + correction
+    if abs(area - geometry.area) > FIT * geometry.area:
+        raise ValueError(f"the mesh does not fit the problem's {kind}: its area is {area:.10g}, the {kind}'s "
+                         f"{geometry.area:.10g}")
 
 
+def curve(problem, mesh, order):
+    """Curve ``mesh`` to polynomial degree ``order`` where the domain has curved sides (``mesh.Curve``: every
+    geometric quantity - normals, edge Jacobians, Gauss points, areas - then comes from the element mapping);
+    nothing on a straight domain.  ValueError if the mesh has no geometry to curve from (a mesh rebuilt from
+    arrays)."""
+    if not problem.geometry.curved:
+        return
+    from netgen.geom2d import SplineGeometry
+
+    if not isinstance(mesh.ngmesh.GetGeometry(), SplineGeometry):
+        raise ValueError("the domain has curved sides but the mesh carries no geometry to curve it: make it with "
+                         "ndf.netgen_mesh (or refine such a mesh)")
+    mesh.Curve(int(order))
 def facet_indicator(mesh, boundary):
     """Order-0 facet GridFunction: 1 on the edges of the named boundary, 0 elsewhere."""
     space = ngs.FacetFESpace(mesh, order=0)

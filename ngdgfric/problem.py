@@ -1,18 +1,23 @@
 """Problem data of the frictional contact problem (1.4)-(1.10) with normal compliance.
 
 A :class:`ContactProblem` is a frozen dataclass of numbers and NGSolve
-CoefficientFunctions of ``x, y``; it also carries its geometry (a polygon whose
-sides are labelled as Gamma_D, Gamma_F or Gamma_C) so that meshes can be built
-from it.  Validation runs in ``__post_init__``, so ``dataclasses.replace``
-checks the new values too.
+CoefficientFunctions of ``x, y``; it also carries its geometry (a :class:`Polygon`, or a
+:class:`ngdgfric.domain.Domain` with regions, holes and circular arcs) whose sides are named, and which
+names belong to Gamma_D (prescribed displacement u_D), Gamma_F (traction g), Gamma_C (contact) and the
+symmetry sides (u . n = 0, no tangential traction).  Data may be given per named part: a dict
+{region: value} for E, nu, f, a dict {side: value} for g, u_D and the contact data c_n, g_a, c_tau; on a
+mesh they become CoefficientFunctions (:meth:`ContactProblem.on`), so the forms see one datum each.
+Validation runs in ``__post_init__``, so ``dataclasses.replace`` checks the new values too.
 """
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from numbers import Real
 
 import ngsolve as ngs
 
+from .domain import Geometry, Loop
 from .geometry import check_polygon
 
 __all__ = ["ContactProblem", "Polygon", "strain", "strain_of", "stress", "von_mises", "coefficient", "is_number"]
@@ -95,8 +100,8 @@ def _point(k, vertex):
 
 
 @dataclass(frozen=True)
-class Polygon:
-    """A polygonal domain Omega, vertices counter-clockwise.
+class Polygon(Geometry):
+    """A polygonal domain Omega, vertices counter-clockwise (one region, named "omega").
 
     Validated on construction (:func:`ngdgfric.geometry.check_polygon`): finite, at least 3
     vertices, no (near-)duplicates, a simple polygon, counter-clockwise.
@@ -107,6 +112,7 @@ class Polygon:
 
     vertices: tuple
     labels: tuple
+    kind = "polygon"
 
     def __post_init__(self):
         vertices = tuple(_point(k, vertex) for k, vertex in enumerate(self.vertices))
@@ -118,6 +124,15 @@ class Polygon:
             raise ValueError(f"a polygon needs one label per side: {len(vertices)} sides, {len(labels)} labels")
         if self.signed_area <= 0:
             raise ValueError("polygon vertices must be counter-clockwise and enclose a positive area")
+        object.__setattr__(self, "_loop", Loop(vertices, labels))
+
+    @property
+    def region_loops(self):
+        return (("omega", self._loop),)
+
+    @property
+    def area(self):
+        return self.signed_area
 
     @classmethod
     def rectangle(cls, x0, y0, x1, y1, bottom, right, top, left):
@@ -148,12 +163,48 @@ class Polygon:
         return min(xs), min(ys), max(xs), max(ys)
 
 
-# the data of ContactProblem in the order they are checked: (kind, low, low_open, high); kind "scalar"
+# the data of ContactProblem in the order they are checked: (kind, low, low_open, high, part); kind "scalar"
 # (a number or a scalar CoefficientFunction), "number" (a number only) or "vector"; a number must lie
-# in [low, high) ((low, high) if low_open; None: no bound), a CoefficientFunction is checked pointwise later
-_DATA = {"E": ("scalar", 0, True, None), "nu": ("scalar", -1, True, 0.5), "f": ("vector", None, False, None),
-         "g": ("vector", None, False, None), "c_n": ("scalar", 0, False, None), "m_n": ("number", 1, False, None),
-         "g_a": ("scalar", None, False, None), "c_tau": ("scalar", 0, False, None), "m_t": ("number", 0, False, None)}
+# in [low, high) ((low, high) if low_open; None: no bound), a CoefficientFunction is checked pointwise later;
+# part: what a dict of values is keyed by (regions, or the sides of a boundary part), None: one value only
+_DATA = {"E": ("scalar", 0, True, None, "region"), "nu": ("scalar", -1, True, 0.5, "region"),
+         "f": ("vector", None, False, None, "region"), "g": ("vector", None, False, None, "traction"),
+         "u_D": ("vector", None, False, None, "dirichlet"), "c_n": ("scalar", 0, False, None, "contact"),
+         "m_n": ("number", 1, False, None, None), "g_a": ("scalar", None, False, None, "contact"),
+         "c_tau": ("scalar", 0, False, None, "contact"), "m_t": ("number", 0, False, None, None)}
+# boundary parts: where a dict may leave a side out, its value there (zero traction, zero displacement)
+PARTS = ("dirichlet", "traction", "contact", "symmetry")
+_OPTIONAL = {"traction": (0.0, 0.0), "dirichlet": (0.0, 0.0)}
+
+
+def _names(part, value):
+    """A boundary part's names as a tuple: one name or a sequence of names."""
+    names = (value,) if isinstance(value, str) else value
+    try:
+        names = tuple(names)
+    except TypeError:
+        raise ValueError(f"{part} must be a side name or a list of side names, got {value!r}") from None
+    for name in names:
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"{part}: side names must be non-empty strings, got {name!r}")
+    return names
+
+
+def pattern(names):
+    """The NGSolve region pattern (a regular expression) that selects exactly the sides ``names``."""
+    special = set(".^$|?*+()[]{}\\")
+    return "|".join("".join("\\" + c if c in special else c for c in name) for name in names)
+
+
+def _check_datum(name, kind, low, low_open, high, value):
+    if kind == "vector":
+        _check_vector(name, value)
+        return
+    if kind == "scalar":
+        _check_scalar(name, value)
+    elif not is_number(value):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    _check_number(name, value, low=low, low_open=low_open, high=high)
 
 
 @dataclass(frozen=True)
@@ -161,7 +212,12 @@ class ContactProblem:
     """Data of problem (1.4): the reduced law (1.10) for m_t = 0 (Section 1).
 
     Every datum may be a number or an NGSolve CoefficientFunction of ``x, y``;
-    ``f`` and ``g`` are pairs or 2-vector CoefficientFunctions.
+    ``f``, ``g`` and ``u_D`` are pairs or 2-vector CoefficientFunctions.  E, nu and f may also be dicts
+    {region name: value} (regions of a :class:`ngdgfric.domain.Domain`; a Polygon has one, "omega"), g a dict
+    {traction side: value} (sides left out are free, g = 0), u_D a dict {Dirichlet side: value} (left out:
+    u_D = 0), c_n, g_a and c_tau dicts {contact side: value}; on a mesh they become CoefficientFunctions
+    (:meth:`on`), and every region's interfaces are edges of the mesh, so the forms take each region's own
+    material (:mod:`ngdgfric.material`).
 
     E, nu:     Young's modulus and Poisson ratio (Lame parameters ``mu``, ``lam`` by Section 6); where they
                vary, the forms take them element by element (:mod:`ngdgfric.material`).
@@ -172,7 +228,11 @@ class ContactProblem:
     c_tau:     friction coefficient on Gamma_C: the friction bound of (1.9) is c_tau (u_n - g_a)_+^{m_t}.
     m_t:       exponent of the friction bound, m_t >= 0; m_t = 0 is the reduced law (1.10) of the paper,
                m_t > 0 makes (1.4) a quasi-variational inequality (bound 0 where there is no contact).
-    geometry:  the polygon with its sides labelled by the boundary names below.
+    geometry:  a :class:`Polygon` or :class:`ngdgfric.domain.Domain` whose sides carry the names below.
+    dirichlet, traction, contact, symmetry: the side names (one name or a list) of Gamma_D (u = u_D, (1.6)),
+               Gamma_F (sigma n = g, (1.7)), Gamma_C (1.8)-(1.9, several sides allowed) and the symmetry
+               (roller) sides, u . n = 0 and (sigma n) . t = 0.  Every side of the geometry has one of them.
+    u_D:       the prescribed displacement on Gamma_D (the paper: 0).
     """
 
     E: object
@@ -183,35 +243,107 @@ class ContactProblem:
     m_n: float
     g_a: object
     c_tau: object
-    geometry: Polygon
-    dirichlet: str = "dirichlet"
-    traction: str = "traction"
-    contact: str = "contact"
+    geometry: Geometry
+    dirichlet: object = "dirichlet"
+    traction: object = "traction"
+    contact: object = "contact"
     m_t: float = 0.0
     name: str = field(default="contact problem", compare=False)
+    symmetry: object = ()
+    u_D: object = (0.0, 0.0)
 
     def __post_init__(self):
-        for name, (kind, low, low_open, high) in _DATA.items():
+        if not isinstance(self.geometry, Geometry):
+            raise ValueError(f"geometry must be a Polygon or a Domain, got {self.geometry!r}")
+        for part in PARTS:
+            object.__setattr__(self, part, _names(part, getattr(self, part)) if part == "symmetry"
+                               else self._group(part))
+        seen = {}
+        for part in PARTS:
+            for name in self.sides(part):
+                if name in seen:
+                    raise ValueError(f"side name {name!r} is in both {seen[name]} and {part}: boundary names "
+                                     f"must be distinct")
+                seen[name] = part
+        for label in self.geometry.side_names:
+            if label not in seen:
+                raise ValueError(f"geometry side label {label!r} is not one of the boundary names "
+                                 f"{tuple(seen)}: give it a condition (dirichlet, traction, contact or symmetry)")
+        for part in ("dirichlet", "contact"):
+            present = [name for name in self.sides(part) if name in self.geometry.side_names]
+            if not present:
+                raise ValueError(f"geometry has no side labelled {' or '.join(map(repr, self.sides(part)))} "
+                                 f"({part} boundary)")
+        for name, (kind, low, low_open, high, part) in _DATA.items():
             value = getattr(self, name)
-            if kind == "vector":
-                _check_vector(name, value)
+            if isinstance(value, dict):
+                self._check_parts(name, part, value)
+                for key, item in value.items():
+                    _check_datum(f"{name}[{key!r}]", kind, low, low_open, high, item)
+            else:
+                _check_datum(name, kind, low, low_open, high, value)
+
+    def _group(self, part):
+        """The names of a boundary part as given: one name stays a str (the paper's problems), a list a tuple."""
+        value = getattr(self, part)
+        names = _names(part, value)
+        if not names:
+            raise ValueError(f"{part} needs at least one side name")
+        return value if isinstance(value, str) else names
+
+    def _check_parts(self, name, part, values):
+        """ValueError unless the dict ``values`` of datum ``name`` is keyed by the names of ``part``."""
+        if part is None:
+            raise ValueError(f"{name} must be one number for all contact sides, got a dict {values!r}")
+        known = self.geometry.region_names if part == "region" else self.sides(part)
+        for key in values:
+            if key not in known:
+                raise ValueError(f"{name}: {key!r} is not a{'' if part == 'region' else ' ' + part} "
+                                 f"{'region' if part == 'region' else 'side'}; known: {list(known)}")
+        if part not in _OPTIONAL:
+            missing = [key for key in known if key not in values]
+            if missing:
+                raise ValueError(f"{name} has no value for {part} {'region' if part == 'region' else 'side'}"
+                                 f"{'s' * (len(missing) > 1)} {', '.join(map(repr, missing))}")
+
+    def sides(self, part):
+        """The side names of a boundary part ("dirichlet", "traction", "contact" or "symmetry") as a tuple."""
+        return _names(part, getattr(self, part))
+
+    def where(self, part):
+        """The NGSolve region pattern of a boundary part (``mesh.Boundaries(problem.where("contact"))``)."""
+        return pattern(self.sides(part))
+
+    @property
+    def per_part(self):
+        """Whether some datum is given per region or per side (a dict): then :meth:`on` resolves it on a mesh."""
+        return any(isinstance(getattr(self, name), dict) for name in _DATA)
+
+    def on(self, mesh):
+        """This problem with every dict datum made a CoefficientFunction on ``mesh``: per region a
+        ``MaterialCF``, per side the sum of value x indicator of the side's edges (an order-0 facet
+        function: NGSolve's ``BoundaryCF`` cannot be evaluated in the skeleton integrals of DG forms)."""
+        if not self.per_part:
+            return self
+        changes = {}
+        for name, (kind, _, _, _, part) in _DATA.items():
+            values = getattr(self, name)
+            if not isinstance(values, dict):
                 continue
-            if kind == "scalar":
-                _check_scalar(name, value)
-            elif not is_number(value):
-                raise ValueError(f"{name} must be a number, got {value!r}")
-            _check_number(name, value, low=low, low_open=low_open, high=high)
-        if not isinstance(self.geometry, Polygon):
-            raise ValueError(f"geometry must be a Polygon, got {self.geometry!r}")
-        names = (self.dirichlet, self.traction, self.contact)
-        if len(set(names)) != 3:
-            raise ValueError(f"boundary names must be distinct, got {names}")
-        for label in self.geometry.labels:
-            if label not in names:
-                raise ValueError(f"geometry side label {label!r} is not one of the boundary names {names}")
-        for part, label in (("dirichlet", self.dirichlet), ("contact", self.contact)):
-            if label not in self.geometry.labels:
-                raise ValueError(f"geometry has no side labelled {label!r} ({part} boundary)")
+            if part == "region":
+                if kind == "vector":
+                    changes[name] = ngs.CF(tuple(mesh.MaterialCF({key: coefficient(value)[i]
+                                                                  for key, value in values.items()})
+                                                 for i in range(2)))
+                else:
+                    changes[name] = mesh.MaterialCF({key: coefficient(value) for key, value in values.items()})
+                continue
+            from .meshes import facet_indicator
+
+            zero = 0 * coefficient(_OPTIONAL.get(part, 0.0))
+            changes[name] = sum((coefficient(value) * facet_indicator(mesh, pattern([key]))
+                                 for key, value in values.items()), zero)
+        return dataclasses.replace(self, **changes)
 
     @property
     def mu(self):
@@ -224,8 +356,8 @@ class ContactProblem:
         return self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
 
     def boundary_names(self):
-        """(dirichlet, traction, contact)."""
-        return self.dirichlet, self.traction, self.contact
+        """Every side name the problem gives a condition, in the order dirichlet, traction, contact, symmetry."""
+        return tuple(name for part in PARTS for name in self.sides(part))
 
 
 def strain(w):

@@ -25,9 +25,9 @@ import numpy as np
 
 from .discretization import dg_space
 from .files import atomic_path
-from .forms import edge_length, jump_inner
+from .forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
 from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
-from .problem import coefficient, is_number, strain, strain_of, stress
+from .problem import Polygon, coefficient, is_number, strain, strain_of, stress
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
            "energy_norm", "energy_norm_squared_parts", "difference"]
@@ -48,6 +48,7 @@ class Reference:
 def save_reference(sol, path, eta_h, description=""):
     """Write Solution ``sol`` with its estimator value ``eta_h`` to ``path`` (.npz, written atomically),
     with a fingerprint of its problem (:func:`fingerprint`)."""
+    check_storable(sol.problem)
     points, triangles, segments, labels = mesh_arrays(sol.mesh)
     with atomic_path(path) as temporary:
         with open(temporary, "wb") as handle:
@@ -74,6 +75,20 @@ def fingerprint(problem, mesh, points, triangles, segments):
     return dict(fp_vertices=np.asarray(problem.geometry.vertices), fp_labels=np.asarray(problem.geometry.labels),
                 fp_names=np.asarray(problem.boundary_names()), fp_numbers=_numbers(problem),
                 fp_points=where, fp_data=_data_at(problem, mesh, where), **varying_nu)
+
+
+def check_storable(problem):
+    """ValueError unless a reference of ``problem`` can be stored and identified: the mesh is stored as arrays
+    (straight triangles, one region) and the fingerprint holds a polygon, one value per datum and u_D = 0."""
+    reasons = [reason for reason, found in (
+        ("its domain is not a polygon (curved sides, holes or regions need the geometry to rebuild the mesh)",
+         not isinstance(problem.geometry, Polygon)),
+        ("it has data per region or per side", problem.per_part),
+        ("it prescribes a displacement u_D != 0", has_dirichlet_data(problem)),
+        ("it has symmetry sides", bool(problem.sides("symmetry")))) if found]
+    if reasons:
+        raise ValueError(f"references are stored for problems on one polygon with the paper's boundary conditions; "
+                         f"{problem.name!r} cannot be: {'; '.join(reasons)}")
 
 
 def _numbers(problem):
@@ -191,6 +206,7 @@ def _check_arrays(path, data):
 
 def _check_fingerprint(path, data, problem):
     """ValueError unless the reference was made for a problem with ``problem``'s geometry, names and numbers."""
+    check_storable(problem)
     geometry = problem.geometry
     stored = data["fp_vertices"]
     if stored.shape != (len(geometry.vertices), 2) or not np.allclose(stored, geometry.vertices, rtol=0,
@@ -224,7 +240,7 @@ def reference_errors(sol, reference):
     2 p + 4; exact when u_ref is a polynomial of degree <= p + 3 there, else a quadrature of a
     function as smooth as u_ref is on u_h's elements).
     """
-    mesh, problem = sol.mesh, sol.problem
+    mesh, problem = sol.mesh, _problem_of(sol)
     rule = ngs.IntegrationRule(ngs.TRIG, 2 * sol.u.space.globalorder + 4)
     points = mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL)
     xy = np.asarray(ngs.CF((ngs.x, ngs.y))(points)).reshape(-1, 2)
@@ -268,15 +284,18 @@ def energy_norm_squared_parts(problem, mesh, w, element_wise=False):
 
 def _jump_part(problem, mesh, w, element_wise=False, dirichlet_value=None):
     """sum_{e in E_h^o} h_e^-1 ||[w]||_e^2 for a DG function ``w``, with [w] = w - ``dirichlet_value`` on the
-    Dirichlet edges (a 2-vector CoefficientFunction; None: the jump [w] = w of Section 3); a numpy array over elements
-    with ``element_wise`` (interior edges split half-half, Dirichlet edges to their element)."""
+    Dirichlet edges (a 2-vector CoefficientFunction; None: the jump [w] = w of Section 3) and the jump of the normal
+    part (w . n) n on symmetry sides; a numpy array over elements with ``element_wise`` (interior edges split
+    half-half, boundary edges to their element)."""
     n = ngs.specialcf.normal(2)
     h_e = edge_length(mesh)
     jw, off = w - w.Other(), w if dirichlet_value is None else w - dirichlet_value
     boundary = ngs.dx(element_boundary=True, bonus_intorder=max(2 * _order(w.space) + 2 - 5, 0))
     interior = ngs.Integrate(0.5 * jump_inner(jw, jw, n) / h_e * boundary, mesh, element_wise=element_wise)
-    dirichlet = ngs.Integrate(facet_indicator(mesh, problem.dirichlet) * jump_inner(off, off, n) / h_e * boundary,
-                              mesh, element_wise=element_wise)
+    normal = normal_part(off, n)
+    supported = facet_indicator(mesh, problem.where("dirichlet")) * jump_inner(off, off, n) + \
+        SYMMETRY_WEIGHT * facet_indicator(mesh, problem.where("symmetry")) * jump_inner(normal, normal, n)
+    dirichlet = ngs.Integrate(supported / h_e * boundary, mesh, element_wise=element_wise)
     return interior.NumPy() + dirichlet.NumPy() if element_wise else interior + dirichlet
 
 
@@ -303,6 +322,13 @@ def _order(space):
     return space.globalorder
 
 
+def _problem_of(sol):
+    """The problem with its data on the mesh: a Solution's discretisation's (data per part resolved), a
+    :class:`Reference`'s own."""
+    disc = getattr(sol, "discretization", None)
+    return sol.problem if disc is None else disc.problem
+
+
 def energy_norm(sol, w=None):
     """|||u_h|||_h of a Solution, or |||u_h - w|||_h (Section 3):
 
@@ -312,13 +338,18 @@ def energy_norm(sol, w=None):
     solution): then eps(w) is its own derivative (:func:`ngdgfric.problem.strain_of`), C is the problem's
     (the true material, also where a jump cuts elements), the volume integral uses a Gauss rule of degree
     max(2 p + 4, :data:`EXACT_ORDER`) (a kink of w inside an element is integrated, not interpolated), and
-    [u_h - w] = [u_h] on interior edges.
+    [u_h - w] = [u_h] on interior edges.  With a prescribed displacement u_D != 0, |||u_h|||_h takes
+    [u_h] = u_h - u_D on Gamma_D (the jump the solution has there; u_h itself would add h^-1 ||u_D||^2).
     """
+    problem = _problem_of(sol)
+    if w is None and has_dirichlet_data(problem):  # [u_h] = u_h - u_D on Gamma_D: the jump the exact u has not
+        volume, _ = energy_norm_squared_parts(problem, sol.mesh, sol.u)
+        return (volume + _jump_part(problem, sol.mesh, sol.u, dirichlet_value=coefficient(problem.u_D))) ** 0.5
     if w is None or isinstance(w, ngs.GridFunction):
         v = sol.u if w is None else difference(sol.u, w)
-        volume, jumps = energy_norm_squared_parts(sol.problem, sol.mesh, v)
+        volume, jumps = energy_norm_squared_parts(problem, sol.mesh, v)
         return (volume + jumps) ** 0.5
-    problem, mesh, u = sol.problem, sol.mesh, sol.u
+    problem, mesh, u = problem, sol.mesh, sol.u
     e = strain(u) - strain_of(w)
     order = max(2 * _order(u.space) + 4, EXACT_ORDER)
     volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)

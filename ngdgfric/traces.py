@@ -1,7 +1,8 @@
 """Displacement traces at the contact Gauss points, and the point data of the contact laws.
 
 Every contact term of (3.1) is a sum over the Gauss points x_q of Gamma_C (p + 1 per edge, the rule
-of :mod:`ngdgfric.contact`), q = 1 ... M, with weights omega_q (Gauss weight times edge length):
+of :mod:`ngdgfric.contact`), q = 1 ... M, with weights omega_q (Gauss weight times |dx/ds| of the edge's
+mapping: the edge length on straight edges, :func:`edge_jacobians`):
 
     j_n(u, v) + g(lam_tau, v) = sum_q f_n,q v_n(x_q) + f_t,q v_t(x_q) = v^T B^T f,
 
@@ -20,7 +21,7 @@ import numpy as np
 from .contact import contact_rule, evaluate_on_contact, normal_tangent
 from .linalg import threads
 
-__all__ = ["ContactTraces"]
+__all__ = ["ContactTraces", "edge_jacobians"]
 
 
 def _point_values(value, points):
@@ -29,6 +30,12 @@ def _point_values(value, points):
     if isinstance(value, ngs.CoefficientFunction):
         return evaluate_on_contact(value, points) * np.ones(len(points))
     return np.full(len(points), float(value))
+
+
+def edge_jacobians(points):
+    """|dx/ds| of the edge mapping at mapped boundary points (the edge length on a straight edge; on a curved
+    one the element mapping's, so that sum omega_q v(x_q) is the Gauss rule of the curved edge)."""
+    return np.asarray(ngs.Norm(ngs.specialcf.JacobianMatrix(2, 1))(points)).ravel()
 
 
 class ContactTraces:
@@ -50,9 +57,8 @@ class ContactTraces:
         self.ndof = disc.V.ndof
         self.M = gauss.dofs.size
         q = gauss.q
-        lengths = np.linalg.norm(gauss.ends[:, 1] - gauss.ends[:, 0], axis=1)
         weights = np.asarray(contact_rule(disc.order)[ngs.SEGM].weights)
-        self.omega = (lengths[:, None] * weights[None, :]).ravel()
+        self.omega = np.tile(weights, len(gauss.dofs)) * edge_jacobians(gauss.points)
         self.g_a = _point_values(problem.g_a, gauss.points)
         self.c_n = _point_values(problem.c_n, gauss.points)
         self.c_tau = _point_values(problem.c_tau, gauss.points)
@@ -99,7 +105,7 @@ class ContactTraces:
         gauss = disc.gauss
         element_of_edge = []
         for el in disc.mesh.Elements(ngs.BND):
-            if el.mat == disc.problem.contact:
+            if el.mat in disc.problem.sides("contact"):
                 element_of_edge.append(disc.mesh[el.edges[0]].elements[0].nr)
         element_of_edge = np.asarray(element_of_edge)
         if len(np.unique(element_of_edge)) < len(element_of_edge):

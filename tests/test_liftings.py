@@ -49,7 +49,7 @@ def test_colour_bitarrays_mark_the_facets_of_the_indicators(small):
 
 def test_lifting_identity_and_global_lifting(small):
     p, mesh, disc = small
-    R, _ = lifting_matrices(p, disc.material, mesh, disc.V, 2, local=True, total=True)
+    R, _, _ = lifting_matrices(p, disc.material, mesh, disc.V, 2, local=True, total=True)
     S = lifting_space(mesh, 2)
     rng = np.random.default_rng(7)
     u = ngs.GridFunction(disc.V)

@@ -46,7 +46,7 @@ def test_ctrl_c_stops_meshing_at_once():
 
 
 def test_the_mesh_made_in_the_child_is_netgens_mesh():
-    """generate() (meshed in a child process, sent back as arrays, rebuilt) gives the mesh Netgen makes in this
+    """generate() (meshed in a child process, sent back as a .vol file, read) gives the mesh Netgen makes in this
     process: same points, triangles in the same order, same boundary segments and names."""
     from netgen.geom2d import SplineGeometry
 
@@ -57,7 +57,7 @@ def test_the_mesh_made_in_the_child_is_netgens_mesh():
     points = [spline.AppendPoint(x, y) for x, y in geometry.vertices]
     for k, label in enumerate(geometry.labels):
         spline.Append(["line", points[k], points[(k + 1) % len(points)]], bc=label, leftdomain=1, rightdomain=0)
-    here, there = spline.GenerateMesh(maxh=0.2), generate(geometry.vertices, geometry.labels, 0.2, timeout=60)
+    here, there = spline.GenerateMesh(maxh=0.2), generate(geometry, 0.2, timeout=60)
     for a, b in zip(triangles_of(here), triangles_of(there), strict=True):
         assert a.shape == b.shape and (a == b).all()
     assert triangles_of(here)[1].min() == 0 and triangles_of(here)[0].shape[1] == 2
