@@ -1,0 +1,124 @@
+"""Domains with regions, holes and circular arcs (ngdgfric/domain.py): exact geometry, Netgen meshes that
+follow it, curved elements, and the checks that refuse what is not a domain."""
+
+import math
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+from ngdgfric.domain import INTERFACE, Arc, Domain, Loop
+from ngdgfric.meshes import mesh_arrays, mesh_from_arrays
+
+HALF_DISK = Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})
+
+
+def problem(geometry, **changes):
+    data = dict(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=10.0, m_n=1, g_a=0.0, c_tau=0.0, geometry=geometry)
+    return ndf.ContactProblem(**{**data, **changes})
+
+
+def test_arc_through_a_point_has_the_circle_of_the_three_points():
+    arc = Arc((-1.0, 1.0), (1.0, 1.0), (0.0, 0.0))
+    assert arc.centre == pytest.approx((0.0, 1.0), abs=1e-15) and arc.radius == pytest.approx(1.0)
+    assert arc.sweep == pytest.approx(math.pi)  # counter-clockwise around (0, 1), through the bottom
+    assert arc.segment_area() == pytest.approx(math.pi / 2)
+    other = Arc((1.0, 1.0), (-1.0, 1.0), (0.0, 2.0))  # the same circle, the top half, also counter-clockwise
+    assert other.sweep == pytest.approx(math.pi) and other.length == pytest.approx(math.pi)
+    clockwise = Arc((1.0, 1.0), (-1.0, 1.0), (0.0, 0.0))
+    assert clockwise.sweep == pytest.approx(-math.pi) and clockwise.segment_area() == pytest.approx(-math.pi / 2)
+    pieces = arc.pieces()
+    assert len(pieces) == 2 and pieces[0][2] == pytest.approx((0.0, 0.0), abs=1e-15)
+    assert pieces[0][1] == pytest.approx((-1.0, 0.0), abs=1e-15)  # the tangents' intersection: an exact circle
+    assert arc.distance([(0.0, -1.0), (0.0, 2.0), (2.0, 1.0)]) == pytest.approx([1.0, math.sqrt(2), 1.0])
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(vertices=[(0, 0), (1, 0)], labels=["a", "b"], arcs={0: (0.5, 0.0)}), "on a line"),
+    (dict(vertices=[(0, 0), (1, 0)], labels=["a", "b"]), "at least 3 vertices"),
+    (dict(vertices=[(0, 0), (1, 0), (0, 1)], labels=["a", "b", "c"], arcs={3: (1, 1)}), "not a side number"),
+    (dict(vertices=[(0, 0), (0, 1), (1, 0)], labels=["a", "b", "c"]), "counter-clockwise"),
+    (dict(vertices=[(0, 0), (1, 0), (0, 1)], labels=["a", "b"]), "one label per side"),
+    (dict(vertices=[(0, 0), (1, 0), (0, 1)], labels=["a", "b", "c"], arcs={0: ("x", 1)}), r"arcs\[0\]"),
+    (dict(vertices=[(0, 0), (2, 0), (2, 1), (0, 1)], labels=list("abcd"), arcs={0: (1.0, 1.5)}), "crosses or touches itself"),
+])
+def test_bad_loops_are_refused_with_a_reason(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        Loop(**kwargs)
+
+
+def test_bad_domains_are_refused_with_a_reason():
+    square = Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["a"] * 4)
+    with pytest.raises(ValueError, match="region 'bad name' must be"):
+        Domain({"bad name": square})
+    with pytest.raises(ValueError, match="reserved"):
+        Domain({"interface": square})
+    with pytest.raises(ValueError, match="hole must lie inside a region"):
+        Domain({"omega": square}, holes=[Loop.circle((3, 3), 0.1, "hole")])
+    with pytest.raises(ValueError, match="side label 'a b'"):
+        Domain({"omega": Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["a b"] * 4)})
+    with pytest.raises(ValueError, match="at least one region"):
+        Domain({})
+
+
+def test_regions_share_sides_as_interfaces_and_holes_and_inclusions_count_in_the_area():
+    left = Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["bottom", "mid", "top", "wall"])
+    right = Loop([(1, 0), (2, 0), (2, 1), (1, 1)], ["bottom", "free", "top", "mid"])
+    domain = Domain({"steel": left, "rubber": right}, holes=[Loop.circle((1.5, 0.5), 0.25, "hole")])
+    assert domain.area == pytest.approx(2 - math.pi / 16, rel=1e-14)
+    assert set(domain.side_names) == {"bottom", "wall", "top", "free", "hole"}
+    interfaces = [s for s in domain._segments() if s[1] == INTERFACE]
+    assert len(interfaces) == 1 and {interfaces[0][2], interfaces[0][3]} == {1, 2}
+    inclusion = Domain({"matrix": Loop([(0, 0), (2, 0), (2, 1), (0, 1)], list("abcd")),
+                        "fibre": Loop.circle((1.0, 0.5), 0.25, "ignored")})
+    assert inclusion.area == pytest.approx(2.0, rel=1e-14) and "ignored" not in inclusion.side_names
+    mesh = ndf.netgen_mesh(problem(inclusion, dirichlet="d", traction=["b", "c"], contact="a"), 0.2)
+    assert set(mesh.GetMaterials()) == {"matrix", "fibre"}
+    fibre = ngs.Integrate(mesh.MaterialCF({"fibre": 1.0}, default=0.0), mesh)
+    assert fibre == pytest.approx(math.pi / 16, rel=0.05)  # straight chords: the inscribed polygon
+
+
+def test_netgen_follows_region_interfaces_and_holes_and_curving_gives_the_exact_area():
+    left = Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["contact", "mid", "top", "dirichlet"])
+    right = Loop([(1, 0), (2, 0), (2, 1), (1, 1)], ["contact", "top", "top", "mid"])
+    domain = Domain({"steel": left, "rubber": right}, holes=[Loop.circle((1.5, 0.5), 0.2, "hole")])
+    p = problem(domain, traction=["top", "hole"], E={"steel": 100.0, "rubber": 1.0})
+    mesh = ndf.netgen_mesh(p, 0.15)
+    assert set(mesh.GetMaterials()) == {"steel", "rubber"}
+    centroids = np.asarray(ndf.meshes.triangle_corners(mesh)).mean(axis=1)
+    regions = np.array([mesh.GetMaterials()[el.index] for el in mesh.Elements(ngs.VOL)])
+    assert np.all((centroids[:, 0] < 1) == (regions == "steel"))  # no element crosses x = 1
+    straight = ngs.Integrate(1, mesh)
+    mesh.Curve(4)
+    assert abs(straight - domain.area) > 1e-3 and abs(ngs.Integrate(1, mesh) - domain.area) < 1e-6
+    ndf.meshes.check_mesh(p, mesh)  # chords plus their circular segments give the area exactly
+
+
+def test_refinement_puts_new_boundary_points_on_the_circle_and_solve_curves_the_mesh():
+    p = problem(Domain({"omega": HALF_DISK}), u_D=(0, -0.01), g_a=ngs.y)
+    mesh = ndf.netgen_mesh(p, 0.5)
+    for _ in range(2):
+        ndf.refine(mesh, np.ones(mesh.ne, dtype=bool))
+    points, _, segments, labels = mesh_arrays(mesh)
+    on_arc = points[np.unique(segments[labels == "contact"])]
+    assert np.abs(np.hypot(on_arc[:, 0], on_arc[:, 1] - 1) - 1).max() < 1e-14
+    sol = ndf.solve(p, mesh, order=3)
+    assert ngs.Integrate(1, sol.mesh) == pytest.approx(math.pi / 2, abs=1e-5)  # the solution's own mesh, curved
+    assert ngs.Integrate(1, mesh) < math.pi / 2 - 1e-3  # the given mesh is left straight
+    assert ndf.kkt_residuals(sol)["equilibrium"] < 1e-12  # contact weights of the curved edges (not chords)
+
+
+def test_a_curved_domain_needs_a_mesh_that_carries_its_geometry():
+    p = problem(Domain({"omega": HALF_DISK}))
+    mesh = ndf.netgen_mesh(p, 0.5)
+    rebuilt = mesh_from_arrays(p, *mesh_arrays(mesh))
+    with pytest.raises(ValueError, match="carries no geometry"):
+        ndf.solve(p, rebuilt, order=2)
+
+
+def test_a_mesh_of_another_domain_is_refused():
+    disk = problem(Domain({"omega": HALF_DISK}))
+    flatter = problem(Domain({"omega": Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.1)})}))
+    with pytest.raises(ValueError, match="does not fit the problem's domain"):
+        ndf.meshes.check_mesh(disk, ndf.netgen_mesh(flatter, 0.5))
