@@ -31,7 +31,7 @@ WATCHDOG = 1e-6  # relative KKT residual below which a rejected Newton step gets
 def conjugate(problem, fn):
     """Phi*(f_n) per point (f_n >= 0; 0 where c_n = 0)."""
     m, safe = problem.m_n, np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
-    power = fn * fn / (2 * safe) if m == 1 else m / (m + 1) * safe ** (-1 / m) * fn ** ((m + 1) / m)
+    power = np.where(m == 1, fn * fn / (2 * safe), m / (m + 1) * safe ** (-1 / m) * fn ** ((m + 1) / m))
     return np.where(problem.compliant, problem.g_a * fn + power, 0.0)
 
 
@@ -48,7 +48,7 @@ def _gradient_scaling(problem, s):
     M, m = problem.M, problem.m_n
     safe = np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
     fn = np.maximum(s.f[:M], 1e-300)
-    curvature = 1 / safe if m == 1 else (1 / m) * safe ** (-1 / m) * fn ** (1 / m - 1)
+    curvature = np.where(m == 1, 1 / safe, (1 / m) * safe ** (-1 / m) * fn ** (1 / m - 1))
     normal = problem.diagonal[:M] + np.minimum(curvature, 1e12 * problem.diagonal[:M])
     return np.concatenate([normal, problem.diagonal[M:]])
 

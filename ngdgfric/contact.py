@@ -25,7 +25,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .linalg import threads
-from .problem import coefficient, strain, stress
+from .problem import PerSide, coefficient, exponents, strain, stress
 
 __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "positive_power", "compliance",
            "friction_bound", "project_unit", "compliance_form", "friction_matrix",
@@ -61,16 +61,25 @@ def positive_power(d, m):
     return ngs.IfPos(d, d if m == 1 else d**m, 0)
 
 
+def _side_by_side(exponent, law):
+    """law(m) for an exponent m given as a number; on a mesh where it is given per contact side
+    (:class:`ngdgfric.problem.PerSide`) the sum of law(m_s) times the indicator of side s."""
+    return exponent.combine(law) if isinstance(exponent, PerSide) else law(exponent)
+
+
 def compliance(problem, u):
     """Contact pressure c_n (u_n - g_a)_+^{m_n}, so that sigma_n(u) = -compliance (1.8)."""
-    return coefficient(problem.c_n) * positive_power(penetration(problem, u), problem.m_n)
+    d = penetration(problem, u)
+    return coefficient(problem.c_n) * _side_by_side(problem.m_n, lambda m: positive_power(d, m))
 
 
 def friction_bound(problem, u):
-    """The friction bound c_tau (u_n - g_a)_+^{m_t} of (1.9) at u; c_tau itself for the reduced law m_t = 0."""
-    if problem.m_t == 0:
+    """The friction bound c_tau (u_n - g_a)_+^{m_t} of (1.9) at u; c_tau itself for the reduced law m_t = 0
+    (also on the contact sides with m_t = 0 when the sides have their own m_t)."""
+    if max(exponents(problem.m_t)) == 0:
         return coefficient(problem.c_tau)
-    return coefficient(problem.c_tau) * positive_power(penetration(problem, u), problem.m_t)
+    d = penetration(problem, u)
+    return coefficient(problem.c_tau) * _side_by_side(problem.m_t, lambda m: positive_power(d, m) if m > 0 else 1)
 
 
 def project_unit(z):
@@ -157,7 +166,8 @@ class ContactGauss:
     """The Gauss points of Gamma_C edge by edge, and multiplier values <-> coefficients.
 
     points: mapped points (for evaluation); xy: (edges, q, 2) coordinates; ends: (edges, 2, 2)
-    edge end points; dofs: (edges, q) multiplier dofs of each edge; q = p + 1.
+    edge end points; dofs: (edges, q) multiplier dofs of each edge; sides: the name of each edge's contact side;
+    q = p + 1.
     """
 
     def __init__(self, problem, mesh, order, Q):
@@ -165,11 +175,12 @@ class ContactGauss:
         self.q = order + 1
         self.xy = np.column_stack([np.asarray(ngs.x(self.points)).ravel(),
                                    np.asarray(ngs.y(self.points)).ravel()]).reshape(-1, self.q, 2)
-        ends, dofs = [], []
+        ends, dofs, self.sides = [], [], []
         for el in mesh.Elements(ngs.BND):
             if el.mat in problem.sides("contact"):
                 ends.append([mesh[v].point for v in el.vertices])
                 dofs.append(list(Q.GetDofNrs(el)))
+                self.sides.append(el.mat)
         self.ends = np.asarray(ends, dtype=float).reshape(-1, 2, 2)
         self.dofs = np.asarray(dofs, dtype=np.int64).reshape(-1, self.q)
         self.Q = Q

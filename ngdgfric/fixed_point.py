@@ -29,6 +29,7 @@ from .errors import SolverError, TimeLimitError, check_deadline, deadline
 from .newton import NewtonOptions, newton
 from .nonlinear import relative_change
 from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
+from .problem import exponents
 from .transfer import starting_point
 from .uzawa import UzawaOptions, uzawa
 
@@ -122,7 +123,7 @@ def fixed_point(disc, options=None, initial=None):
         history.append(relative_change(du, u.vec))
         if options.progress is not None:
             options.progress(f"fixed point {k}: relative change {history[-1]:.2e}")
-        if history[-1] <= options.solver_tol or disc.problem.m_t == 0:
+        if history[-1] <= options.solver_tol or max(exponents(disc.problem.m_t)) == 0:
             return u, lam_tau, dict(iterations=k, history=history, inner_iterations=inner_iterations,
                                     factorizations=factorizations, timings=dict(total=time.perf_counter() - start))
         if not np.isfinite(history[-1]) or (k >= 10 and history[-1] > 0.9 * history[-6]):

@@ -19,6 +19,7 @@ import numpy as np
 
 from .contact import compliance_form, evaluate_on_contact, normal_tangent, penetration
 from .linalg import BlockSum, direct_inverse, threads
+from .problem import exponents
 
 __all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newton_step", "relative_change"]
 
@@ -33,7 +34,7 @@ class ContactOperator:
     def __init__(self, disc, u, psi):
         self.disc = disc
         self.u = u
-        self.linear_compliance = disc.problem.m_n == 1
+        self.linear_compliance = all(m == 1 for m in exponents(disc.problem.m_n))
         _, t = normal_tangent()
         trial, test = disc.V.TnT()
         self.form = ngs.BilinearForm(disc.V)

@@ -16,11 +16,13 @@ from dataclasses import dataclass, field
 from numbers import Real
 
 import ngsolve as ngs
+import numpy as np
 
 from .domain import Geometry, Loop
 from .geometry import check_polygon
 
-__all__ = ["ContactProblem", "Polygon", "strain", "strain_of", "stress", "von_mises", "coefficient", "is_number"]
+__all__ = ["ContactProblem", "Polygon", "PerSide", "exponents", "pattern", "PARTS", "strain", "strain_of", "stress",
+           "von_mises", "coefficient", "is_number"]
 
 
 def coefficient(value):
@@ -170,8 +172,8 @@ class Polygon(Geometry):
 _DATA = {"E": ("scalar", 0, True, None, "region"), "nu": ("scalar", -1, True, 0.5, "region"),
          "f": ("vector", None, False, None, "region"), "g": ("vector", None, False, None, "traction"),
          "u_D": ("vector", None, False, None, "dirichlet"), "c_n": ("scalar", 0, False, None, "contact"),
-         "m_n": ("number", 1, False, None, None), "g_a": ("scalar", None, False, None, "contact"),
-         "c_tau": ("scalar", 0, False, None, "contact"), "m_t": ("number", 0, False, None, None)}
+         "m_n": ("number", 1, False, None, "contact"), "g_a": ("scalar", None, False, None, "contact"),
+         "c_tau": ("scalar", 0, False, None, "contact"), "m_t": ("number", 0, False, None, "contact")}
 # boundary parts: where a dict may leave a side out, its value there (zero traction, zero displacement)
 PARTS = ("dirichlet", "traction", "contact", "symmetry")
 _OPTIONAL = {"traction": (0.0, 0.0), "dirichlet": (0.0, 0.0)}
@@ -196,12 +198,42 @@ def pattern(names):
     return "|".join("".join("\\" + c if c in special else c for c in name) for name in names)
 
 
+@dataclass(frozen=True)
+class PerSide:
+    """A number per contact side on a mesh (the exponents m_n, m_t given as dicts, made by
+    :meth:`ContactProblem.on`): ``entries`` holds (side, value, indicator) with the order-0 facet function that is 1
+    on the side's edges."""
+
+    entries: tuple
+
+    def values(self):
+        return [value for _, value, _ in self.entries]
+
+    def combine(self, law):
+        """sum over the sides of indicator x law(value): a law written for one exponent, side by side."""
+        return sum(indicator * law(value) for _, value, indicator in self.entries)
+
+    def at(self, names):
+        """The values at points on the sides ``names`` (a sequence of side names), as an array."""
+        table = {side: value for side, value, _ in self.entries}
+        return np.array([table[name] for name in names], dtype=float)
+
+
+def exponents(value):
+    """The values of an exponent m_n or m_t: a number, a dict {side: number} or a :class:`PerSide`, as a list."""
+    if isinstance(value, PerSide):
+        return value.values()
+    return list(value.values()) if isinstance(value, dict) else [value]
+
+
 def _check_datum(name, kind, low, low_open, high, value):
     if kind == "vector":
         _check_vector(name, value)
         return
     if kind == "scalar":
         _check_scalar(name, value)
+    elif isinstance(value, PerSide):
+        return
     elif not is_number(value):
         raise ValueError(f"{name} must be a number, got {value!r}")
     _check_number(name, value, low=low, low_open=low_open, high=high)
@@ -293,8 +325,6 @@ class ContactProblem:
 
     def _check_parts(self, name, part, values):
         """ValueError unless the dict ``values`` of datum ``name`` is keyed by the names of ``part``."""
-        if part is None:
-            raise ValueError(f"{name} must be one number for all contact sides, got a dict {values!r}")
         known = self.geometry.region_names if part == "region" else self.sides(part)
         for key in values:
             if key not in known:
@@ -322,13 +352,21 @@ class ContactProblem:
     def on(self, mesh):
         """This problem with every dict datum made a CoefficientFunction on ``mesh``: per region a
         ``MaterialCF``, per side the sum of value x indicator of the side's edges (an order-0 facet
-        function: NGSolve's ``BoundaryCF`` cannot be evaluated in the skeleton integrals of DG forms)."""
+        function: NGSolve's ``BoundaryCF`` cannot be evaluated in the skeleton integrals of DG forms); the exponents
+        m_n, m_t per side become a :class:`PerSide` (one number if all sides have the same)."""
         if not self.per_part:
             return self
+        from .meshes import facet_indicator  # meshes imports this module
+
         changes = {}
         for name, (kind, _, _, _, part) in _DATA.items():
             values = getattr(self, name)
             if not isinstance(values, dict):
+                continue
+            if kind == "number":
+                same = len(set(values.values())) == 1
+                changes[name] = next(iter(values.values())) if same else PerSide(tuple(
+                    (side, value, facet_indicator(mesh, pattern([side]))) for side, value in values.items()))
                 continue
             if part == "region":
                 if kind == "vector":
@@ -338,8 +376,6 @@ class ContactProblem:
                 else:
                     changes[name] = mesh.MaterialCF({key: coefficient(value) for key, value in values.items()})
                 continue
-            from .meshes import facet_indicator
-
             zero = 0 * coefficient(_OPTIONAL.get(part, 0.0))
             changes[name] = sum((coefficient(value) * facet_indicator(mesh, pattern([key]))
                                  for key, value in values.items()), zero)

@@ -45,11 +45,24 @@ EPS = np.finfo(float).eps
 
 
 def _positive_power(x, m):
-    """x_+^m for any real m (1 where x > 0 for m = 0; 0 where x <= 0, also for m < 0)."""
+    """x_+^m for any real m, a number or one per point (1 where x > 0 for m = 0; 0 where x <= 0, also for m < 0)."""
     out = np.zeros_like(x, dtype=float)
     positive = x > 0
-    out[positive] = x[positive] if m == 1 else x[positive] ** m
+    if np.ndim(m) == 0:
+        out[positive] = x[positive] if m == 1 else x[positive] ** m
+    else:
+        out[positive] = x[positive] ** np.asarray(m)[positive]
     return out
+
+
+def bound_rate(gap, omega, c_tau, m_t):
+    """(beta, beta') = omega c_tau (gap)_+^{m_t} and its derivative in gap, point by point; omega c_tau and 0 where
+    m_t = 0 (the reduced law: the bound does not depend on the gap)."""
+    reduced = m_t == 0
+    exponent = np.where(reduced, 1.0, m_t)
+    beta = np.where(reduced, omega * c_tau, omega * c_tau * _positive_power(gap, exponent))
+    rate = np.where(reduced, 0.0, omega * c_tau * exponent * _positive_power(gap, exponent - 1))
+    return beta, rate
 
 
 def dense_solve(matrix, rhs):
@@ -85,7 +98,8 @@ class ReducedContact:
     """The condensed problem of the module docstring.
 
     W (2M x 2M, rows and columns ordered n_1 ... n_M, t_1 ... t_M) and w0 (2M) from the
-    condensation; omega, g_a, c_n, c_tau: arrays of length M; m_n >= 1, m_t >= 0; symmetric: W is
+    condensation; omega, g_a, c_n, c_tau: arrays of length M; m_n >= 1, m_t >= 0 (numbers, or arrays of length M:
+    the exponents of several contact sides); symmetric: W is
     symmetric (B_h symmetric); redundant: see the module docstring.  ``energy_merit``: whether the
     iteration descends the complementary energy (symmetric and m_t = 0).
     """
@@ -96,13 +110,14 @@ class ReducedContact:
         self.absW = np.abs(self.W)
         self.omega, self.g_a = np.asarray(omega, dtype=float), np.asarray(g_a, dtype=float)
         self.c_n, self.c_tau = np.asarray(c_n, dtype=float), np.asarray(c_tau, dtype=float)
-        self.m_n, self.m_t = float(m_n), float(m_t)
+        self.m_n, self.m_t = (np.broadcast_to(np.asarray(m, dtype=float), (M,)).copy() for m in (m_n, m_t))
+        self.quasi_variational = bool(np.any(self.m_t > 0))  # the bound depends on the gap somewhere
         diagonal = np.diag(self.W).copy()
         largest = np.max(np.abs(diagonal), initial=0.0)
         self.diagonal = np.maximum(diagonal, 1e-14 * largest if largest > 0 else 1.0)
         self.r = 1.0 / self.diagonal[M:]
         self.energy_symmetric = bool(symmetric)
-        self.energy_merit = bool(symmetric and self.m_t == 0)
+        self.energy_merit = bool(symmetric and not self.quasi_variational)
         self.redundant = bool(redundant)
         self.regularization = 1e-8 if redundant else 0.0
         # forces of the size that the traces w0 of the loads, or the initial penetrations (w0_n - g_a)_+, cause
@@ -110,7 +125,7 @@ class ReducedContact:
         self.force_scale = max(float(np.max(np.maximum(np.abs(self.w0), penetration) / self.diagonal, initial=0.0)),
                                np.finfo(float).tiny)
         self.compliant = self.c_n > 0
-        self.beta_fixed = self.omega * self.c_tau if self.m_t == 0 else None
+        self.beta_fixed = None if self.quasi_variational else self.omega * self.c_tau
 
     def variant(self, W=None, w0=None, c_tau=None, m_t=None, symmetric=None, redundant=None):
         """This problem with some of W, w0, c_tau, m_t, the symmetry and redundancy replaced."""
@@ -129,17 +144,16 @@ class ReducedContact:
         s.w = self.w0 - self.W @ f
         gap = s.w[:M] - self.g_a
         s.penetrating = gap > 0
-        if self.m_n == 1:
+        if np.all(self.m_n == 1):
             s.N = self.omega * self.c_n * np.maximum(gap, 0.0)
             s.dN = np.where(s.penetrating, self.omega * self.c_n, 0.0)
         else:
             s.N = self.omega * self.c_n * _positive_power(gap, self.m_n)
             s.dN = self.omega * self.c_n * self.m_n * _positive_power(gap, self.m_n - 1)
-        if self.m_t == 0:
+        if not self.quasi_variational:
             s.beta, s.dbeta = self.beta_fixed, np.zeros(M)
         else:
-            s.beta = self.omega * self.c_tau * _positive_power(gap, self.m_t)
-            s.dbeta = self.omega * self.c_tau * self.m_t * _positive_power(gap, self.m_t - 1)
+            s.beta, s.dbeta = bound_rate(gap, self.omega, self.c_tau, self.m_t)
         z = f[M:] + self.r * s.w[M:]
         s.stick = np.abs(z) < s.beta
         s.sign = np.where(z >= 0, 1.0, -1.0)
@@ -239,7 +253,7 @@ class ReducedContact:
         M = self.M
         gap = w[:M] - self.g_a
         normal = self.omega * self.c_n * _positive_power(gap, self.m_n)
-        beta = self.beta_fixed if self.m_t == 0 else self.omega * self.c_tau * _positive_power(gap, self.m_t)
+        beta = self.beta_fixed if not self.quasi_variational else bound_rate(gap, self.omega, self.c_tau, self.m_t)[0]
         f = np.concatenate([normal, beta * np.clip(lam_tau, -1.0, 1.0)])
         return self.project(f) if self.energy_merit else f
 

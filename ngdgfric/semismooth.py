@@ -144,7 +144,7 @@ def _step(problem, s, d, memory, k, history, deadline=None):
     (``fixed_point``) and |f - T(f)| per iteration (``changes``).  Returns (f, kind of step)."""
     if problem.energy_merit:
         return energy_step(problem, s, d)
-    if problem.m_t > 0:
+    if problem.quasi_variational:
         inner = dict(solver_tol=max(memory["solver_tol"], min(INNER * problem.residual(s), INNER_LOOSEST)),
                      maxit=memory["maxit"], deadline=deadline, budget=INNER_BUDGET)
         fixed_point = _fixed_point_step(problem, s, inner) if memory["fixed_point"] is None else memory["fixed_point"]
@@ -226,7 +226,7 @@ def _fixed_point_step(problem, s, inner):
 def _homotopy(problem, s):
     """The problem at continuation parameter s in [0, 1] (s = 1: ``problem``): for m_t > 0 c_tau scaled
     by s; otherwise (NIPG) W = sym(W) + s skew(W), symmetric at s = 0."""
-    if problem.m_t > 0:
+    if problem.quasi_variational:
         return problem.variant(c_tau=s * problem.c_tau)
     symmetric_part = 0.5 * (problem.W + problem.W.T)
     return problem.variant(W=symmetric_part + s * (problem.W - symmetric_part), symmetric=s == 0)
@@ -241,7 +241,7 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None, bu
     Raises the original ``error`` (with a note) when the step (factor) falls below 1/1024 (1.001), or when the
     iterations of all its solves, failed ones included, pass ``budget`` x maxit (if given)."""
     f, iterations, steps, history, spent = np.zeros(2 * problem.M), 0, [], [], 0
-    geometric = problem.m_t > 0
+    geometric = problem.quasi_variational
     done, step = (0.0, 1e-6) if geometric else (-1.0, 1.0)  # s = 1e-6, or s = 0 first
 
     def next_value():

@@ -20,6 +20,7 @@ import numpy as np
 
 from .contact import contact_rule, evaluate_on_contact, normal_tangent
 from .linalg import threads
+from .problem import PerSide
 
 __all__ = ["ContactTraces", "edge_jacobians"]
 
@@ -46,7 +47,8 @@ class ContactTraces:
     :func:`ngdgfric.contact.frozen_bound`, which differs from it in c_tau and m_t only).
     Attributes: ``rows``, ``cols``, ``values`` (B as COO triplets, shape ``(2 M, ndof)``),
     ``omega``, ``g_a``, ``c_n``, ``c_tau`` (arrays of length M, in the point order of
-    ``disc.gauss``: edge by edge), ``m_n``, ``m_t``, and ``redundant``: True if some element's
+    ``disc.gauss``: edge by edge), ``m_n``, ``m_t`` (numbers, or arrays of length M where the contact sides have
+    their own), and ``redundant``: True if some element's
     traces at its points are linearly dependent (an element with two edges on Gamma_C, or on hp
     meshes an element of degree p_T < p, whose trace is fixed by fewer than p + 1 values); then
     the forces at those points are not unique (u is).
@@ -62,7 +64,8 @@ class ContactTraces:
         self.g_a = _point_values(problem.g_a, gauss.points)
         self.c_n = _point_values(problem.c_n, gauss.points)
         self.c_tau = _point_values(problem.c_tau, gauss.points)
-        self.m_n, self.m_t = float(problem.m_n), float(problem.m_t)
+        self.m_n, self.m_t = (np.repeat(m.at(gauss.sides), q) if isinstance(m, PerSide) else float(m)
+                              for m in (problem.m_n, problem.m_t))
         # Q dof -> (edge, basis index) and V_e^-T
         edge_of = np.empty(disc.Q.ndof, dtype=np.int64)
         index_of = np.empty(disc.Q.ndof, dtype=np.int64)

@@ -34,7 +34,7 @@ from .errors import SolverError, check_deadline, deadline
 from .linalg import direct_inverse, threads
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
 from .options import SolverOptions, callback, optional, positive_integer, positive_number
-from .problem import coefficient
+from .problem import coefficient, exponents
 from .transfer import starting_point
 
 __all__ = ["uzawa", "UzawaOptions", "default_rho", "complementarity"]
@@ -138,8 +138,8 @@ def uzawa(disc, options=None, initial=None, problem=None):
     """
     options = UzawaOptions() if options is None else options
     problem = disc.problem if problem is None else problem
-    if problem.m_t != 0:
-        raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {problem.m_t!r}: use "
+    if max(exponents(problem.m_t)) != 0:
+        raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {exponents(problem.m_t)}: use "
                          "solver='newton', or solver='fixed_point' with inner='uzawa'")
     start = time.perf_counter()
     until = deadline(options.max_seconds)

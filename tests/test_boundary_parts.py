@@ -139,8 +139,10 @@ def test_dict_data_are_checked_against_the_parts():
         ndf.ContactProblem(**{**COMMON, "E": {"steel": 1.0}}, geometry=geometry)
     with pytest.raises(ValueError, match=r"g\['top'\] must have 2 real components|g: 'top' is not a traction"):
         ndf.ContactProblem(**{**COMMON, "g": {"top": 1.0}}, geometry=geometry)
-    with pytest.raises(ValueError, match="m_n must be one number"):
-        ndf.ContactProblem(**{**COMMON, "m_n": {"contact": 1.0}}, geometry=geometry)
+    with pytest.raises(ValueError, match=r"m_n\['contact'\] must be >= 1"):
+        ndf.ContactProblem(**{**COMMON, "m_n": {"contact": 0.5}}, geometry=geometry)
+    with pytest.raises(ValueError, match=r"m_t\['contact'\] must be a number"):
+        ndf.ContactProblem(**{**COMMON, "m_t": {"contact": ngs.x}}, geometry=geometry)
     with pytest.raises(ValueError, match="in both traction and symmetry"):
         ndf.ContactProblem(**COMMON, geometry=geometry, symmetry="traction")
     with pytest.raises(ValueError, match=r"nu\['omega'\] must be < 0.5"):
@@ -158,3 +160,26 @@ def test_adapt_stops_at_a_relative_tolerance(tmp_path):
     assert last["eta_h"] <= last["target"] and all(r["eta_h"] > r["target"] for r in run.levels[:-1])
     with pytest.raises(ValueError, match="rtol must be a positive number"):
         ndf.adapt(problem, rtol=-1.0)
+
+
+def test_contact_sides_with_their_own_exponents():
+    """m_n = 1.5 and 1, m_t = 1 and 0 on two contact sides: the Newton solver (exponents per Gauss point) and
+    the fixed point on the friction bound (the symbolic law side by side) agree, and the KKT system holds."""
+    vertices = [(0, 0), (1, 0), (2, 0), (2, 1), (0, 1)]
+    data = dict(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), geometry=ndf.Polygon(vertices, ["c1", "c2", "free", "top", "free"]),
+                dirichlet="top", traction="free", contact=["c1", "c2"], u_D=(0.02, -0.05), c_n=1e2, g_a=0.0,
+                c_tau={"c1": 20.0, "c2": 0.01})
+    problem = ndf.ContactProblem(**data, m_n={"c1": 1.5, "c2": 1.0}, m_t={"c1": 1.0, "c2": 0.0})
+    mesh = ndf.netgen_mesh(problem, 0.3)
+    newton = ndf.solve(problem, mesh, order=2, solver_tol=1e-12)
+    fixed = ndf.solve(problem, mesh, order=2, solver="fixed_point", solver_tol=1e-12)
+    scale = np.abs(newton.u.vec.FV().NumPy()).max()
+    assert np.abs(newton.u.vec.FV().NumPy() - fixed.u.vec.FV().NumPy()).max() < 1e-8 * scale
+    assert ndf.kkt_residuals(newton)["equilibrium"] < 1e-11
+    state = ndf.contact_state(newton)
+    first = state["x"] < 1
+    assert state["pressure"][first].max() > 0 and state["pressure"][~first].max() > 0
+    same = ndf.ContactProblem(**data, m_n={"c1": 1.5, "c2": 1.5}, m_t={"c1": 1.0, "c2": 1.0})
+    number = ndf.ContactProblem(**data, m_n=1.5, m_t=1.0)
+    a, b = ndf.solve(same, mesh, order=2), ndf.solve(number, mesh, order=2)
+    assert np.array_equal(a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy())
