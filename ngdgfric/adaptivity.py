@@ -116,7 +116,7 @@ def choose_method(problem, mesh, order):
     the best method's at nu = 0.49, 6 times at 0.4999); then Bassi et al., which does not lock there (error
     growth x1.0-1.1 from nu = 0.3 to 0.4999 in both regimes of results/stability.md and effectivity.md) and
     is symmetric (Brezzi et al. is as robust at 1.3-1.5 times Bassi's assembly cost)."""
-    nu = _largest(problem.nu, mesh)
+    nu = _largest(problem.on(mesh).nu, mesh)
     law, sipg = dataclasses.replace(problem, E=1.0, nu=nu), get_method("sipg")  # the thresholds scale with E
     if sipg.default(law, order) == sipg.default_eta * sipg.eta_scale(law):  # not raised
         return "sipg", "the default: symmetric, the fastest solves"

@@ -91,6 +91,13 @@ def _projection(value, mesh, degree):
     return field
 
 
+def _piecewise_constant(values, mesh):
+    """The order-0 L2 GridFunction with the given value on every element."""
+    field = ngs.GridFunction(ngs.L2(mesh, order=0))
+    field.vec.FV().NumPy()[:] = values
+    return field
+
+
 def element_fields(problem, mesh, order):
     """mu and lam of ``problem`` as discontinuous fields on ``mesh`` (module docstring); returns
     (mu, lam, unresolved): GridFunctions of L2 of degree 0 if the data are constant on every element, of
@@ -102,12 +109,13 @@ def element_fields(problem, mesh, order):
     values = lambda cf: np.asarray(cf(points)).reshape(mesh.ne, per_element)  # noqa: E731
     exact = [values(cf) for cf in data]
     scale = np.maximum(np.max(np.abs(2 * exact[0] + exact[1]), axis=1), np.finfo(float).tiny)
+    spread = np.max([np.ptp(value, axis=1) for value in exact], axis=0) / scale
+    if np.all(spread <= 1e-12):  # constant on every element: its value (a projection on a curved element is
+        return (*(_piecewise_constant(value[:, 0], mesh) for value in exact), 0)  # not exact to round-off)
     for degree in (0, order):
         fields = [_projection(cf, mesh, degree) for cf in data]
         mu, lam = (values(field) for field in fields)
         deviation = np.max(np.maximum(np.abs(mu - exact[0]), np.abs(lam - exact[1])), axis=1) / scale
-        if degree == 0 and np.all(deviation <= 1e-12):
-            return (*fields, 0)
         valid = np.all((mu > 0) & (mu + lam > 0), axis=1)
         if degree == order and np.all(deviation <= RESOLVED) and np.all(valid):
             return (*fields, 0)
