@@ -3,6 +3,7 @@ sides, prescribed displacements, data per region and per side; each checked agai
 written another way, to round-off, for all five methods."""
 
 import dataclasses
+from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
@@ -183,3 +184,16 @@ def test_contact_sides_with_their_own_exponents():
     number = ndf.ContactProblem(**data, m_n=1.5, m_t=1.0)
     a, b = ndf.solve(same, mesh, order=2), ndf.solve(number, mesh, order=2)
     assert np.array_equal(a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy())
+
+
+def test_the_scene_of_the_readme_reaches_its_relative_tolerance(capsys):
+    """The code block under "Your own scene" in README.md, as written (regions, a hole, a symmetry side, u_D,
+    two contact sides with their own data, adapt(rtol=1e-2))."""
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    code = text.split("## Your own scene", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    namespace = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    run = namespace["run"]
+    assert run.stopped == "tol" and run.levels[-1]["eta_h"] <= 1e-2 * ndf.energy_norm(run.solution)
+    assert ndf.kkt_residuals(run.solution)["equilibrium"] < 1e-12
+    assert len(run.levels) <= 12  # 10 levels, 12k DOFs when written
