@@ -43,7 +43,7 @@ def draw_calls(nb):
     return sum(len(re.findall(r"^Draw\(", cell.source, re.M)) for cell in nb.cells if cell.cell_type == "code")
 
 
-@pytest.mark.parametrize("name", ["example_6_1", "example_6_2", "hp_adaptivity"])
+@pytest.mark.parametrize("name", ["example_6_1", "example_6_2", "hp_adaptivity", "scenes"])
 def test_notebook_runs(name, monkeypatch):
     path = NOTEBOOKS / f"{name}.ipynb"
     stored = nbformat.read(path, as_version=4)
