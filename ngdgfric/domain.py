@@ -9,8 +9,7 @@ polygon, a half-disk, a block with a hole, two materials side by side):
 * :meth:`Geometry.check_fit` - whether a mesh (as arrays) fills the domain: every boundary vertex on a
   side of its name, and the area of the triangles plus the circular segments cut off by the chords of
   curved sides equal to the domain's area;
-* ``area``, ``perimeter``, ``bounds``, :meth:`Geometry.outline` (for plots), :meth:`Geometry.fingerprint`
-  (for references).
+* ``area``, ``perimeter``, ``bounds``, :meth:`Geometry.outline` (for plots).
 
 A :class:`Loop` is a closed counter-clockwise chain of sides, side k from ``vertices[k]`` to
 ``vertices[k+1]`` (cyclic), each straight or a circular arc given by one more point it passes through.
@@ -178,7 +177,13 @@ class Loop:
         for k in arcs:
             self.side(k)  # a degenerate arc is refused here
         polyline = self.polyline()
-        check_polygon(polyline)
+        try:
+            check_polygon(polyline)
+        except ValueError as exc:
+            if not arcs:
+                raise
+            raise ValueError(f"the loop crosses or touches itself (checked with its arcs drawn as polylines of "
+                             f"{ARC_SAMPLES} points per turn: {exc})") from None
         if _signed_area(polyline) <= 0:
             raise ValueError("a loop's vertices must be counter-clockwise and enclose a positive area")
 
@@ -287,12 +292,11 @@ class Geometry:
     def _parent(self, loop, own):
         """The innermost region whose loop contains ``loop`` (not sharing sides with it), or None."""
         keys = {_key(side) for side in loop.sides()}
-        point = loop.polyline().mean(axis=0) if loop.arcs else None
+        probe = _interior_point(loop)
         best = None
         for j, (_, other) in enumerate(self.region_loops):
             if j == own or keys & {_key(side) for side in other.sides()}:
                 continue
-            probe = point if point is not None and _inside(point, loop) else _interior_point(loop)
             if _inside(probe, other) and all(_inside(v, other) for v in loop.vertices):
                 if best is None or other.area < self.region_loops[best][1].area:
                     best = j
@@ -396,17 +400,6 @@ class Geometry:
     def diameter(self):
         x0, y0, x1, y1 = self.bounds
         return max(x1 - x0, y1 - y0)
-
-    def fingerprint(self):
-        """Arrays that identify the domain (for references): its sides with their names and the regions."""
-        rows, names = [], []
-        for side, label, left, right in self._segments():
-            a, b = (side.a, side.b) if isinstance(side, Arc) else side
-            through = side.through if isinstance(side, Arc) else (np.nan, np.nan)
-            rows.append([*a, *b, *through, left, right])
-            names.append(label)
-        return dict(fp_sides=np.asarray(rows, dtype=float), fp_side_names=np.asarray(names),
-                    fp_regions=np.asarray(self.region_names))
 
 
 def _length(side):
