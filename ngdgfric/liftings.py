@@ -16,8 +16,8 @@ element's own (the liftings then match the consistency terms of :mod:`ngdgfric.f
 r_e is supported on the (one or two) elements sharing e.  The edges of E_h^o are coloured so that
 no triangle has two edges of one colour; for one colour c the liftings of its edges have disjoint
 supports, so r_c = sum_{e in c} r_e gives sum_{e in c} (C r_e, r_e) = (C r_c, r_c).  With
-R_c the matrix of u -> -int_{edges of c} [u] : {tau}, M the (diagonal: orthogonal L2 basis) mass
-matrix of Sigma_h and K the matrix of (C sigma, tau):
+R_c the matrix of u -> -int_{edges of c} [u] : {tau}, M the mass matrix of Sigma_h (diagonal on straight
+elements: orthogonal L2 basis; a block per curved element) and K the matrix of (C sigma, tau):
 
     sum_e (C r_e[u], r_e[v]) = sum_c v^T R_c^T M^-1 K M^-1 R_c u,
     (C r_0[u], r_0[v])       = v^T R^T M^-1 K M^-1 R u,        R = sum_c R_c.
@@ -110,13 +110,67 @@ def _greedy_colours(edge_of, excluded):
     return np.array(colour[:-1])
 
 
-def _diagonal_inverse(mat):
-    """M^-1 of a diagonal sparse matrix (the mass matrix of Sigma_h: orthogonal L2 basis)."""
+def _block_inverse(mat):
+    """M^-1 of the mass matrix of Sigma_h, block diagonal with small blocks: diagonal on straight elements
+    (orthogonal L2 basis; rows whose off-diagonal entries sum to less than 1e-13 of the diagonal are taken as
+    diagonal), a block per element and component on curved ones.  The blocks are the connected sets of the
+    other rows (labels spread along the entries until they settle); blocks of one size are inverted together."""
+    values, cols, rowptr = mat.CSR()
+    values, cols = np.asarray(values), np.asarray(cols, dtype=np.int64)
+    rowptr = np.asarray(rowptr, dtype=np.int64)
     d = diagonal(mat)
-    if abs(np.abs(np.asarray(mat.AsVector())).sum() - np.abs(d).sum()) > 1e-12 * np.abs(d).sum():
-        raise RuntimeError("the mass matrix of Sigma_h is not diagonal")
-    index = np.arange(mat.height)
-    return ngs.la.SparseMatrixd.CreateFromCOO(index, index, 1.0 / d, mat.height, mat.height)
+    off = np.add.reduceat(np.abs(values), rowptr[:-1]) - np.abs(d)
+    coupled = np.flatnonzero(off > 1e-13 * np.abs(d))
+    single = np.ones(mat.height, dtype=bool)
+    single[coupled] = False
+    index = np.flatnonzero(single)
+    out_rows, out_cols, out_values = [index], [index], [1.0 / d[single]]
+    if coupled.size:
+        counts = rowptr[coupled + 1] - rowptr[coupled]
+        entries = np.repeat(rowptr[coupled] - np.r_[0, np.cumsum(counts)[:-1]], counts) + np.arange(counts.sum())
+        rows, cols, values = np.repeat(coupled, counts), cols[entries], values[entries]
+        keep = (rows == cols) | (np.abs(values) > 1e-13 * np.abs(d[rows]))
+        rows, cols, values = rows[keep], cols[keep], values[keep]
+        if np.any(single[cols]):
+            raise RuntimeError("the mass matrix of Sigma_h is not block diagonal")
+        for block_rows, block_cols, block_values in _blocks(coupled, rows, cols, values):
+            out_rows.append(block_rows)
+            out_cols.append(block_cols)
+            out_values.append(block_values)
+    return ngs.la.SparseMatrixd.CreateFromCOO(np.concatenate(out_rows), np.concatenate(out_cols),
+                                              np.concatenate(out_values), mat.height, mat.height)
+
+
+def _blocks(members, rows, cols, values):
+    """The inverses of the diagonal blocks of the matrix (rows, cols, values) on the rows ``members`` (sorted),
+    as COO triplets, one per block size."""
+    local = np.searchsorted(members, rows), np.searchsorted(members, cols)
+    label = np.arange(len(members))
+    while True:
+        spread = label.copy()
+        np.minimum.at(spread, local[0], label[local[1]])
+        if np.array_equal(spread, label):
+            break
+        label = spread
+    if np.any(label[local[0]] != label[local[1]]):
+        raise RuntimeError("the mass matrix of Sigma_h is not block diagonal")
+    order = np.lexsort((np.arange(len(members)), label))
+    starts = np.flatnonzero(np.r_[True, np.diff(label[order]) != 0])
+    sizes = np.diff(np.r_[starts, len(members)])
+    position = np.empty(len(members), dtype=np.int64)
+    position[order] = np.arange(len(members)) - np.repeat(starts, sizes)
+    block_of = np.empty(len(members), dtype=np.int64)
+    block_of[order] = np.repeat(np.arange(len(starts)), sizes)
+    for size in np.unique(sizes):
+        blocks = np.flatnonzero(sizes == size)
+        index = np.full(len(starts), -1)
+        index[blocks] = np.arange(len(blocks))
+        mine = index[block_of[local[0]]] >= 0
+        dense = np.zeros((len(blocks), size, size))
+        dense[index[block_of[local[0][mine]]], position[local[0][mine]], position[local[1][mine]]] = values[mine]
+        rows_of = members[order[starts[blocks][:, None] + np.arange(size)]]  # (blocks, size)
+        yield np.repeat(rows_of, size, axis=1).ravel(), np.tile(rows_of, (1, size)).ravel(), \
+            np.linalg.inv(dense).ravel()
 
 
 def lifting_matrices(problem, material, mesh, V, order, local=True, total=False):
@@ -146,7 +200,7 @@ def lifting_matrices(problem, material, mesh, V, order, local=True, total=False)
         stiffness = ngs.BilinearForm(cells)
         stiffness += ngs.InnerProduct(stress(material.own, sigma_T), tau_T) * ngs.dx
         stiffness.Assemble()
-        m_inv = _diagonal_inverse(mass.mat)
+        m_inv = _block_inverse(mass.mat)
         P = m_inv @ stiffness.mat.DeleteZeroElements(0.0) @ m_inv  # C couples not every pair
 
         def assemble(facets, indicator):
