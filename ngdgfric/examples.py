@@ -1,10 +1,11 @@
-"""The two test problems of Section 6, loaded from the problem files shipped with the package
-(``ngdgfric/data/example_6_1.toml``, ``example_6_2.toml``: the one source of their data, also what
-``ngdgfric solve 6.1`` reads)."""
+"""The two test problems of Section 6 and the shipped example scenes, loaded from the problem files
+shipped with the package (``ngdgfric/data/example_6_1.toml``, ``example_6_2.toml``: the one source of
+their data, also what ``ngdgfric solve 6.1`` reads; the scenes ``data/<name>.toml``, format in
+:mod:`ngdgfric.problem_file`)."""
 
-from .problem_file import example_file, load_problem
+from .problem_file import PAPER_EXAMPLES, example_file, load_problem, shipped_files
 
-__all__ = ["example_6_1", "example_6_2", "EXAMPLES", "example"]
+__all__ = ["example_6_1", "example_6_2", "EXAMPLES", "SCENES", "example"]
 
 
 def example_6_1():
@@ -27,12 +28,19 @@ def example_6_2():
     return load_problem(example_file("6.2"))
 
 
+# the paper's examples (also the names the command line takes instead of a file)
 EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
+# the shipped scenes, by the stem of their file in ngdgfric/data (each file's comment describes it):
+# half_disk, block_with_hole, two_materials_symmetric, indentation
+SCENES = tuple(name for name in shipped_files() if name not in PAPER_EXAMPLES)
 
 
 def example(name):
-    """The problem of Example ``name`` ("6.1" or "6.2"; ValueError naming the choices otherwise)."""
+    """The problem of Example ``name`` ("6.1" or "6.2") or of a shipped scene ("half_disk", ... :data:`SCENES`);
+    ValueError naming the choices otherwise."""
     key = str(name)
-    if key not in EXAMPLES:
-        raise ValueError(f"example must be one of {sorted(EXAMPLES)}, got {name!r}")
-    return EXAMPLES[key]()
+    if key in EXAMPLES:
+        return EXAMPLES[key]()
+    if key in SCENES:
+        return load_problem(example_file(key))
+    raise ValueError(f"example must be one of {sorted(EXAMPLES) + sorted(SCENES)}, got {name!r}")

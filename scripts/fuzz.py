@@ -22,7 +22,10 @@ numbers, bad files, expressions, meshes, references).
 The report starts with counts per verdict and lists the cases that are not a "named error"; the
 exit code is 0 iff every case run is a "named error".  Regenerate results/fuzz.md with
 
-    python scripts/fuzz.py [--workers 2] [--timeout 30] [--only SUBSTRING] [--out results]
+    python scripts/fuzz.py [--workers 2] [--timeout 30] [--only SUBSTRING] [--quick] [--out results]
+
+``--quick`` runs only the cases of the problem-file schema (``schema_cases``: regions, holes, arcs,
+symmetry sides, data per region and per side, u_D and the expression functions step, min, max, if).
 """
 
 import argparse
@@ -609,6 +612,15 @@ def argument_cases():
     return cases
 
 
+def output_file(argv, suffix):
+    """The file with ``suffix`` that ``ngdgfric ARGV --out out`` writes for Example 6.1 (the command line's own
+    naming, so that a blocked output file follows a change of the defaults)."""
+    from ngdgfric import cli
+
+    args = cli.build_parser().parse_args([*argv, "--out", "out"])
+    return next(str(path) for path in cli.outputs(args, "6_1") if path.suffix == suffix)
+
+
 def output_cases():
     """Output safety (issue): unwritable output folders fail before computing; files that cannot be
     written are errors; an earlier adaptive result is not truncated by a rerun."""
@@ -629,7 +641,7 @@ def output_cases():
         ("csv", commands["solve"], f"{OUT_SOLVE}.csv", False),
         ("png", commands["solve"], f"{OUT_SOLVE}.png", False),
         ("uniform-md", commands["uniform"], "out/6_1_uniform.md", False),
-        ("adaptive-csv", commands["adaptive"], "out/6_1_adaptive_sipg_p1.csv", False),
+        ("adaptive-csv", commands["adaptive"], output_file(commands["adaptive"], ".csv"), False),
     ]
     for kind, argv, path, issue in blocked:
         cases.append(cli(f"out-blocked-{kind}", f"{argv[0]} into out/ where {path} is a directory (cannot be written)",
@@ -638,16 +650,263 @@ def output_cases():
     rerun = commands["adaptive"] + ["--out", "out"]
     cases.append(cli("out-adaptive-rerun", "adaptive rerun into out/ holding the result of the same run (must refuse, "
                                            "earlier files unchanged)", rerun, commands=[rerun],
-                     expect=["out", "6_1_adaptive_sipg_p1.csv", "overwrite", "exists"], issue=True, check="unchanged"))
+                     expect=["out", Path(output_file(rerun, ".csv")).name, "overwrite", "exists"], issue=True,
+                     check="unchanged"))
+    return cases
+
+
+# ------------------------------------------------ the problem-file schema: regions, holes, arcs, data per part
+
+SQUARE = "[[0.0, 0.05], [1.0, 0.05], [1.0, 1.05], [0.0, 1.05]]"
+SQUARE_LABELS = '["contact", "dirichlet", "traction", "traction"]'
+LOWER = "[[0.0, 0.05], [1.0, 0.05], [1.0, 0.5], [0.0, 0.5]]"
+UPPER = "[[0.0, 0.5], [1.0, 0.5], [1.0, 1.05], [0.0, 1.05]]"
+LOWER_LABELS = '["contact", "dirichlet", "interface", "traction"]'
+UPPER_LABELS = '["interface", "dirichlet", "traction", "traction"]'
+
+
+def inline(*tables):
+    """A TOML array of inline tables from dicts of raw TOML values."""
+    return "[" + ", ".join("{ " + ", ".join(f"{key} = {value}" for key, value in table.items() if value is not None)
+                           + " }" for table in tables) + "]"
+
+
+def regions(*tables):
+    """Changes replacing [geometry] vertices / labels by the region tables ``tables``."""
+    return {"geometry.vertices": None, "geometry.labels": None, "geometry.region": inline(*tables)}
+
+
+def holes(*tables):
+    """Changes adding the hole tables ``tables`` to Example 6.1's square."""
+    return {"geometry.hole": inline(*tables)}
+
+
+def two_regions(lower=None, upper=None):
+    return regions({"name": '"lower"', "vertices": LOWER, "labels": LOWER_LABELS, **(lower or {})},
+                   {"name": '"upper"', "vertices": UPPER, "labels": UPPER_LABELS, **(upper or {})})
+
+
+def circle(centre="[0.5, 0.5]", radius="0.1", label='"traction"', **more):
+    return {"centre": centre, "radius": radius, "label": label, **more}
+
+
+def arcs(raw):
+    return {"geometry.arcs": raw}
+
+
+# slug: (description, changes of the Example 6.1 file, words one of which the error must contain); all
+# through the command line (solve --maxh 0.5) and the API (load_problem, netgen_mesh, solve)
+SCHEMA_CASES = {
+    # regions
+    "region-string": ('region = "omega"', {"geometry.vertices": None, "geometry.labels": None,
+                                            "geometry.region": '"omega"'}, ["region"]),
+    "region-numbers": ("region = [1, 2]", {"geometry.vertices": None, "geometry.labels": None,
+                                           "geometry.region": "[1, 2]"}, ["region"]),
+    "region-empty": ("region = []", {"geometry.vertices": None, "geometry.labels": None, "geometry.region": "[]"},
+                     ["region"]),
+    "region-and-vertices": ("[geometry] vertices and a region table", {
+        "geometry.region": inline({"vertices": SQUARE, "labels": SQUARE_LABELS})}, ["vertices", "region"]),
+    "region-unnamed-of-two": ("two regions, the second without a name", two_regions(upper={"name": None}),
+                              ["name"]),
+    "region-same-name": ("two regions named lower", two_regions(upper={"name": '"lower"'}), ["name"]),
+    "region-name-space": ('region name "steel plate"', two_regions(lower={"name": '"steel plate"'}), ["name"]),
+    "region-name-number": ("region name 5", two_regions(lower={"name": "5"}), ["name"]),
+    "region-name-interface": ('region name "interface"', two_regions(lower={"name": '"interface"'}), ["name"]),
+    "region-unknown-key": ('region key colour = "red"', two_regions(lower={"colour": '"red"'}), ["colour"]),
+    "region-no-labels": ("region without labels", two_regions(upper={"labels": None}), ["labels"]),
+    "region-label-count": ("region with 3 labels for 4 sides", two_regions(
+        upper={"labels": '["interface", "dirichlet", "traction"]'}), ["labels", "label"]),
+    "region-label-hyphen": ('side label "top-side"', two_regions(
+        upper={"labels": '["interface", "dirichlet", "top-side", "traction"]'}), ["label"]),
+    "region-nan-vertex": ("region vertex (nan, 0.5)", two_regions(
+        lower={"vertices": "[[0.0, 0.05], [1.0, 0.05], [1.0, 0.5], [nan, 0.5]]"}), ["vertices", "region"]),
+    "region-vertex-strings": ('region vertices ["a", "b"]', two_regions(lower={"vertices": '["a", "b"]'}),
+                              ["vertices"]),
+    "region-clockwise": ("clockwise region", two_regions(
+        lower={"vertices": "[[0.0, 0.5], [1.0, 0.5], [1.0, 0.05], [0.0, 0.05]]"}), ["region", "counter-clockwise"]),
+    "region-twice-the-same-loop": ("two regions with the same loop", two_regions(
+        upper={"vertices": LOWER, "labels": LOWER_LABELS}), ["region", "geometry", "domain"]),
+    "region-circle-radius-zero": ("circular inclusion of radius 0", regions(
+        {"name": '"matrix"', "vertices": SQUARE, "labels": SQUARE_LABELS},
+        {"name": '"fibre"', **circle(radius="0", label='"interface"')}), ["radius"]),
+    "region-circle-and-vertices": ("a region with centre, radius and vertices", regions(
+        {"vertices": SQUARE, "labels": SQUARE_LABELS, "centre": "[0.5, 0.5]"}), ["centre", "vertices", "circle"]),
+    # holes
+    "hole-outside": ("a hole outside the region", holes(circle(centre="[3.0, 0.5]")), ["hole"]),
+    "hole-radius-negative": ("a hole of radius -0.1", holes(circle(radius="-0.1")), ["radius"]),
+    "hole-radius-bool": ("a hole of radius true", holes(circle(radius="true")), ["radius"]),
+    "hole-radius-string": ('a hole of radius "0.1"', holes(circle(radius='"0.1"')), ["radius"]),
+    "hole-radius-huge": ("a hole of radius 1e300", holes(circle(radius="1e300")), ["hole", "radius"]),
+    "hole-radius-tiny": ("a hole of radius 1e-12", holes(circle(radius="1e-12")), ["hole", "radius"]),
+    "hole-radius-inf": ("a hole of radius inf", holes(circle(radius="inf")), ["hole", "radius"]),
+    "hole-centre-nan": ("a hole centred at (nan, 0.5)", holes(circle(centre="[nan, 0.5]")), ["centre"]),
+    "hole-centre-three": ("a hole centre with 3 coordinates", holes(circle(centre="[0.5, 0.5, 0.0]")), ["centre"]),
+    "hole-no-label": ("a hole circle without a label", holes(circle(label=None)), ["label"]),
+    "hole-label-list": ('a hole circle with label = ["a", "b"]', holes(circle(label='["a", "b"]')), ["label"]),
+    "hole-center-spelling": ("a hole with center instead of centre", holes(
+        {"center": "[0.5, 0.5]", "radius": "0.1", "label": '"traction"'}), ["center"]),
+    "hole-circle-and-loop": ("a hole with centre and vertices", holes(
+        circle(vertices="[[0.4, 0.4], [0.6, 0.4], [0.5, 0.6]]")), ["hole"]),
+    "hole-no-condition": ('a hole labelled "hole" (no boundary condition)', holes(circle(label='"hole"')),
+                          ["hole"]),
+    "hole-not-array": ("hole = a table, not an array of tables", {"geometry.hole": "{ centre = [0.5, 0.5] }"},
+                       ["hole"]),
+    "hole-loop-no-labels": ("a hole loop without labels", holes({"vertices": "[[0.4, 0.4], [0.6, 0.4], [0.5, 0.6]]"}),
+                            ["labels"]),
+    "holes-overlapping": ("two overlapping holes (only the mesher sees it)", holes(
+        circle(centre="[0.5, 0.5]", radius="0.2"), circle(centre="[0.6, 0.5]", radius="0.2")),
+        ["hole", "holes", "Netgen"]),
+    "hole-touching-the-side": ("a hole touching the bottom side", holes(circle(centre="[0.5, 0.25]", radius="0.2")),
+                               ["hole", "Netgen"]),
+    # arcs
+    "arcs-key-word": ("arcs = { bottom = [0.5, 0.0] }", arcs("{ bottom = [0.5, 0.0] }"), ["arcs"]),
+    "arcs-key-negative": ('arcs = { "-1" = [0.5, 0.0] }', arcs('{ "-1" = [0.5, 0.0] }'), ["arcs"]),
+    "arcs-key-out-of-range": ("arcs = { 9 = [0.5, 0.0] }", arcs("{ 9 = [0.5, 0.0] }"), ["arcs"]),
+    "arcs-key-huge": ("arcs = { 99999999999999999999 = [0.5, 0.0] }", arcs("{ 99999999999999999999 = [0.5, 0.0] }"),
+                      ["arcs"]),
+    "arcs-list": ("arcs = [[0, 0.5, 0.0]]", arcs("[[0, 0.5, 0.0]]"), ["arcs"]),
+    "arcs-point-nan": ("an arc through (nan, 0.0)", arcs("{ 0 = [nan, 0.0] }"), ["arcs"]),
+    "arcs-point-string": ('an arc through "down"', arcs('{ 0 = "down" }'), ["arcs"]),
+    "arcs-point-inf": ("an arc through (0.5, -inf)", arcs("{ 0 = [0.5, -inf] }"), ["arcs"]),
+    "arcs-collinear": ("an arc through a point of its chord", arcs("{ 0 = [0.5, 0.05] }"), ["arc", "line"]),
+    "arcs-nearly-flat": ("an arc 1e-13 off its chord", arcs("{ 0 = [0.5, 0.0500000000001] }"), ["arc", "line"]),
+    "arcs-through-an-end": ("an arc through its own end point", arcs("{ 0 = [1.0, 0.05] }"), ["arc", "line"]),
+    "arcs-crossing": ("an arc that crosses the loop", arcs("{ 1 = [0.1, 0.55] }"), ["loop", "crosses"]),
+    "arcs-long-way": ("an arc the long way round (a clockwise loop)", arcs("{ 0 = [0.5, 1.5] }"),
+                      ["counter-clockwise", "geometry"]),
+    "arcs-two-halves-of-a-circle": ("a disk as two half circles on two vertices", {
+        "geometry.vertices": "[[0.0, 0.5], [1.0, 0.5]]", "geometry.labels": '["contact", "dirichlet"]',
+        "geometry.arcs": "{ 0 = [0.5, 0.0], 1 = [0.5, 1.0] }"}, ["geometry", "domain", "side"]),
+    # boundaries
+    "symmetry-number": ("symmetry = 5", {"boundaries.symmetry": "5"}, ["symmetry"]),
+    "symmetry-empty-name": ('symmetry = ""', {"boundaries.symmetry": '""'}, ["symmetry"]),
+    "symmetry-list-number": ('symmetry = ["axis", 1]', {"boundaries.symmetry": '["axis", 1]'}, ["symmetry"]),
+    "symmetry-also-traction": ('symmetry = "traction" (also the traction side)', {"boundaries.symmetry": '"traction"'},
+                               ["symmetry", "traction"]),
+    "contact-empty-list": ("contact = []", {"boundaries.contact": "[]"}, ["contact"]),
+    "dirichlet-absent-names": ('dirichlet = ["clamped"], traction the rest', {
+        "boundaries.dirichlet": '["clamped"]', "boundaries.traction": '["traction", "dirichlet"]'}, ["dirichlet"]),
+    "traction-table": ("traction = { a = 1 }", {"boundaries.traction": "{ a = 1 }"}, ["traction"]),
+    "boundaries-unknown-key": ('[boundaries] symetry = "traction"', {"boundaries.symetry": '"traction"'},
+                               ["symetry"]),
+    # data per region and per side
+    "E-table-unknown-region": ("E = { steel = 2000.0 }", {"material.E": "{ steel = 2000.0 }"}, ["E"]),
+    "E-table-empty": ("E = {}", {"material.E": "{}"}, ["E"]),
+    "E-table-nan": ("E = { omega = nan }", {"material.E": "{ omega = nan }"}, ["E"]),
+    "E-table-bool": ("E = { omega = true }", {"material.E": "{ omega = true }"}, ["E"]),
+    "E-table-nested": ("E = { omega = { a = 1 } }", {"material.E": "{ omega = { a = 1 } }"}, ["E"]),
+    "E-table-expression": ('E = { omega = "2000 +" }', {"material.E": '{ omega = "2000 +" }'}, ["E"]),
+    "E-table-negative-somewhere": ('E = { omega = "2000*(0.5 - x)" } (found on the mesh)',
+                                   {"material.E": '{ omega = "2000*(0.5 - x)" }'}, ["E"]),
+    "E-table-of-two-regions-one-missing": ("two regions, E for one", {
+        **two_regions(), "material.E": "{ lower = 2000.0 }"}, ["E"]),
+    "nu-table-0.7": ("nu = { omega = 0.7 }", {"material.nu": "{ omega = 0.7 }"}, ["nu"]),
+    "f-table-short": ("f = { omega = [1.0] }", {"loads.f": "{ omega = [1.0] }"}, ["f"]),
+    "f-table-unknown": ("f = { steel = [0.0, 1.0] }", {"loads.f": "{ steel = [0.0, 1.0] }"}, ["f"]),
+    "g-table-string": ('g = { traction = "abc" }', {"loads.g": '{ traction = "abc" }'}, ["g"]),
+    "g-table-unknown-side": ("g = { contact = [1.0, 0.0] }", {"loads.g": "{ contact = [1.0, 0.0] }"}, ["g"]),
+    "g-table-overflow": ('g = { traction = ["exp(1000*x)", 0.0] } (found on the mesh)',
+                         {"loads.g": '{ traction = ["exp(1000*x)", 0.0] }'}, ["g"]),
+    "u_D-short": ("u_D = [0.01]", {"loads.u_D": "[0.01]"}, ["u_D"]),
+    "u_D-nan": ("u_D = [nan, 0.0]", {"loads.u_D": "[nan, 0.0]"}, ["u_D"]),
+    "u_D-bool": ("u_D = [true, 0.0]", {"loads.u_D": "[true, 0.0]"}, ["u_D"]),
+    "u_D-string": ('u_D = "down"', {"loads.u_D": '"down"'}, ["u_D"]),
+    "u_D-huge-int": ("u_D = [1 followed by 400 zeros, 0.0]", {"loads.u_D": f"[{HUGE_INT}, 0.0]"}, ["u_D"]),
+    "u_D-table-unknown": ("u_D = { traction = [0.0, 0.01] }", {"loads.u_D": "{ traction = [0.0, 0.01] }"},
+                          ["u_D"]),
+    "u_D-table-inf": ("u_D = { dirichlet = [inf, 0.0] }", {"loads.u_D": "{ dirichlet = [inf, 0.0] }"}, ["u_D"]),
+    "u_D-expression-inf": ('u_D = ["1/(x - 1)", 0.0] (infinite on the Dirichlet side, found on the mesh)',
+                           {"loads.u_D": '["1/(x - 1)", 0.0]'}, ["u_D"]),
+    "c_n-table-empty": ("c_n = {}", {"contact.c_n": "{}"}, ["c_n"]),
+    "c_n-table-negative": ("c_n = { contact = -1.0 }", {"contact.c_n": "{ contact = -1.0 }"}, ["c_n"]),
+    "g_a-table-nan": ("g_a = { contact = nan }", {"contact.g_a": "{ contact = nan }"}, ["g_a"]),
+    "g_a-table-unknown": ("g_a = { top = 0.0 }", {"contact.g_a": "{ top = 0.0 }"}, ["g_a"]),
+    "c_tau-table-negative": ("c_tau = { contact = -1.0 }", {"contact.c_tau": "{ contact = -1.0 }"}, ["c_tau"]),
+    "c_tau-table-negative-somewhere": ('c_tau = { contact = "if(x > 0.5, -1, 1)" } (found on the mesh)',
+                                       {"contact.c_tau": '{ contact = "if(x > 0.5, -1, 1)" }'}, ["c_tau"]),
+    "m_n-table-below-1": ("m_n = { contact = 0.5 }", {"contact.m_n": "{ contact = 0.5 }"}, ["m_n"]),
+    "m_n-table-expression": ('m_n = { contact = "1 + x" }', {"contact.m_n": '{ contact = "1 + x" }'}, ["m_n"]),
+    "m_t-table-negative": ("m_t = { contact = -1.0 }", {"contact.m_t": "{ contact = -1.0 }"}, ["m_t"]),
+    "m_t-table-unknown-side": ("m_t = { top = 0.0 }", {"contact.m_t": "{ top = 0.0 }"}, ["m_t"]),
+}
+# the expression functions step, min, max, if: bad uses in g_a (slug: expression)
+SCHEMA_EXPRESSIONS = {
+    "if-two-arguments": "if(x > 0.5, 0.05)", "if-four-arguments": "if(x > 0.5, 1, 2, 3)",
+    "if-no-comparison": "if(x, 0.05, 0)", "if-keyword": "if(x > 0.5, a=1, b=2)", "if-starred": "if(*x)",
+    "if-chained": "if(0.2 < x < 0.5, 0.05, 0)", "if-equality": "if(x == 0.5, 0.05, 0)",
+    "if-not-equal": "if(x != 0.5, 0.05, 0)", "if-and": "if(x > 0.2 and x < 0.5, 0.05, 0)",
+    "if-or": "if(x > 0.2 or y > 1, 0.05, 0)", "if-not": "if(not x > 0.5, 0.05, 0)",
+    "if-internal-name": "if_(x > 0.5, 0.05, 0)", "if-python-conditional": "0.05 if x > 0.5 else 0",
+    "if-no-call": "if", "comparison-outside-if": "0.05*(x > 0.5)", "if-branch-div-zero": "if(x > 2, 1/0, 0.05)",
+    "if-branch-inf-on-domain": "if(x > 0.5, 1/(x - x), 0.05)", "if-branch-nan-on-domain": "if(x < 0.5, 0.05, "
+                                                                                          "sqrt(0.7 - x))",
+    "if-nested-too-long": "if(x > 0.5, " * 100 + "0" + ", 0)" * 100,
+    "min-one-argument": "min(x)", "min-three-arguments": "min(x, y, 0)", "max-keyword": "max(a=x, b=y)",
+    "max-no-argument": "max()", "step-two-arguments": "step(x, y)", "step-no-argument": "step()",
+    "step-string": "step('x')", "min-of-a-list": "min([x, y])",
+}
+
+
+def schema_cases():
+    """The problem-file schema beyond one polygon (regions, holes, arcs, symmetry, data per region and side, u_D,
+    the expression functions): each bad file through the command line and through load_problem + solve."""
+    snippet = 'q = ndf.load_problem("case.toml")\nndf.solve(q, ndf.netgen_mesh(q, 0.5))'
+    items = [(slug, description, changes, expect) for slug, (description, changes, expect) in SCHEMA_CASES.items()]
+    items += [(f"expr-{slug}", f"g_a = {text!r}", {"contact.g_a": json.dumps(text)}, ["g_a"])
+              for slug, text in SCHEMA_EXPRESSIONS.items()]
+    cases = []
+    for slug, description, changes, expect in items:
+        text = toml(changes)
+        cases.append(cli_toml(f"schema-{slug}", f"problem file: {description}", text, expect=expect,
+                              mesh=("--maxh", "0.5")))
+        cases.append(api(f"schema-{slug}", f"load_problem + solve: {description}", snippet,
+                         files={"case.toml": text}, expect=expect))
+    # the same objects made in Python
+    square = "ngs_square = Loop([(0, 0.05), (1, 0.05), (1, 1.05), (0, 1.05)], ['contact', 'dirichlet', " \
+             "'traction', 'traction'])\nfrom ngdgfric.domain import Domain\n"
+    python = {  # slug: (call, expect)
+        "loop-arc-side-9": ("Loop([(0, 0), (1, 0), (0, 1)], ['a', 'b', 'c'], arcs={9: (0.5, -0.5)})", ["arcs"]),
+        "loop-arc-side-bool": ("Loop([(0, 0), (1, 0), (0, 1)], ['a', 'b', 'c'], arcs={True: (0.5, -0.5)})",
+                               ["arcs"]),
+        "loop-arc-point-nan": ("Loop([(0, 0), (1, 0), (0, 1)], ['a', 'b', 'c'], arcs={0: (nan, -0.5)})", ["arcs"]),
+        "loop-labels-string": ("Loop([(0, 0), (1, 0), (0, 1)], 'abc')", ["labels"]),
+        "circle-radius-negative": ("Loop.circle((0, 0), -1.0, 'a')", ["radius"]),
+        "circle-radius-nan": ("Loop.circle((0, 0), nan, 'a')", ["radius"]),
+        "circle-centre-inf": ("Loop.circle((inf, 0), 1.0, 'a')", ["centre"]),
+        "domain-region-name": ("Domain({'steel plate': ngs_square})", ["region"]),
+        "domain-hole-outside": ("Domain({'omega': ngs_square}, [Loop.circle((5, 5), 0.1, 'traction')])", ["hole"]),
+        "domain-hole-not-loop": ("Domain({'omega': ngs_square}, [((0, 0), 1.0)])", ["holes"]),
+        "problem-E-unknown-region": ("dataclasses.replace(p, E={'steel': 1.0})", ["E"]),
+        "problem-E-region-missing": ("dataclasses.replace(p, E={})", ["E"]),
+        "problem-g-unknown-side": ("dataclasses.replace(p, g={'contact': (1.0, 0.0)})", ["g"]),
+        "problem-u_D-nan": ("dataclasses.replace(p, u_D=(nan, 0.0))", ["u_D"]),
+        "problem-u_D-three": ("dataclasses.replace(p, u_D=(0.0, 0.0, 1.0))", ["u_D"]),
+        "problem-u_D-table-inf": ("dataclasses.replace(p, u_D={'dirichlet': (0.0, inf)})", ["u_D"]),
+        "problem-u_D-cf-inf": ("solve(dataclasses.replace(p, u_D=(1 / (x - 1), 0.0)))", ["u_D"]),
+        "problem-c_n-table-negative": ("dataclasses.replace(p, c_n={'contact': -1.0})", ["c_n"]),
+        "problem-m_n-table-below-1": ("dataclasses.replace(p, m_n={'contact': 0.5})", ["m_n"]),
+        "problem-symmetry-number": ("dataclasses.replace(p, symmetry=5)", ["symmetry"]),
+        "problem-symmetry-contact": ("dataclasses.replace(p, symmetry='contact')", ["symmetry", "contact"]),
+        "problem-contact-empty": ("dataclasses.replace(p, contact=[])", ["contact"]),
+    }
+    for slug, (call, expect) in python.items():
+        cases.append(api(f"schema-{slug}", call, call, setup="from ngdgfric.domain import Loop\n" + square,
+                         expect=expect))
+    for slug, text in SCHEMA_EXPRESSIONS.items():
+        if slug.endswith("-on-domain"):  # valid expressions, bad only where they are evaluated
+            continue
+        cases.append(api(f"schema-parse-{slug}", f"parse_expression({text[:60]!r})",
+                         f"ndf.problem_file.parse_expression({text!r})"))
     return cases
 
 
 def all_cases():
     return data_cases() + function_cases() + expression_cases() + geometry_cases() + mesh_cases() \
-        + reference_cases() + file_cases() + argument_cases() + output_cases()
+        + reference_cases() + file_cases() + argument_cases() + output_cases() + schema_cases()
 
 
 CASES = all_cases()
+QUICK = "-schema-"  # --quick: the cases of schema_cases()
 
 # --------------------------------------------------------------------------------------- running
 
@@ -897,6 +1156,8 @@ def report(results, args, seconds):
         + (f"address space capped at {args.memory:g} GB" if args.memory else "address space not capped")
         + f", {args.workers} in parallel; {seconds:.0f} s in all.",
     ]
+    if args.quick:
+        lines.append(f"Quick run: only the cases of the problem-file schema (ids containing {QUICK!r}).")
     if args.only:
         lines.append(f"Only the cases whose id contains {' or '.join(map(repr, args.only))}.")
     lines += [
@@ -946,6 +1207,9 @@ def parse(argv=None):
     parser.add_argument("--timeout", type=float, default=30.0, help="seconds before a case is a hang (default: 30)")
     parser.add_argument("--only", action="append", metavar="SUBSTRING",
                         help="run only the cases whose id contains SUBSTRING (repeatable: any of them)")
+    parser.add_argument("--quick", action="store_true",
+                        help=f"run only the cases of the problem-file schema (ids containing {QUICK!r}: regions, "
+                             "holes, arcs, symmetry, data per part, u_D, the expression functions)")
     parser.add_argument("--memory", type=float, default=6.0,
                         help="cap of each case's address space in GB, 0 for none (default: 6)")
     args = parser.parse_args(argv)
@@ -954,11 +1218,17 @@ def parse(argv=None):
     return args
 
 
+def selected(args):
+    """The cases that ``args`` (--quick, --only) select, in the order of CASES."""
+    return [case for case in CASES if (not args.quick or QUICK in case.id)
+            and (not args.only or any(part in case.id for part in args.only))]
+
+
 def main(argv=None):
     args = parse(argv)
-    cases = [c for c in CASES if not args.only or any(s in c.id for s in args.only)]
+    cases = selected(args)
     if not cases:
-        print(f"fuzz: no case id contains {' or '.join(map(repr, args.only))}", file=sys.stderr)
+        print(f"fuzz: no case id contains {' or '.join(map(repr, args.only or [QUICK]))}", file=sys.stderr)
         return 2
     print(f"{len(cases)} cases, {args.workers} workers, timeout {args.timeout:g} s", flush=True)
     start = time.perf_counter()

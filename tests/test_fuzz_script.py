@@ -9,7 +9,7 @@ fuzz = importlib.import_module("fuzz")  # scripts/ is on sys.path (tests/conftes
 
 # a few cases of the issue (a crash, a hang, silent answers before), through the API and the CLI
 WORKING = ["api-g_a-nan", "cli-toml-polygon-bowtie", "api-reference-truncated", "cli-size-uniform-levels-14",
-           "cli-arg-order-0"]
+           "cli-arg-order-0", "cli-schema-hole-outside", "api-schema-u_D-expression-inf", "cli-schema-expr-if-chained"]
 
 
 def test_cases():
@@ -28,6 +28,26 @@ def test_cases():
     for datum in ("E", "nu", "c_n", "m_n", "g_a", "c_tau", "m_t", "f0", "f1", "g0", "g1"):
         for value in ("nan", "inf", "minusinf"):
             assert f"api-{datum}-{value}" in ids and f"cli-toml-{datum}-{value}" in ids
+
+
+def test_the_schema_of_problem_files_is_covered_and_is_the_quick_run():
+    ids = {case.id for case in fuzz.CASES}
+    for kind in ("region-unnamed-of-two", "region-name-space", "region-unknown-key", "hole-outside", "hole-radius-bool",
+                 "hole-center-spelling", "arcs-key-word", "arcs-crossing", "arcs-point-nan", "symmetry-number",
+                 "symmetry-also-traction", "E-table-unknown-region", "nu-table-0.7", "f-table-short",
+                 "g-table-unknown-side", "u_D-nan", "u_D-table-unknown", "u_D-expression-inf", "c_n-table-empty",
+                 "g_a-table-nan", "c_tau-table-negative-somewhere", "m_n-table-below-1", "m_t-table-negative",
+                 "expr-if-no-comparison", "expr-if-chained", "expr-min-one-argument", "expr-step-two-arguments",
+                 "expr-if-branch-inf-on-domain"):
+        assert f"cli-schema-{kind}" in ids and f"api-schema-{kind}" in ids, kind
+    for name in fuzz.SCHEMA_EXPRESSIONS:  # each bad use of step, min, max, if also straight into the parser
+        assert f"api-schema-parse-{name}" in ids or name.endswith("-on-domain")
+    quick = fuzz.selected(fuzz.parse(["--quick"]))
+    assert quick and all(fuzz.QUICK in case.id for case in quick)
+    assert len(quick) == sum(fuzz.QUICK in case.id for case in fuzz.CASES)
+    assert [case.id for case in fuzz.selected(fuzz.parse(["--quick", "--only", "hole-radius-bool"]))] \
+        == ["cli-schema-hole-radius-bool", "api-schema-hole-radius-bool"]
+    assert len(fuzz.selected(fuzz.parse([]))) == len(fuzz.CASES)
 
 
 def outcome(code, stdout="", stderr=""):
