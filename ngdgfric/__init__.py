@@ -10,9 +10,11 @@ The entry points (solve, finish, estimate, adapt) limit OpenBLAS to NGDGFRIC_BLA
 from .adaptivity import Adaptation, adapt, dorfler_mark, minimum_angle, refine
 from .contact import contact_state, kkt_residuals
 from .discretization import Discretization
+from .domain import Domain, Loop
 from .errors import SolverError, TimeLimitError
 from .estimator import Estimate, estimate
-from .examples import example_6_1, example_6_2
+from .examples import example, example_6_1, example_6_2
+from .forces import ForceBalance, force_balance
 from .hp import HPState, hp_refine
 from .material import MaterialWarning
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
@@ -23,10 +25,11 @@ from .reference import Reference, energy_error, energy_norm, load_reference, sav
 from .solution import Solution, finish, solve
 from .transfer import WarmStart
 
-__all__ = ["ContactProblem", "Polygon", "example_6_1", "example_6_2", "load_problem", "example_file",
+__all__ = ["ContactProblem", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2", "load_problem",
+           "example_file",
            "uniform_mesh", "netgen_mesh", "check_mesh", "Discretization", "METHODS",
            "solve", "finish", "Solution", "WarmStart", "SolverError", "TimeLimitError", "MaterialWarning",
-           "contact_state", "kkt_residuals",
+           "contact_state", "kkt_residuals", "force_balance", "ForceBalance",
            "estimate", "Estimate", "dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle",
            "HPState", "hp_refine",
            "energy_norm", "Reference", "energy_error", "load_reference", "save_reference"]

@@ -5,7 +5,10 @@ PROBLEM is ``6.1`` or ``6.2`` (the examples of Section 6) or a TOML problem file
 (displacement, von Mises stress) and a PNG of the deformed mesh; ``uniform`` runs the study of
 Tables 6.1/6.2 (|||u_h - u_{h/2}|||_h on h = 2^-1, 2^-2, ...) and writes CSV and Markdown;
 ``adaptive`` runs the SOLVE-ESTIMATE-MARK-REFINE loop of Section 6 and writes CSV and a PNG of
-eta_h against the number of DOFs.  Bad input ends with one line ``ngdgfric: error: ...`` on
+eta_h against the number of DOFs.  ``solve`` and ``adaptive`` (for its final solution) also print the forces on
+the body (:mod:`ngdgfric.forces`: contact resultants and contact/stick/slip zones per contact side, reactions per
+Dirichlet and symmetry side, the equilibrium residual) and write them as ``*_forces.csv`` with a PNG of the zones
+along each contact side, ``*_contact.png``.  Bad input ends with one line ``ngdgfric: error: ...`` on
 stderr and exit code 2 before anything is computed where it can be known then (arguments, problem
 file and data, mesh size, output folder, outputs of an earlier run without ``--overwrite``); a
 solver failure with exit code 1.  Every file is written atomically, each as soon as it is
@@ -30,11 +33,19 @@ from .adaptivity import adapt
 from .checks import DataError, check_size
 from .errors import SolverError
 from .estimator import estimate
-from .examples import EXAMPLES, example
+from .examples import EXAMPLES, SCENES, example
 from .files import check_writable, write_csv, write_text
+from .forces import force_balance
 from .meshes import estimated_elements, netgen_mesh, uniform_mesh
 from .methods import METHODS
-from .output import rate_text, uniform_markdown, write_adaptive_png, write_deformed_png, write_vtk
+from .output import (
+    rate_text,
+    uniform_markdown,
+    write_adaptive_png,
+    write_contact_png,
+    write_deformed_png,
+    write_vtk,
+)
 from .problem_file import in_file, load_problem
 from .reference import energy_norm
 from .solution import SOLVERS, solve
@@ -112,7 +123,8 @@ def default(library, name):
 def _common_options(sub, several_methods=False, library="solve"):
     """PROBLEM, --method, --order, --solver, --eta, --solver-tol, --out, --overwrite; defaults those of the
     library's function ``library`` (:func:`ngdgfric.solve`, or :func:`ngdgfric.adapt` for ``adaptive``)."""
-    sub.add_argument("problem", metavar="PROBLEM", help="6.1, 6.2 (Section 6) or a TOML problem file")
+    sub.add_argument("problem", metavar="PROBLEM", help=f"6.1, 6.2 (Section 6), a shipped scene ({', '.join(SCENES)}) "
+                                                      "or a TOML problem file")
     method = default(library, "method")
     if several_methods:
         sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=[method],
@@ -146,9 +158,10 @@ def _mesh_options(sub, default):
 
 def _solve_parser(commands):
     sub = commands.add_parser("solve", help="solve once; write CSV, VTK and a PNG of the deformed mesh",
-                              description="Solve (3.1) once; print DOFs, iterations, |||u_h|||_h, eta_h and time; "
-                                          "write a CSV summary, a VTK file (displacement, von Mises stress) "
-                                          "and a PNG of the deformed mesh.")
+                              description="Solve (3.1) once; print DOFs, iterations, |||u_h|||_h, eta_h, time and the "
+                                          "forces on the body; write a CSV summary, a VTK file (displacement, von "
+                                          "Mises stress), a PNG of the deformed mesh with the contact zones, the "
+                                          "forces as CSV and a PNG of the zones along each contact side.")
     _common_options(sub)
     _mesh_options(sub, f"h = {DEFAULT_H}, or Netgen maxh = {DEFAULT_H} for other polygons")
     sub.add_argument("--max-ndof", type=_number(int), default=None, help=MAX_NDOF_HELP)
@@ -185,6 +198,9 @@ def _adaptive_parser(commands):
     sub.add_argument("--tol", type=_number(float), default=default("adapt", "tol"),
                      help="stop when eta_h <= TOL (an estimate of the energy error |||u - u_h|||_h); a run that "
                           f"stops before exits with code {NOT_REACHED}")
+    sub.add_argument("--rtol", type=_number(float), default=default("adapt", "rtol"),
+                     help="stop when eta_h <= RTOL |||u_h|||_h (a relative tolerance: 1e-3 for 0.1 %% of the energy "
+                          "norm; with --tol, whichever is reached first); exit code as for --tol")
     weights = default("adapt", "weights")
     sub.add_argument("--weights", choices=["energy", "paper"], default=weights,
                      help=f"estimator (default: {weights}): 'energy' (in the units of the energy norm) or 'paper' "
@@ -206,12 +222,13 @@ def _version():
 
 
 def load(spec):
-    """(problem, tag) for PROBLEM: an example name or the path of a TOML problem file."""
-    if spec in EXAMPLES:
+    """(problem, tag) for PROBLEM: an example or scene name or the path of a TOML problem file."""
+    if spec in EXAMPLES or spec in SCENES:
         return example(spec), spec.replace(".", "_")
     path = Path(spec)
     if not path.is_file():
-        raise FileNotFoundError(f"no problem file {spec!r} (PROBLEM is 6.1, 6.2 or a TOML file)")
+        raise FileNotFoundError(f"no problem file {spec!r} (PROBLEM is 6.1, 6.2, a shipped scene "
+                                f"({', '.join(SCENES)}) or a TOML file)")
     return load_problem(path), path.stem
 
 
@@ -266,23 +283,41 @@ def cmd_solve(args, problem, tag):
     say(f"  |||u_h|||_h      {record['energy_norm']:.10e}")
     say(f"  eta_h            {record['eta_h']:.10e}")
     say(f"  time             {record['solve_seconds']:.2f} s solve, {record['estimate_seconds']:.2f} s estimate")
-    csv_path, vtu_path, png_path = outputs(args, tag)
+    csv_path, vtu_path, png_path, forces_path, contact_path = outputs(args, tag)
     write_csv(csv_path, [record])
     write_vtk(vtu_path, sol)
-    write_deformed_png(png_path, sol, args.scale)
-    say(f"wrote {csv_path}, {vtu_path}, {png_path}")
+    balance = report_forces(sol)
+    write_deformed_png(png_path, sol, args.scale, balance.contact)
+    write_forces(forces_path, contact_path, sol, balance)
+    say(f"wrote {csv_path}, {vtu_path}, {png_path}, {forces_path}, {contact_path}")
     return [record]
+
+
+def report_forces(sol, heading="forces on the body"):
+    """Print the forces on the body of ``sol`` (:func:`ngdgfric.forces.force_balance`) under ``heading``;
+    returns them."""
+    balance = force_balance(sol)
+    say(f"{heading} as (x, y); contact: normal = integral of the pressure, tangential = friction along t:")
+    for line in balance.summary():
+        say(f"  {line}")
+    return balance
+
+
+def write_forces(csv_path, png_path, sol, balance):
+    """The forces CSV (:meth:`ngdgfric.forces.ForceBalance.rows`) and the contact zones PNG of ``sol``."""
+    write_csv(csv_path, balance.rows())
+    write_contact_png(png_path, sol, balance.contact)
 
 
 def outputs(args, tag):
     """The files a command writes (checked before computing: see :func:`run`)."""
     if args.command == "solve":
         stem = args.out / f"{tag}_{args.method}_p{args.order}"
-        return [Path(f"{stem}.{suffix}") for suffix in ("csv", "vtu", "png")]
+        return [Path(f"{stem}{suffix}") for suffix in (".csv", ".vtu", ".png", "_forces.csv", "_contact.png")]
     if args.command == "uniform":
         return [args.out / f"{tag}_uniform.{suffix}" for suffix in ("csv", "md")]
     stem = args.out / f"{tag}_adaptive_{args.method or 'auto'}_p{args.order}{'_hp' if args.hp else ''}"
-    return [Path(f"{stem}.{suffix}") for suffix in ("csv", "png")]
+    return [Path(f"{stem}{suffix}") for suffix in (".csv", ".png", "_forces.csv", "_contact.png")]
 
 
 def cmd_uniform(args, problem, tag):
@@ -312,19 +347,25 @@ def cmd_adaptive(args, problem, tag):
     mesh, described = _mesh(problem, args.h, args.maxh, None, args.order, args.max_ndof)
     kind = "hp" if args.hp else "h"
     say(f"{problem.name}: P{args.order}, {kind}-adaptive from {described}, theta = {args.theta:g}")
-    csv_path, png_path = outputs(args, tag)
+    csv_path, png_path, forces_path, contact_path = outputs(args, tag)
     adaptation = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta,
-                       max_levels=args.levels, max_ndof=args.max_ndof, tol=args.tol, solver=args.solver, eta=args.eta,
+                       max_levels=args.levels, max_ndof=args.max_ndof, tol=args.tol, rtol=args.rtol, solver=args.solver,
+                       eta=args.eta,
                        solver_tol=args.solver_tol, max_seconds=args.max_seconds,
                        csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights)
     records = adaptation.levels
     slope = (records, args.order) if not args.hp and len(records) > 1 else None
     write_adaptive_png(png_path, f"{problem.name}: theta = {args.theta:g}", f"{adaptation.method} {kind}-adaptive",
                        records, adaptation.solution.mesh, slope)
-    say(f"wrote {csv_path}, {png_path}")
-    if args.tol is not None and adaptation.stopped != "tol":
-        raise NotReached(f"stopped before --tol {args.tol:g} ({STOPS[adaptation.stopped]}): eta_h = "
-                         f"{records[-1]['eta_h']:.4e} after {len(records)} levels, {records[-1]['ndof']} DOFs")
+    balance = report_forces(adaptation.solution, f"final solution ({records[-1]['ndof']} DOFs): forces on the body")
+    write_forces(forces_path, contact_path, adaptation.solution, balance)
+    say(f"wrote {csv_path}, {png_path}, {forces_path}, {contact_path}")
+    if (args.tol is not None or args.rtol is not None) and adaptation.stopped != "tol":
+        asked = " or ".join(f"--{name} {value:g}" for name, value in (("tol", args.tol), ("rtol", args.rtol))
+                            if value is not None)
+        raise NotReached(f"stopped before {asked} ({STOPS[adaptation.stopped]}): eta_h = "
+                         f"{records[-1]['eta_h']:.4e} (target {records[-1]['target']:.4e}) after {len(records)} "
+                         f"levels, {records[-1]['ndof']} DOFs")
     return records
 
 
@@ -349,7 +390,7 @@ def run(argv=None):
         try:
             return COMMANDS[args.command](args, problem, tag)
         except DataError as exc:  # found on the mesh: name the key of the problem file
-            if args.problem in EXAMPLES:
+            if args.problem in EXAMPLES or args.problem in SCENES:
                 raise
             raise ValueError(in_file(args.problem, exc)) from exc
 

@@ -4,8 +4,9 @@ Files are written atomically through :mod:`ngdgfric.files` (a temporary file ren
 CSV and plain text: :func:`ngdgfric.files.write_csv`, :func:`ngdgfric.files.write_text`).  The
 plots draw into matplotlib Axes that the caller makes: the command line with :func:`figure` (no
 pyplot, nothing displayed), a notebook with ``plt.subplots``.  They show u_h and its von Mises
-stress (1.3), the estimator eta_h of Section 4 against the number of DOFs, and the contact
-quantities along Gamma_C with the laws (1.8) and (1.9) that they satisfy.
+stress (1.3), the estimator eta_h of Section 4 against the number of DOFs, the contact
+quantities along Gamma_C with the laws (1.8) and (1.9) that they satisfy, and the contact, stick and slip
+zones of :mod:`ngdgfric.forces` (on the deformed mesh and along each contact side).
 """
 
 import ngsolve as ngs
@@ -13,12 +14,18 @@ import numpy as np
 
 from .contact import contact_state
 from .files import atomic_path
+from .forces import contact_sides
 from .meshes import mesh_arrays
 from .problem import von_mises
 
 __all__ = ["figure", "write_png", "write_vtk", "markdown_table", "uniform_markdown", "rate_text", "colour_cap",
            "vertex_values", "plot_deformed", "write_deformed_png", "estimator_curve", "plot_estimator", "plot_mesh",
-           "write_adaptive_png", "plot_contact"]
+           "write_adaptive_png", "plot_contact", "ZONE_STYLE", "plot_zone_marks", "plot_zones", "write_contact_png"]
+
+ZONE_STYLE = {"contact": dict(color="0.55", lw=7, alpha=0.5), "stick": dict(color="tab:blue", lw=2.5),
+              "slip": dict(color="tab:red", lw=2.5)}
+"""How the zones of :mod:`ngdgfric.forces` are drawn (matplotlib line options): the contact zone as a wide grey
+band, the stick and slip zones (which split the region where friction acts) as coloured lines over it."""
 
 
 def figure(width, height):
@@ -95,10 +102,12 @@ def vertex_values(mesh, *cfs):
     return (xy, *(np.asarray(cf(points)).reshape(mesh.ne, 3, cf.dim) for cf in cfs))
 
 
-def plot_deformed(ax, sol, scale=None):
+def plot_deformed(ax, sol, scale=None, sides=None):
     """The triangles moved by ``scale`` u_h (each by its own vertex values), coloured by the element's mean
-    von Mises stress (1.3), over the undeformed outline.  Default scale: the largest displacement drawn
-    as 10 % of the domain's size.  Returns the scale."""
+    von Mises stress (1.3), over the undeformed outline (every boundary and interface curve of the geometry,
+    curved sides sampled), with the contact, stick and slip zones marked on the undeformed contact sides
+    (:func:`plot_zone_marks`; ``sides``: the :func:`ngdgfric.forces.contact_sides` of ``sol``, computed if
+    None).  Default scale: the largest displacement drawn as 10 % of the domain's size.  Returns the scale."""
     from matplotlib.collections import PolyCollection
 
     problem, mesh = sol.problem, sol.mesh
@@ -107,11 +116,12 @@ def plot_deformed(ax, sol, scale=None):
     largest = float(np.max(np.linalg.norm(u, axis=2)))
     if scale is None:
         scale = 0.1 * max(x1 - x0, y1 - y0) / largest if largest > 0 else 1.0
-    outline = np.array(problem.geometry.vertices + problem.geometry.vertices[:1])
-    ax.plot(outline[:, 0], outline[:, 1], "k--", lw=0.8, label="undeformed")
+    for k, line in enumerate(problem.geometry.outline()):
+        ax.plot(line[:, 0], line[:, 1], "k--", lw=0.8, label=None if k else "undeformed")
     cells = PolyCollection(xy + scale * u, array=stress[:, :, 0].mean(axis=1), cmap="viridis", edgecolors="k",
                            linewidths=0.2 if mesh.ne <= 5000 else 0)
     ax.add_collection(cells)
+    plot_zone_marks(ax, contact_sides(sol) if sides is None else sides)
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.figure.colorbar(cells, ax=ax, label="von Mises stress")
@@ -121,10 +131,20 @@ def plot_deformed(ax, sol, scale=None):
     return scale
 
 
-def write_deformed_png(path, sol, scale=None):
-    """The PNG of ``ngdgfric solve``: :func:`plot_deformed` of ``sol`` with displacement magnification ``scale``."""
+def plot_zone_marks(ax, sides):
+    """The contact, stick and slip zones of ``sides`` ({side: :class:`ngdgfric.forces.ContactSide`}) drawn along
+    the contact sides in the styles of :data:`ZONE_STYLE`, one legend entry per zone present."""
+    for name, style in ZONE_STYLE.items():
+        pieces = [piece for side in sides.values() for piece in getattr(side, name).pieces]
+        for k, piece in enumerate(pieces):
+            ax.plot(piece[:, 0], piece[:, 1], solid_capstyle="butt", label=None if k else f"{name} zone", **style)
+
+
+def write_deformed_png(path, sol, scale=None, sides=None):
+    """The PNG of ``ngdgfric solve``: :func:`plot_deformed` of ``sol`` with displacement magnification ``scale``
+    (``sides`` as there)."""
     fig = figure(6, 5)
-    plot_deformed(fig.add_subplot(), sol, scale)
+    plot_deformed(fig.add_subplot(), sol, scale, sides)
     write_png(fig, path, dpi=130)
 
 
@@ -175,14 +195,18 @@ def plot_contact(axes, sol):
 
     Top to bottom: the normal compliance law (1.8), -sigma_n(u_h) against c_n (u_hn - g_a)_+^{m_n};
     the friction law (1.9), sigma_tau(u_h) and the discrete friction traction -c_tau lam_tau against the
-    bound +-c_tau; the slip u_htau; the zones: contact where u_hn > g_a, slip where u_htau != 0
-    (relative to the largest displacement on Gamma_C; there |lam_tau| = 1), stick elsewhere.
+    bound +-c_tau; the slip u_htau; the zones of :mod:`ngdgfric.forces`: contact where u_hn > g_a, slip where
+    |lam_tau| = 1 and u_htau != 0, stick where friction acts otherwise.
     """
     state = contact_state(sol)
+    zones = {name: np.zeros(len(state["x"]), dtype=bool) for name in ("contact", "slip", "stick")}
+    for side in contact_sides(sol).values():
+        for name, mask in (("contact", side.in_contact), ("slip", side.slipping), ("stick", side.sticking)):
+            zones[name][side.points] = mask
     order = np.argsort(state["x"])
     s = {k: np.asarray(v)[order] for k, v in state.items()}
+    zones = {name: mask[order] for name, mask in zones.items()}
     x = s["x"]
-    slip = np.abs(s["u_tau"]) > 1e-8 * np.abs(np.r_[s["u_n"], s["u_tau"]]).max()
     axes[0].plot(x, -s["sigma_n"], ".-", label=r"$-\sigma_n(u_h)$")
     axes[0].plot(x, s["pressure"], ".-", label=r"$c_n\,(u_{hn} - g_a)_+^{m_n}$")
     axes[0].set_title("normal compliance (1.8)")
@@ -193,9 +217,8 @@ def plot_contact(axes, sol):
     axes[1].set_title("friction (1.9)")
     axes[2].plot(x, s["u_tau"], ".-", label=r"$u_{h\tau}$")
     axes[2].set_title("slip")
-    zones = {"contact": s["gap"] > 0, "slip": slip, "stick": ~slip}
-    for k, mask in enumerate(zones.values()):
-        axes[3].plot(x[mask], np.full(mask.sum(), k), "s", ms=5)
+    for k, (name, mask) in enumerate(zones.items()):
+        axes[3].plot(x[mask], np.full(mask.sum(), k), "s", ms=5, color=ZONE_STYLE[name]["color"])
     axes[3].set_yticks(range(len(zones)), list(zones))
     axes[3].set_ylim(-0.5, len(zones) - 0.5)
     axes[3].set_title("zones")
@@ -203,3 +226,57 @@ def plot_contact(axes, sol):
     for ax in axes[:3]:
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best", fontsize=8)
+
+
+def _runs(cells, mask):
+    """The intervals of arc length covered by the consecutive cells ``cells`` (m, 2) where ``mask`` holds."""
+    runs = []
+    for (a, b), inside in zip(cells, mask, strict=True):
+        if not inside:
+            continue
+        if runs and runs[-1][1] == a:
+            runs[-1][1] = b
+        else:
+            runs.append([a, b])
+    return runs
+
+
+def plot_zones(ax, sol, side, sides=None):
+    """One contact side along its arc length (from its start, along t = (-n_y, n_x)): the pressure
+    c_n (u_hn - g_a)_+^{m_n} of (1.8) and, on a second axis, |lam_tau| (Lemma 3.1; 1 where the friction traction
+    reaches its bound (1.9)) at the Gauss points, over the stick (blue) and slip (red) zones shaded and the contact
+    zone as a grey band on the axis (:mod:`ngdgfric.forces`, whose Gauss cells give the zones' ends).  ``sides``:
+    the :func:`ngdgfric.forces.contact_sides` of ``sol`` (computed if None).  Returns the second Axes."""
+    c = (contact_sides(sol) if sides is None else sides)[side]
+    state = contact_state(sol)
+    for name, mask in (("stick", c.sticking), ("slip", c.slipping)):
+        for k, (a, b) in enumerate(_runs(c.cells, mask)):
+            ax.axvspan(a, b, color=ZONE_STYLE[name]["color"], alpha=0.15, lw=0, label=None if k else f"{name} zone")
+    for k, (a, b) in enumerate(_runs(c.cells, c.in_contact)):
+        ax.plot([a, b], [0, 0], solid_capstyle="butt", label=None if k else "contact zone", **ZONE_STYLE["contact"])
+    ax.plot(c.arc, state["pressure"][c.points], "k.-", ms=3, lw=1, label=r"$c_n\,(u_{hn} - g_a)_+^{m_n}$")
+    ax.set_xlim(0, c.length)
+    x0, y0 = np.round(c.cell_ends[0, 0], 12) + 0.0  # no -0 or 1e-16 for a vertex on an axis
+    ax.set_xlabel(f"arc length along {side} from ({x0:.3g}, {y0:.3g})")
+    ax.set_ylabel("pressure")
+    twin = ax.twinx()
+    twin.plot(c.arc, np.abs(state["lam_tau"][c.points]), ".-", color="tab:purple", ms=3, lw=1,
+              label=r"$|\lambda_\tau|$")
+    twin.set_ylim(0, 1.05)
+    twin.set_ylabel(r"$|\lambda_\tau|$", color="tab:purple")
+    lines = ax.get_legend_handles_labels()
+    more = twin.get_legend_handles_labels()
+    ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=7, loc="best")
+    ax.set_title(f"{side}: normal {c.normal:.4g}, tangential {c.tangential:.4g}", fontsize=9)
+    return twin
+
+
+def write_contact_png(path, sol, sides=None):
+    """The contact PNG of ``ngdgfric solve`` and ``adaptive``: :func:`plot_zones` of every contact side of ``sol``
+    (``sides`` as there), one above the other."""
+    sides = contact_sides(sol) if sides is None else sides
+    fig = figure(7, 0.6 + 2.6 * len(sides))
+    for ax, side in zip(fig.subplots(len(sides), 1, squeeze=False)[:, 0], sides, strict=True):
+        plot_zones(ax, sol, side, sides)
+    fig.suptitle(f"{sol.problem.name}: {sol.method} P{sol.order}, contact zones", fontsize=10)
+    write_png(fig, path, dpi=110)

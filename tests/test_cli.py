@@ -67,9 +67,45 @@ def test_solve_command_matches_the_api(tmp_path, capsys):
         assert "displacement" in vtu and "von_mises" in vtu
         assert (tmp_path / f"{tag}_sipg_p1.png").stat().st_size > 0
     assert printed[0] == printed[1]
+    check_forces(tmp_path / f"{tag}_sipg_p1", sol)
     assert int(printed[0]["DOFs"]) == expected["ndof"]
     assert float(printed[0]["|||u_h|||_h"]) == pytest.approx(expected["energy_norm"], rel=1e-9)
     assert float(printed[0]["eta_h"]) == pytest.approx(expected["eta_h"], rel=1e-9)
+
+
+def check_forces(stem, sol):
+    """The forces CSV and the contact PNG next to the outputs ``stem``.* hold the forces of the solution ``sol``."""
+    balance = ndf.force_balance(sol)
+    with open(f"{stem}_forces.csv") as handle:
+        rows = {(row["kind"], row["side"]): row for row in csv.DictReader(handle)}
+    assert set(rows) == {("dirichlet", "dirichlet"), ("contact", "contact"), ("traction", "traction"), ("body", ""),
+                         ("residual", "")}
+    for kind, side, vector in [*balance.vectors(), ("residual", "", balance.residual)]:
+        row = rows[(kind, side)]
+        assert [float(row["force_x"]), float(row["force_y"])] == pytest.approx(vector, rel=1e-10, abs=1e-9)
+    contact, side = rows[("contact", "contact")], balance.contact["contact"]
+    assert float(contact["normal"]) == pytest.approx(side.normal, rel=1e-10)
+    assert float(contact["tangential"]) == pytest.approx(side.tangential, rel=1e-10)
+    for zone in ("contact", "stick", "slip"):
+        assert float(contact[f"{zone}_length"]) == pytest.approx(getattr(side, zone).length, rel=1e-10)
+        assert int(contact[f"{zone}_pieces"]) == len(getattr(side, zone).pieces)
+    assert float(contact["contact_end_x"]) == pytest.approx(side.contact.end[0], rel=1e-10)
+    residual = np.hypot(float(rows[("residual", "")]["force_x"]), float(rows[("residual", "")]["force_y"]))
+    assert residual < 1e-12 * np.hypot(float(contact["force_x"]), float(contact["force_y"]))  # equilibrium
+    assert Path(f"{stem}_contact.png").stat().st_size > 0
+
+
+def test_solve_prints_the_forces(tmp_path, capsys):
+    assert main(["solve", "6.2", "--h", "0.5", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    lines = out[out.index("forces on the body"):].splitlines()
+    balance = ndf.force_balance(ndf.solve(ndf.example_6_2(), ndf.uniform_mesh(ndf.example_6_2(), 0.5)))
+    reaction = balance.reactions["dirichlet"].force
+    assert f"  dirichlet dirichlet: reaction ({reaction[0]:.6e}, {reaction[1]:.6e})" in lines
+    side = balance.contact["contact"]
+    assert f"  contact contact: normal {side.normal:.6e}, tangential {side.tangential:.6e}" in out
+    assert any(line.startswith("    slip zone") for line in lines) and lines[-2].startswith("  equilibrium: ")
+    assert "_forces.csv" in lines[-1] and "_contact.png" in lines[-1]
 
 
 def test_the_command_line_has_the_libraries_defaults():
@@ -113,6 +149,12 @@ def test_uniform_and_adaptive_commands(tmp_path, capsys):
         levels = list(csv.DictReader(handle))
     assert [int(r["level"]) for r in levels] == [0, 1, 2]
     assert (tmp_path / "6_1_adaptive_auto_p2_hp.png").stat().st_size > 0
+    assert f"final solution ({levels[-1]['ndof']} DOFs): forces on the body" in out  # printed and written
+    with open(tmp_path / "6_1_adaptive_auto_p2_hp_forces.csv") as handle:
+        forces = {row["kind"]: row for row in csv.DictReader(handle)}
+    assert float(forces["contact"]["normal"]) > 0 and float(forces["contact"]["slip_length"]) > 0
+    assert abs(float(forces["residual"]["force_x"])) < 1e-12 * abs(float(forces["dirichlet"]["force_x"]))
+    assert (tmp_path / "6_1_adaptive_auto_p2_hp_contact.png").stat().st_size > 0
     # a re-run with other options does not touch an earlier run's output unless asked to
     before = (tmp_path / "6_1_adaptive_auto_p2_hp.csv").read_bytes()
     assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path)]) == 2

@@ -2,21 +2,27 @@
 
 import xml.etree.ElementTree as ET
 
+import matplotlib.colors
 import matplotlib.image
 import ngsolve as ngs
 import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.domain import Domain, Loop
+from ngdgfric.forces import contact_sides
 from ngdgfric.meshes import mesh_arrays
 from ngdgfric.output import (
+    ZONE_STYLE,
     colour_cap,
     figure,
     plot_contact,
     plot_deformed,
     plot_estimator,
+    plot_zones,
     uniform_markdown,
     vertex_values,
+    write_contact_png,
     write_png,
     write_vtk,
 )
@@ -73,6 +79,55 @@ def test_default_deformation_draws_the_largest_displacement_as_a_tenth_of_the_do
     assert np.allclose(drawn, xy + scale * u, rtol=1e-12, atol=1e-12)
     assert np.max(np.linalg.norm(drawn - xy, axis=2)) == pytest.approx(0.1 * 1.0, rel=1e-12)  # Omega: 1 x 1
     assert plot_deformed(figure(6, 5).add_subplot(), solution, scale=2.0) == 2.0
+
+
+def test_deformed_plot_draws_the_outline_of_a_curved_domain_with_a_hole_and_the_zones():
+    disk = Loop([(-1, 1), (1, 1)], ["contact", "lid"], arcs={0: (0.0, 0.0)})
+    hole = Loop.circle((0, 0.6), 0.2, "hole")
+    problem = ndf.ContactProblem(E=1.0, nu=0.3, f=(0.01, 0), g=(0, 0), c_n=1e2, m_n=1, g_a=0.01 * ngs.y, c_tau=0.05,
+                                 geometry=Domain({"omega": disk}, holes=(hole,)), dirichlet="lid", traction="hole",
+                                 u_D=(0.0, -0.02))
+    sol = ndf.solve(problem, ndf.netgen_mesh(problem, 0.3), order=2)
+    ax = figure(6, 5).add_subplot()
+    plot_deformed(ax, sol)
+    lines = ax.get_lines()
+    dashed = [line.get_xydata() for line in lines if line.get_linestyle() == "--"]
+    outline = problem.geometry.outline()
+    assert len(dashed) == len(outline) == 2  # the half disk (its arc sampled) and the hole
+    for drawn, curve in zip(dashed, outline, strict=True):
+        assert np.array_equal(drawn, curve)
+    assert np.linalg.norm(dashed[1] - (0, 0.6), axis=1) == pytest.approx(0.2, rel=1e-12)
+    side = contact_sides(sol)["contact"]
+    for name in ZONE_STYLE:  # each zone's pieces drawn in its colour, one legend entry per zone
+        zone = getattr(side, name)
+        drawn = [line.get_xydata() for line in lines if line.get_color() == ZONE_STYLE[name]["color"]]
+        assert len(drawn) == len(zone.pieces) > 0
+        assert all(np.array_equal(a, b) for a, b in zip(drawn, zone.pieces, strict=True))
+    assert {text.get_text() for text in ax.get_legend().get_texts()} == {
+        "undeformed", "contact zone", "stick zone", "slip zone"}
+
+
+def test_zone_plot_shades_the_stick_and_slip_zones_along_the_side(solution, tmp_path):
+    side = contact_sides(solution)["contact"]
+    ax = figure(7, 3).add_subplot()
+    twin = plot_zones(ax, solution, "contact")
+    state = ndf.contact_state(solution)
+    pressure = [line for line in ax.get_lines() if line.get_marker() == "."]
+    assert len(pressure) == 1 and np.array_equal(pressure[0].get_xdata(), side.arc)
+    assert np.array_equal(pressure[0].get_ydata(), state["pressure"][side.points])
+    (lam_tau,) = twin.get_lines()
+    assert np.array_equal(lam_tau.get_ydata(), np.abs(state["lam_tau"][side.points]))
+    shaded = {}
+    for patch in ax.patches:  # axvspan: a rectangle from x to x + width
+        colour = patch.get_facecolor()[:3]
+        shaded[colour] = shaded.get(colour, 0.0) + patch.get_width()
+    blue, red = (matplotlib.colors.to_rgb(ZONE_STYLE[name]["color"]) for name in ("stick", "slip"))
+    assert shaded[blue] == pytest.approx(side.stick.length, rel=1e-12) and side.stick.length > 0
+    assert shaded[red] == pytest.approx(side.slip.length, rel=1e-12) and side.slip.length > 0
+    band = [line for line in ax.get_lines() if line.get_color() == ZONE_STYLE["contact"]["color"]]
+    assert sum(np.ptp(line.get_xdata()) for line in band) == pytest.approx(side.contact.length, rel=1e-12)
+    write_contact_png(tmp_path / "c.png", solution)
+    assert matplotlib.image.imread(tmp_path / "c.png").shape[:2] == (int(110 * 3.2), 110 * 7)  # one contact side
 
 
 @pytest.mark.parametrize("p", [1, 2, 3])
