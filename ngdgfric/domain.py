@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import check_polygon, distances_to_sides
+from .geometry import RESOLUTION, check_polygon, crossings, distances_to_sides
 
 __all__ = ["Geometry", "Loop", "Domain", "Arc", "INTERFACE", "NAME", "check_name"]
 
@@ -232,10 +232,11 @@ def _signed_area(v):
 
 
 def _key(side):
-    """Identifies a side independently of its direction (shared sides of two regions)."""
+    """Identifies a side independently of its direction (shared sides of two regions): its end points and, for
+    an arc, its midpoint (the two halves of a circle have the same ends and centre)."""
     if isinstance(side, Arc):
         ends = tuple(sorted([side.a, side.b]))
-        return ends + (tuple(np.round(side.centre, 12)),)
+        return ends + (tuple(np.round(side.points(2)[1], 12)),)
     return tuple(sorted(side))
 
 
@@ -280,6 +281,9 @@ class Geometry:
                         segments.append((side, INTERFACE, i + 1, j + 1))
                     continue
                 outside = parent[i] + 1 if parent[i] is not None else 0
+                if outside == 0 and loop.labels[k] == INTERFACE:
+                    raise ValueError(f"side {k} of region {self.region_loops[i][0]!r} is labelled {INTERFACE!r} but "
+                                     f"no other region shares it: give it a name with a condition")
                 segments.append((side, loop.labels[k] if outside == 0 else INTERFACE, i + 1, outside))
         for hole in self.hole_loops:
             region = self._parent(hole, None)
@@ -402,6 +406,26 @@ class Geometry:
         return max(x1 - x0, y1 - y0)
 
 
+def _overlap(a, b):
+    """The length along which sides a and b run together (on one line or one circle), 0 otherwise."""
+    if isinstance(a, Arc) != isinstance(b, Arc):
+        return 0.0
+    if isinstance(a, Arc):
+        scale = max(a.radius, b.radius)
+        if math.dist(a.centre, b.centre) > 1e-9 * scale or abs(a.radius - b.radius) > 1e-9 * scale:
+            return 0.0
+        on = b.distance(a.points(64)) <= 1e-9 * scale  # a's points on b: the overlap to 1/64 of a
+        return float(np.count_nonzero(on[:-1] & on[1:]) * a.length / 64)
+    (p, q), (r, s) = a, b
+    d = np.subtract(q, p)
+    length = float(np.hypot(*d))
+    normal = np.array([-d[1], d[0]]) / length
+    if max(abs(np.dot(np.subtract(r, p), normal)), abs(np.dot(np.subtract(s, p), normal))) > 1e-9 * length:
+        return 0.0
+    t = sorted(np.dot(np.subtract(x, p), d) / length for x in (r, s))
+    return max(0.0, min(length, t[1]) - max(0.0, t[0]))
+
+
 def _length(side):
     return side.length if isinstance(side, Arc) else math.dist(*side)
 
@@ -456,11 +480,40 @@ class Domain(Geometry):
         for loop in self._loops():
             for label in loop.labels:
                 check_name("side label", label, interface=True)
+        self._check_layout()
         segments = self._segments()
         if self.area <= 0:
             raise ValueError("the holes cover the whole domain")
         if not any(label != INTERFACE for _, label, _, _ in segments):
             raise ValueError("the domain has no boundary side")
+
+    def _named_loops(self):
+        return [(f"region {name!r}", loop) for name, loop in self.regions] + \
+            [(f"holes[{k}]", hole) for k, hole in enumerate(self.holes)]
+
+    def _check_layout(self):
+        """ValueError unless the loops fit together: no two cross, no side runs along part of another's (shared
+        sides must have the same ends), no region or hole inside a hole, no hole overlapping another."""
+        loops = self._named_loops()
+        gap = RESOLUTION * max(np.ptp(np.concatenate([loop.polyline() for _, loop in loops]), axis=0))
+        for i, (name, loop) in enumerate(loops):
+            line = loop.polyline()
+            starts, ends = line, np.roll(line, -1, axis=0)
+            for other_name, other in loops[i + 1:]:
+                other_line = other.polyline()
+                other_starts, other_ends = other_line, np.roll(other_line, -1, axis=0)
+                if any(np.any(crossings(p, q, other_starts, other_ends)) for p, q in zip(starts, ends, strict=True)):
+                    raise ValueError(f"the sides of {name} and {other_name} cross")
+                for a, b in ((loop, other), (other, loop)):
+                    for side in a.sides():
+                        for other_side in b.sides():
+                            if _key(side) != _key(other_side) and _overlap(side, other_side) > gap:
+                                raise ValueError(f"a side of {name} runs along part of a side of {other_name}: "
+                                                 f"shared sides must have the same end points (split the longer)")
+        for k, hole in enumerate(self.holes):
+            for name, loop in loops:
+                if loop is not hole and all(_inside(point, hole) for point in loop.polyline()):
+                    raise ValueError(f"{name} lies inside holes[{k}]")
 
     @property
     def region_loops(self):

@@ -7,7 +7,7 @@ reacting to Ctrl-C, and vertices closer than about 1e-8 of the polygon's size ma
 
 import numpy as np
 
-__all__ = ["check_polygon", "RESOLUTION", "COORDINATE_LIMIT", "distances_to_sides"]
+__all__ = ["check_polygon", "RESOLUTION", "COORDINATE_LIMIT", "distances_to_sides", "crossings"]
 
 # vertices (and a vertex and a side) closer than RESOLUTION times the polygon's diameter are refused:
 # Netgen meshed a gap of 1e-7 of the size and failed at 1e-8
@@ -57,7 +57,7 @@ def check_polygon(vertices):
             raise ValueError(f"vertices[{i}] = {_show(v[i])} lies on side {j} (from vertices[{j}] to "
                              f"vertices[{(j + 1) % n}]): the polygon touches or crosses itself")
     for i in range(n):
-        crossing = _crossings(starts[i], ends[i], starts, ends)
+        crossing = crossings(starts[i], ends[i], starts, ends)
         crossing[[(i - 1) % n, i, (i + 1) % n]] = False
         if np.any(crossing):
             j = int(np.flatnonzero(crossing)[0])
@@ -73,7 +73,7 @@ def distances_to_sides(points, starts, ends):
     return np.linalg.norm(points - (starts + t[..., None] * d), axis=2)
 
 
-def _crossings(p, q, starts, ends):
+def crossings(p, q, starts, ends):
     """Which segments (starts, ends) the segment p-q crosses at a point inside both (proper crossings)."""
     def side(a, b, c):
         return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])

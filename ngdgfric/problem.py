@@ -319,7 +319,7 @@ class ContactProblem:
         """The names of a boundary part as given: one name stays a str (the paper's problems), a list a tuple."""
         value = getattr(self, part)
         names = _names(part, value)
-        if not names:
+        if not names and part != "traction":
             raise ValueError(f"{part} needs at least one side name")
         return value if isinstance(value, str) else names
 
@@ -333,7 +333,7 @@ class ContactProblem:
         if part not in _OPTIONAL:
             missing = [key for key in known if key not in values]
             if missing:
-                raise ValueError(f"{name} has no value for {part} {'region' if part == 'region' else 'side'}"
+                raise ValueError(f"{name} has no value for {'region' if part == 'region' else part + ' side'}"
                                  f"{'s' * (len(missing) > 1)} {', '.join(map(repr, missing))}")
 
     def sides(self, part):

@@ -41,7 +41,8 @@ def test_arc_through_a_point_has_the_circle_of_the_three_points():
     (dict(vertices=[(0, 0), (0, 1), (1, 0)], labels=["a", "b", "c"]), "counter-clockwise"),
     (dict(vertices=[(0, 0), (1, 0), (0, 1)], labels=["a", "b"]), "one label per side"),
     (dict(vertices=[(0, 0), (1, 0), (0, 1)], labels=["a", "b", "c"], arcs={0: ("x", 1)}), r"arcs\[0\]"),
-    (dict(vertices=[(0, 0), (2, 0), (2, 1), (0, 1)], labels=list("abcd"), arcs={0: (1.0, 1.5)}), "crosses or touches itself"),
+    (dict(vertices=[(0, 0), (2, 0), (2, 1), (0, 1)], labels=list("abcd"), arcs={0: (1.0, 1.5)}),
+     "crosses or touches itself"),
 ])
 def test_bad_loops_are_refused_with_a_reason(kwargs, message):
     with pytest.raises(ValueError, match=message):
@@ -122,3 +123,33 @@ def test_a_mesh_of_another_domain_is_refused():
     flatter = problem(Domain({"omega": Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.1)})}))
     with pytest.raises(ValueError, match="does not fit the problem's domain"):
         ndf.meshes.check_mesh(disk, ndf.netgen_mesh(flatter, 0.5))
+
+
+def square(x0, y0, size, labels="abcd"):
+    return Loop([(x0, y0), (x0 + size, y0), (x0 + size, y0 + size), (x0, y0 + size)], list(labels))
+
+
+@pytest.mark.parametrize("regions, holes, message", [
+    ({"a": square(0, 0, 1), "b": square(0.5, 0.5, 1)}, [], "the sides of region 'a' and region 'b' cross"),
+    ({"a": square(0, 0, 1), "b": Loop([(0, 1), (0.5, 1), (0.5, 2), (0, 2)], list("abcd"))}, [],
+     "runs along part of a side"),
+    ({"a": square(0, 0, 2)}, [Loop.circle((0.7, 0.7), 0.3, "h"), Loop.circle((1.1, 0.7), 0.3, "h")],
+     "the sides of holes.0. and holes.1. cross"),
+    ({"a": square(0, 0, 2)}, [Loop.circle((1, 1), 0.5, "h"), Loop.circle((1, 1), 0.2, "h")],
+     r"holes\[1\] lies inside holes\[0\]"),
+    ({"a": square(0, 0, 2), "b": Loop.circle((1, 1), 0.1, "i")}, [Loop.circle((1, 1), 0.5, "h")],
+     r"region 'b' lies inside holes\[0\]"),
+    ({"a": Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["a", "interface", "c", "d"])}, [],
+     "labelled 'interface' but no other region shares it"),
+])
+def test_domains_whose_loops_do_not_fit_together_are_refused(regions, holes, message):
+    """Overlapping regions were meshed twice (area 2 instead of 1.75), a partly shared side left a crack
+    between two regions, nested or crossing holes reached Netgen."""
+    with pytest.raises(ValueError, match=message):
+        Domain(regions, holes=holes)
+
+
+def test_a_circle_of_two_half_arcs_is_one_loop_of_two_sides():
+    """The two halves of a circle have the same end points and centre: they are two sides, not one shared."""
+    disk = Domain({"omega": Loop([(0, 0.5), (1, 0.5)], ["a", "b"], arcs={0: (0.5, 0.0), 1: (0.5, 1.0)})})
+    assert disk.area == pytest.approx(math.pi / 4) and disk.side_names == ("a", "b")
