@@ -66,10 +66,10 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import contact_rule, contact_state
-from .forms import SYMMETRY_WEIGHT, edge_penalty, has_dirichlet_data, jump_inner, normal_part
+from .forms import dirichlet_load_terms, has_dirichlet_data, support_terms
 from .liftings import edge_colours, lifting_matrices, lifting_space
 from .linalg import threads
-from .problem import coefficient, pattern, strain, stress
+from .problem import coefficient, pattern
 
 __all__ = ["Zone", "ContactSide", "Reaction", "ForceBalance", "force_balance", "contact_sides", "LAM_TOL", "SLIP_TOL"]
 
@@ -432,32 +432,24 @@ def _reactions(disc, u, constants):
 
 
 def _support_form(disc, part, side):
-    """The terms of B_h on the edges of one Dirichlet or symmetry side (:func:`ngdgfric.forms.dg_terms`), as a
-    bilinear form on V_h that is applied, not assembled."""
-    n = ngs.specialcf.normal(2)
+    """The terms of B_h on the edges of one Dirichlet or symmetry side (:func:`ngdgfric.forms.support_terms`), as
+    a bilinear form on V_h that is applied, not assembled."""
     u, v = disc.V.TnT()
-    own, s = disc.material.own, disc.method.symmetry
-    pu, pv, weight = (u, v, 1.0) if part == "dirichlet" else (normal_part(u, n), normal_part(v, n), SYMMETRY_WEIGHT)
-    edges = ngs.ds(skeleton=True, definedon=disc.mesh.Boundaries(pattern([side])))
+    consistency, penalised = support_terms(disc.problem, disc.material, disc.mesh, u, v, disc.method, disc.penalty,
+                                           disc.p, disc.h_penalty, part, sides=[side])
     form = ngs.BilinearForm(disc.V, nonassemble=True)
-    form += -s * pu * (stress(own, strain(v)) * n) * edges
-    form += -pv * (stress(own, strain(u)) * n) * edges
-    if disc.method.penalty == "edge":
-        form += (weight * edge_penalty(disc.penalty.boundary, disc.p, disc.h_penalty.boundary)
-                 * jump_inner(pu, pv, n) * edges)
+    for term in consistency + ([penalised] if penalised is not None else []):
+        form += term
     return form
 
 
 def _dirichlet_load(disc, side):
-    """The part of the load vector that u_D carries on one Dirichlet side (:func:`ngdgfric.forms.load_terms`)."""
-    n = ngs.specialcf.normal(2)
-    v = disc.V.TestFunction()
-    u_D = coefficient(disc.problem.u_D)
-    edges = ngs.ds(skeleton=True, definedon=disc.mesh.Boundaries(pattern([side])))
+    """The part of the load vector that u_D carries on one Dirichlet side
+    (:func:`ngdgfric.forms.dirichlet_load_terms`)."""
     form = ngs.LinearForm(disc.V)
-    form += -disc.method.symmetry * u_D * (stress(disc.material.own, strain(v)) * n) * edges
-    if disc.method.penalty == "edge":
-        form += edge_penalty(disc.penalty.boundary, disc.p, disc.h_penalty.boundary) * jump_inner(u_D, v, n) * edges
+    for term in dirichlet_load_terms(disc.problem, disc.material, disc.mesh, disc.V.TestFunction(), disc.method,
+                                     disc.penalty, disc.p, disc.h_penalty, sides=[side]):
+        form += term
     form.Assemble()
     return form.vec.FV().NumPy().copy()
 

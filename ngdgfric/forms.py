@@ -34,10 +34,11 @@ Section 6 (the diagonals, 2 h_T = |e|, are the edges on which the SIPG threshold
 import ngsolve as ngs
 
 from .material import EdgeCoefficient
-from .problem import coefficient, is_number, strain, stress
+from .problem import coefficient, is_number, pattern, strain, stress
 
 __all__ = ["edge_length", "penalty_length", "element_areas", "edge_penalty", "edge_order", "dg_terms", "load_terms",
-           "jump_inner", "normal_part", "has_dirichlet_data", "SYMMETRY_WEIGHT"]
+           "jump_inner", "normal_part", "has_dirichlet_data", "support_terms", "dirichlet_load_terms",
+           "SYMMETRY_WEIGHT"]
 
 
 def jump_inner(a, b, n):
@@ -125,18 +126,29 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
         -jv * avg_sn(u) * interior,
     ]
     h = penalty_length(mesh) if h is None and method.penalty == "edge" else h
-    consistency, penalties = [], []
-    for part, (pu, pv), weight in _supports(problem, mesh, u, v, n):
-        boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where(part)))
-        consistency += [-s * pu * (stress(own, strain(v)) * n) * boundary,
-                        -pv * (stress(own, strain(u)) * n) * boundary]
-        penalties.append(weight * edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(pu, pv, n)
-                         * boundary if method.penalty == "edge" else None)
-    terms += consistency
+    found = set(mesh.GetBoundaries())
+    parts = [support_terms(problem, material, mesh, u, v, method, penalty, order, h, part)
+             for part in ("dirichlet", "symmetry") if part == "dirichlet" or found & set(problem.sides(part))]
+    terms += [term for consistency, _ in parts for term in consistency]
     if method.penalty == "edge":
         terms += [edge_penalty(penalty.interior, edge_order(order), h.interior) * jump_inner(ju, jv, n) * interior,
-                  *penalties]
+                  *(penalised for _, penalised in parts)]
     return terms
+
+
+def support_terms(problem, material, mesh, u, v, method, penalty, order, h, part, sides=None):
+    """The terms of B_h(u, v) on the edges of a supported part ("dirichlet" or "symmetry"; ``sides``: only these
+    of its sides) as (consistency terms, penalty term or None): with the parts of u, v the part's jumps see, u, v
+    on Gamma_D, (u . n) n, (v . n) n on symmetry sides (there with the penalty weight SYMMETRY_WEIGHT)."""
+    n = ngs.specialcf.normal(2)
+    s, own = method.symmetry, material.own
+    pu, pv, weight = (u, v, 1.0) if part == "dirichlet" else (normal_part(u, n), normal_part(v, n), SYMMETRY_WEIGHT)
+    boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where(part) if sides is None
+                                                                else pattern(sides)))
+    consistency = [-s * pu * (stress(own, strain(v)) * n) * boundary, -pv * (stress(own, strain(u)) * n) * boundary]
+    if method.penalty != "edge":
+        return consistency, None
+    return consistency, weight * edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(pu, pv, n) * boundary
 
 
 # the weight of a symmetry side's jump terms in the penalty and the energy norm: half of an interior edge's
@@ -144,16 +156,6 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
 # that of (u . n) n, and the edge belongs to two halves), so that half a symmetric scene is exactly the
 # restriction of the whole (tests/test_scenes.py); the consistency terms and the liftings need no weight
 SYMMETRY_WEIGHT = 2.0
-
-
-def _supports(problem, mesh, u, v, n):
-    """The supported boundary parts present on ``mesh`` with the parts of u, v their jumps see and the weight of
-    their penalty: u, v on Gamma_D (weight 1), (u . n) n, (v . n) n on the symmetry sides (SYMMETRY_WEIGHT)."""
-    found = set(mesh.GetBoundaries())
-    parts = [("dirichlet", (u, v), 1.0)]
-    if any(name in found for name in problem.sides("symmetry")):
-        parts.append(("symmetry", (normal_part(u, n), normal_part(v, n)), SYMMETRY_WEIGHT))
-    return parts
 
 
 def normal_part(w, n):
@@ -177,11 +179,19 @@ def load_terms(problem, material, mesh, v, method, penalty, order, h=None):
     if any(name in mesh.GetBoundaries() for name in problem.sides("traction")):
         terms.append(g * v * ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("traction"))))
     if has_dirichlet_data(problem):
-        n = ngs.specialcf.normal(2)
-        u_D = coefficient(problem.u_D)
-        boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("dirichlet")))
-        terms.append(-method.symmetry * u_D * (stress(material.own, strain(v)) * n) * boundary)
-        if method.penalty == "edge":
-            h = penalty_length(mesh) if h is None else h
-            terms.append(edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(u_D, v, n) * boundary)
+        terms += dirichlet_load_terms(problem, material, mesh, v, method, penalty, order, h)
+    return terms
+
+
+def dirichlet_load_terms(problem, material, mesh, v, method, penalty, order, h=None, sides=None):
+    """The part of B_h's Dirichlet terms that u_D carries to the right-hand side, on Gamma_D (``sides``: only these
+    of its sides): -s <u_D, sigma_h(v) n> + eta p^2 / h_e [u_D]:[v] (edge-penalty methods)."""
+    n = ngs.specialcf.normal(2)
+    u_D = coefficient(problem.u_D)
+    boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("dirichlet") if sides is None
+                                                                else pattern(sides)))
+    terms = [-method.symmetry * u_D * (stress(material.own, strain(v)) * n) * boundary]
+    if method.penalty == "edge":
+        h = penalty_length(mesh) if h is None else h
+        terms.append(edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(u_D, v, n) * boundary)
     return terms
