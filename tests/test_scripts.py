@@ -125,3 +125,25 @@ def test_scenes(tmp_path):
     assert shape["stopped"] == "tol" and shape["error"] <= shape["tol"]
     text = (tmp_path / "scenes.md").read_text()
     assert "12 solves, 0 failures" in text and "| exact |" in text and "Regenerate" in text
+
+
+def test_hertz(tmp_path):
+    results = run("hertz", tmp_path)
+    reference = results["reference"]
+    assert abs(reference["rel_a"]) < 0.03 and abs(reference["rel_p0"]) < 0.03  # a coarse hp run is Hertzian
+    assert [r["vary"] for r in results["sweeps"]] == ["delta", "c_n"]
+    assert results["levels"][-1]["error_J"] == 0.0 and results["levels"][0]["error_J"] > 0
+    text = (tmp_path / "hertz.md").read_text()
+    assert "within 1 % of Hertz" in text and "Regenerate" in text and "Polygon with 16 sides" in text
+    for name in ("hertz.csv", "hertz.png"):
+        assert (tmp_path / name).stat().st_size > 0
+
+
+def test_curved_rates(tmp_path):
+    table = run("curved_rates", tmp_path)
+    assert {r["geometry"] for r in table} == {"annulus, curved", "annulus, straight edges", "square"}
+    assert all(r["status"] == "solved" for r in table)
+    assert all(abs(r["rate"] - r["p"]) < 0.3 for r in table if r["geometry"] == "annulus, curved")  # three meshes
+    text = (tmp_path / "curved.md").read_text()
+    assert "where the order goes" in text and "Regenerate" in text
+    assert (tmp_path / "curved.csv").stat().st_size > 0
