@@ -8,32 +8,14 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 import pytest
+from mirror import mirrored
 
 import ngdgfric as ndf
 from ngdgfric.domain import Domain, Loop
-from ngdgfric.meshes import mesh_arrays, mesh_from_arrays
+from ngdgfric.meshes import mesh_arrays
 
 METHODS = ["sipg", "nipg", "bassi", "brezzi", "ldg"]
 COMMON = dict(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=1e2, m_n=1, g_a=0.0, c_tau=0.01)
-
-
-def mirrored(half, full):
-    """The Netgen mesh of ``half`` and its mirror image at x = 0 as a mesh of ``full`` (a symmetric mesh)."""
-    mesh = ndf.netgen_mesh(half, 0.3)
-    points, triangles, segments, labels = mesh_arrays(mesh)
-    n = len(points)
-    on_axis = np.flatnonzero(np.abs(points[:, 0]) < 1e-14)
-    remap = np.arange(2 * n)
-    remap[on_axis + n] = on_axis
-    keep = labels != "axis"
-    all_triangles = remap[np.vstack([triangles, triangles[:, [0, 2, 1]] + n])]
-    all_segments = remap[np.vstack([segments[keep], segments[keep][:, ::-1] + n])]
-    used = np.unique(all_triangles)
-    number = np.full(2 * n, -1)
-    number[used] = np.arange(len(used))
-    whole = mesh_from_arrays(full, np.vstack([points, points * [-1, 1]])[used], number[all_triangles],
-                             number[all_segments], np.concatenate([labels[keep], labels[keep]]))
-    return mesh, whole
 
 
 @pytest.fixture(scope="module")

@@ -8,12 +8,12 @@ import math
 import ngsolve as ngs
 import numpy as np
 import pytest
+from mirror import mirrored
 
 import ngdgfric as ndf
 from ngdgfric.contact import normal_tangent, residual_terms
 from ngdgfric.domain import Domain, Loop
 from ngdgfric.forces import force_balance
-from ngdgfric.meshes import mesh_arrays, mesh_from_arrays
 
 METHODS = ["sipg", "nipg", "bassi", "brezzi", "ldg"]
 COMMON = dict(E=1.0, nu=0.3, c_n=1e2, m_n=1)
@@ -111,27 +111,6 @@ def test_contact_resultants_equal_the_integrals_of_the_tractions(order):
     assert side.force == pytest.approx([side.tangential, side.normal], rel=1e-12)  # floor: n = -e_y, t = e_x
     state = ndf.contact_state(sol)
     assert np.all(-state["c_tau"] * state["lam_tau"] * state["u_tau"] <= 1e-15)  # friction opposes the slip
-
-
-def mirrored(half, full, names):
-    """A Netgen mesh of ``half`` (symmetry side "axis" on x = 0) and its mirror image as a mesh of ``full``, the
-    mirrored sides renamed by ``names``."""
-    mesh = ndf.netgen_mesh(half, 0.3)
-    points, triangles, segments, labels = mesh_arrays(mesh)
-    n = len(points)
-    on_axis = np.flatnonzero(np.abs(points[:, 0]) < 1e-14)
-    remap = np.arange(2 * n)
-    remap[on_axis + n] = on_axis
-    keep = labels != "axis"
-    triangles = remap[np.vstack([triangles, triangles[:, [0, 2, 1]] + n])]
-    segments = remap[np.vstack([segments[keep], segments[keep][:, ::-1] + n])]
-    used = np.unique(triangles)
-    number = np.full(2 * n, -1)
-    number[used] = np.arange(len(used))
-    labels = np.concatenate([labels[keep], [names.get(label, label) for label in labels[keep]]])
-    whole = mesh_from_arrays(full, np.vstack([points, points * [-1, 1]])[used], number[triangles], number[segments],
-                             labels)
-    return mesh, whole
 
 
 def test_a_symmetric_scene_has_opposite_wall_reactions_and_its_half_the_same_forces():
