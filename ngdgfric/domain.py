@@ -20,6 +20,7 @@ control point at the intersection of the end tangents: its rational quadratic se
 circles then (boundary points of refined meshes lie on the circle to round-off).
 """
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -259,7 +260,8 @@ class Geometry:
     hole_loops = ()
     kind = "domain"  # how messages name it
 
-    def _segments(self):
+    @functools.cached_property
+    def segments(self):
         """Netgen's view: (side, label, left region number, right region number), regions numbered from 1
         in the order of ``region_loops``, 0 outside.  A side shared by two regions is one interface segment;
         a region's loop inside another region (an inclusion) bounds that region on its outside."""
@@ -309,7 +311,7 @@ class Geometry:
     @property
     def side_names(self):
         """The names of the boundary sides (not interfaces), in order of appearance."""
-        return tuple(dict.fromkeys(label for _, label, _, _ in self._segments() if label != INTERFACE))
+        return tuple(dict.fromkeys(label for _, label, _, _ in self.segments if label != INTERFACE))
 
     @property
     def region_names(self):
@@ -331,7 +333,7 @@ class Geometry:
 
     @property
     def perimeter(self):
-        return sum(_length(side) for side, label, _, _ in self._segments() if label != INTERFACE)
+        return sum(_length(side) for side, label, _, _ in self.segments if label != INTERFACE)
 
     @property
     def bounds(self):
@@ -360,7 +362,7 @@ class Geometry:
                 points[key] = spline.AppendPoint(*key)
             return points[key]
 
-        for side, label, left, right in self._segments():
+        for side, label, left, right in self.segments:
             if isinstance(side, Arc):
                 for a, c, b in side.pieces():
                     spline.Append(["spline3", point(a), point(c), point(b)], bc=label, leftdomain=left,
@@ -375,7 +377,7 @@ class Geometry:
         """Distances of points xy (m, 2) to the sides named ``label`` (interfaces: INTERFACE)."""
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
         distance = np.full(len(xy), np.inf)
-        for side, name, _, _ in self._segments():
+        for side, name, _, _ in self.segments:
             if name == label:
                 d = side.distance(xy) if isinstance(side, Arc) else distances_to_sides(
                     xy, np.asarray([side[0]]), np.asarray([side[1]]))[:, 0]
@@ -383,14 +385,14 @@ class Geometry:
         return distance
 
     def side_length(self, label):
-        return sum(_length(side) for side, name, _, _ in self._segments() if name == label)
+        return sum(_length(side) for side, name, _, _ in self.segments if name == label)
 
     def chord_correction(self, label, ends):
         """Sum over boundary edges (ends (m, 2, 2), oriented with the domain on their left) named ``label`` of
         the signed area between the edge and the curved side it lies on (0 on straight sides): the mesh's
         triangles plus these give the domain's area exactly."""
         total = 0.0
-        for side, name, left, _ in self._segments():
+        for side, name, left, _ in self.segments:
             if name != label or not isinstance(side, Arc):
                 continue
             outward = math.copysign(1.0, side.sweep) * (1 if left else -1)  # the arc bulges out of the domain
@@ -481,7 +483,7 @@ class Domain(Geometry):
             for label in loop.labels:
                 check_name("side label", label, interface=True)
         self._check_layout()
-        segments = self._segments()
+        segments = self.segments
         if self.area <= 0:
             raise ValueError("the holes cover the whole domain")
         if not any(label != INTERFACE for _, label, _, _ in segments):

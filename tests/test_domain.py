@@ -69,7 +69,7 @@ def test_regions_share_sides_as_interfaces_and_holes_and_inclusions_count_in_the
     domain = Domain({"steel": left, "rubber": right}, holes=[Loop.circle((1.5, 0.5), 0.25, "hole")])
     assert domain.area == pytest.approx(2 - math.pi / 16, rel=1e-14)
     assert set(domain.side_names) == {"bottom", "wall", "top", "free", "hole"}
-    interfaces = [s for s in domain._segments() if s[1] == INTERFACE]
+    interfaces = [s for s in domain.segments if s[1] == INTERFACE]
     assert len(interfaces) == 1 and {interfaces[0][2], interfaces[0][3]} == {1, 2}
     inclusion = Domain({"matrix": Loop([(0, 0), (2, 0), (2, 1), (0, 1)], list("abcd")),
                         "fibre": Loop.circle((1.0, 0.5), 0.25, "ignored")})
