@@ -18,7 +18,7 @@ from .forces import ForceBalance, force_balance
 from .hp import HPState, hp_refine
 from .material import MaterialWarning
 from .meshes import check_mesh, netgen_mesh, uniform_mesh
-from .methods import METHODS
+from .methods import DG_METHODS, METHODS
 from .problem import ContactProblem, Polygon
 from .problem_file import example_file, load_problem
 from .reference import Reference, energy_error, energy_norm, load_reference, save_reference
@@ -27,7 +27,7 @@ from .transfer import WarmStart
 
 __all__ = ["ContactProblem", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2", "load_problem",
            "example_file",
-           "uniform_mesh", "netgen_mesh", "check_mesh", "Discretization", "METHODS",
+           "uniform_mesh", "netgen_mesh", "check_mesh", "Discretization", "METHODS", "DG_METHODS",
            "solve", "finish", "Solution", "WarmStart", "SolverError", "TimeLimitError", "MaterialWarning",
            "contact_state", "kkt_residuals", "force_balance", "ForceBalance",
            "estimate", "Estimate", "dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle",

@@ -45,7 +45,7 @@ from .meshes import element_diameters, netgen_mesh, refine, triangle_corners, un
 from .methods import get_method
 from .reference import energy_norm
 from .solution import finish, solve
-from .transfer import WarmStart, copy_orders, multiplier_snapshot
+from .transfer import WarmStart, copy_orders, discontinuous, multiplier_snapshot
 
 __all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle", "choose_method"]
 
@@ -135,7 +135,7 @@ def _largest(datum, mesh):
 @limited_blas
 def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, max_ndof=10**6, tol=None,
           solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
-          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, rtol=None, **options):
+          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, rtol=None, layers=0, **options):
     """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
 
     Stops as soon as eta_h <= ``tol`` or eta_h <= ``rtol`` |||u_h|||_h (a relative tolerance: with the default
@@ -176,7 +176,7 @@ def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, m
     method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
     if progress is not None:
         progress(f"method {method}: {reason}")
-    loop = _Loop(problem, mesh, order, max_order if hp else None, weights, (tol, rtol),
+    loop = _Loop(problem, mesh, order, max_order if hp else None, weights, (tol, rtol), layers,
                  gamma_lin if solver == "newton" else None,
                  dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol, **options))
     limits, records = dict(theta=theta, max_levels=max_levels, max_ndof=max_ndof, max_seconds=max_seconds,
@@ -208,8 +208,8 @@ class _Loop:
     """The state the levels of :func:`adapt` hand on: the mesh and its :class:`HPState`, the previous
     solution on the refined mesh (a warm start) and the eta_h the next level starts from."""
 
-    def __init__(self, problem, mesh, order, max_order, weights, tolerances, gamma_lin, solve_options):
-        self.problem, self.mesh, self.order, self.max_order = problem, mesh, order, max_order
+    def __init__(self, problem, mesh, order, max_order, weights, tolerances, layers, gamma_lin, solve_options):
+        self.problem, self.mesh, self.order, self.max_order, self.layers = problem, mesh, order, max_order, layers
         self.weights, self.gamma_lin, self.solve_options = weights, gamma_lin, solve_options
         self.tolerances, self.tol = tolerances, None
         self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
@@ -262,7 +262,7 @@ class _Loop:
 
     def refine(self, refinement):
         """Carry the solution over, then refine the mesh in place (h or hp) and update the state."""
-        copy_orders(self.sol.u, self.state.orders, self.carrier, np.full(self.mesh.ne, self.carrier_order))
+        copy_orders(*discontinuous(self.sol), self.carrier, np.full(self.mesh.ne, self.carrier_order))
         self.previous = WarmStart(u=self.carrier, mesh=self.mesh, multiplier=multiplier_snapshot(self.sol))
         self.sol = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
         gc.collect()  # reference cycles may keep them alive (seen in dask workers)
@@ -271,7 +271,8 @@ class _Loop:
     def _refine(self, mesh, state, indicators, marked):
         """Refine ``mesh`` in place (h: one bisection; hp: :func:`hp_refine`); returns the new HPState."""
         if self.max_order is not None:
-            return hp_refine(mesh, state, indicators, marked, self.max_order)
+            return hp_refine(mesh, state, indicators, marked, self.max_order, corners=self.problem.geometry.corners,
+                             layers=self.layers)
         refine(mesh, marked)
         return HPState.uniform(mesh, self.order)
 

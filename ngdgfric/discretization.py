@@ -22,7 +22,8 @@ from .methods import check_penalty, get_method, penalty
 from .problem import ContactProblem
 from .traces import ContactTraces
 
-__all__ = ["Discretization", "dg_space", "check_order", "order_function"]
+__all__ = ["Discretization", "dg_space", "conforming_space", "space", "polynomial_degrees", "edge_orders",
+           "contact_edges", "check_order", "order_function"]
 
 
 def dg_space(mesh, order, dgjumps=True):
@@ -40,6 +41,63 @@ def dg_space(mesh, order, dgjumps=True):
         scalar.SetOrder(ngs.NodeId(ngs.ELEMENT, nr), int(p))
     scalar.Update()
     return scalar**2
+
+
+def element_edges(mesh):
+    """The three edge numbers of every element, an (ne, 3) integer array."""
+    return np.array([[edge.nr for edge in element.edges] for element in mesh.Elements(ngs.VOL)], dtype=np.int64)
+
+
+def edge_orders(mesh, orders, raised=()):
+    """The degree of every edge of the conforming space of element degrees ``orders``: the larger of its
+    elements' (the maximum rule: every element keeps all polynomials of its degree); the edges numbered in
+    ``raised`` get the largest degree of all (:func:`conforming_space`)."""
+    result = np.zeros(mesh.nedge, dtype=np.int64)
+    orders = np.asarray(orders, dtype=np.int64)
+    np.maximum.at(result, element_edges(mesh).ravel(), np.repeat(orders, 3))
+    result[list(raised)] = orders.max()
+    return result
+
+
+def contact_edges(problem, mesh):
+    """The numbers of the edges on Gamma_C."""
+    sides = set(problem.sides("contact"))
+    return [element.edges[0].nr for element in mesh.Elements(ngs.BND) if element.mat in sides]
+
+
+def polynomial_degrees(disc):
+    """The largest polynomial degree of u_h on every element of a :class:`Discretization`: p_T for the DG
+    methods, for the conforming baseline the largest degree of the element and its edges (:func:`edge_orders`)."""
+    orders, mesh = disc.orders, disc.mesh
+    if not disc.method.conforming or np.all(orders == orders[0]):
+        return orders
+    edges = edge_orders(mesh, orders, contact_edges(disc.problem, mesh))
+    return np.maximum(orders, edges[element_edges(mesh)].max(axis=1))
+
+
+def conforming_space(mesh, order, raised=()):
+    """The conforming baseline's V_h (:data:`ngdgfric.methods.METHODS` ``"cg"``): continuous vector polynomials,
+    H^1 elements of degree ``order`` (p, or an integer array of p_T, one per element), each edge of the degree of
+    :func:`edge_orders`.  ``raised``: edges that get the largest degree whatever their elements' (the edges on
+    Gamma_C, so that the traces there are of degree p on every edge and the contact Gauss points, p per edge,
+    independent: :attr:`Discretization.contact_order`)."""
+    if np.ndim(order) == 0:
+        return ngs.VectorH1(mesh, order=int(order))
+    scalar = ngs.H1(mesh, order=int(np.max(order)))
+    for nr, p in enumerate(order):
+        scalar.SetOrder(ngs.NodeId(ngs.ELEMENT, nr), int(p))
+    for nr, p in enumerate(edge_orders(mesh, order, raised)):
+        scalar.SetOrder(ngs.NodeId(ngs.EDGE, nr), int(p))
+    scalar.Update()
+    return scalar**2
+
+
+def space(problem, mesh, order, method, dgjumps=True):
+    """V_h of ``method`` (a :class:`~ngdgfric.methods.Method`): :func:`conforming_space` (its edges on Gamma_C
+    raised) for the conforming baseline, else :func:`dg_space` (``dgjumps``: see there)."""
+    if method.conforming:
+        return conforming_space(mesh, order, contact_edges(problem, mesh) if np.ndim(order) else ())
+    return dg_space(mesh, order, dgjumps)
 
 
 def check_order(order, mesh):
@@ -75,11 +133,13 @@ def _check_eta(eta):
 class Discretization:
     """Everything of (3.3) that does not depend on the solution, built once per mesh.
 
-    Attributes: ``V`` (DG space), ``Q`` (multiplier space on Gamma_C), ``A`` (matrix of B_h),
+    Attributes: ``V`` (the DG space, or H^1 for the conforming baseline, :func:`space`), ``Q`` (multiplier space on
+    Gamma_C), ``A`` (matrix of B_h),
     ``F`` (load vector of (f, v)), ``M_inv`` (inverse Gauss-rule mass matrix of Q), ``dS`` (the
     contact measure), ``h_e`` (the edge length |e|), ``h_penalty`` (the penalty's length,
     :func:`ngdgfric.forms.penalty_length`), ``timings``; ``orders`` (p_T per element), ``order`` (the
-    largest, which sets the contact Gauss rule, the multiplier degree and the lifting space), ``p`` (p_T as
+    largest, which sets the lifting space), ``contact_order`` (the degree of the multiplier space and of the
+    contact Gauss rule: ``order``, one less for the conforming baseline), ``p`` (p_T as
     a number or GridFunction, for the penalty and the estimator weights); ``material`` (the Lame
     parameters element by element, :class:`ngdgfric.material.Material`); ``eta`` (the penalty parameter:
     the number given or the default, an :class:`~ngdgfric.material.EdgeCoefficient` for a varying
@@ -106,7 +166,14 @@ class Discretization:
         check_size(self.orders, max_ndof)
         check_data(problem, mesh, int(self.orders.max()))
         self.order = int(self.orders.max())
-        self.p = self.order if np.ndim(order) == 0 or np.all(order == self.order) else order_function(mesh, order)
+        # the contact rule has contact_order + 1 points per edge (:func:`ngdgfric.contact.contact_rule`): p + 1
+        # for DG, p for the conforming baseline, whose traces on Gamma_C are continuous (dimension p per edge + 1:
+        # p + 1 points per edge would make them linearly dependent, the Delassus operator singular)
+        self.contact_order = self.order - 1 if self.method.conforming else self.order
+        # p_T of the penalty and the estimator weights: the degree of the element's polynomials (for the conforming
+        # baseline with the degrees of its edges, which the inverse trace inequality of Nitsche's terms must see)
+        degrees = polynomial_degrees(self)
+        self.p = self.order if np.all(degrees == self.order) else order_function(mesh, degrees)
         lowest = int(self.orders.min())  # the lowest order has the highest SIPG threshold
         self.material = Material(problem, mesh, self.order)
         eta = None if eta is None else _check_eta(eta)
@@ -118,14 +185,15 @@ class Discretization:
         self.timings = {}
         self._gauss = self._traces = None
         start = time.perf_counter()
-        self.V = dg_space(mesh, order)
-        self.Q = multiplier_space(problem, mesh, self.order)
+        self.V = space(problem, mesh, order, self.method)
+        self.Q = multiplier_space(problem, mesh, self.contact_order)
         self.h_e = edge_length(mesh)
         self.h_penalty = penalty_length(mesh)
-        self.dS = contact_measure(problem, mesh, self.order)
+        self.dS = contact_measure(problem, mesh, self.contact_order)
         self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
-        self.V_plain = dg_space(mesh, order, dgjumps=False)  # the test space of the mixed contact forms
+        # the test space of the mixed contact forms (H^1 has no facet couplings to leave out)
+        self.V_plain = self.V if self.method.conforming else dg_space(mesh, order, dgjumps=False)
         self.timings["setup"] = time.perf_counter() - start
 
     def _largest_law(self):
@@ -177,7 +245,7 @@ class Discretization:
     def gauss(self):
         """The :class:`ngdgfric.contact.ContactGauss` of this mesh (built on first use)."""
         if self._gauss is None:
-            self._gauss = ContactGauss(self.problem, self.mesh, self.order, self.Q)
+            self._gauss = ContactGauss(self.problem, self.mesh, self.contact_order, self.Q)
         return self._gauss
 
     @property
@@ -189,7 +257,7 @@ class Discretization:
 
     def contact_points(self):
         """Mapped Gauss points on Gamma_C (see :func:`ngdgfric.contact.contact_points`)."""
-        return contact_points(self.problem, self.mesh, self.order)
+        return contact_points(self.problem, self.mesh, self.contact_order)
 
     def contact_groups(self):
         """For each edge on Gamma_C, the V-dofs of its element."""

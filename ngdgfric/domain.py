@@ -232,6 +232,16 @@ def _signed_area(v):
                               - (v[:, 0] - x0) * (np.roll(v, 1, axis=0)[:, 1] - y0)))
 
 
+def _end_tangents(side):
+    """The unit tangents of a side (a pair of points or an :class:`Arc`) at its two ends (direction ignored)."""
+    if not isinstance(side, Arc):
+        direction = np.subtract(side[1], side[0], dtype=float)
+        direction /= np.linalg.norm(direction)
+        return direction, direction
+    radii = [np.subtract(end, side.centre, dtype=float) / side.radius for end in (side.a, side.b)]
+    return tuple(np.array([-r[1], r[0]]) for r in radii)
+
+
 def _key(side):
     """Identifies a side independently of its direction (shared sides of two regions): its end points and, for
     an arc, its midpoint (the two halves of a circle have the same ends and centre)."""
@@ -307,6 +317,26 @@ class Geometry:
                 if best is None or other.area < self.region_loops[best][1].area:
                     best = j
         return best
+
+    @functools.cached_property
+    def corners(self):
+        """The points where the solution may be singular, an (n, 2) array: the ends of sides where the boundary
+        turns (its tangent changes direction), where two sides with different conditions or regions meet, or
+        where an interface meets the boundary (:func:`ngdgfric.hp.hp_refine` grades meshes towards them)."""
+        meeting = {}
+        for side, label, left, right in self.segments:
+            ends = (side.a, side.b) if isinstance(side, Arc) else side
+            for end, tangent in zip(ends, _end_tangents(side), strict=True):
+                meeting.setdefault(tuple(np.round(end, 12)), []).append((label, left, right, tangent))
+        points = []
+        for point, sides in meeting.items():
+            kinds = {(label, left, right) for label, left, right, _ in sides}
+            tangents = np.array([tangent for *_, tangent in sides])
+            cross = np.outer(tangents[:, 0], tangents[:, 1]) - np.outer(tangents[:, 1], tangents[:, 0])
+            turns = np.abs(cross).max() > 1e-9
+            if len(sides) != 2 or len(kinds) > 1 or turns:
+                points.append(point)
+        return np.array(points, dtype=float).reshape(-1, 2)
 
     @property
     def side_names(self):

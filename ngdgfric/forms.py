@@ -105,7 +105,8 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
     Returns a list of symbolic integrals (one integrator each: NGSolve assembles separate
     skeleton integrators several times faster than their sum).  Lifting terms are added by the
     caller from :mod:`ngdgfric.liftings`.  ``u``, ``v`` are trial and test functions (or any
-    vector proxies) of a DG space with ``dgjumps=True``; ``material``: the
+    vector proxies) of a DG space with ``dgjumps=True`` (or of H^1 for the conforming baseline: no terms on
+    interior edges); ``material``: the
     :class:`~ngdgfric.material.Material` on the mesh; ``penalty``: eta as an
     :class:`~ngdgfric.material.EdgeCoefficient`; ``order``: p, or the element order GridFunction of a
     variable-order space; ``h``: the penalty length (default :func:`penalty_length`).
@@ -120,19 +121,19 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
     ju, jv = u - u.Other(), v - v.Other()
     own, other = material.own, material.neighbour
     avg_sn = lambda w: material.average(stress(own, strain(w)) * n, stress(other, strain(w.Other())) * n)  # noqa: E731
-    terms = [
-        ngs.InnerProduct(stress(own, strain(u)), strain(v)) * ngs.dx,
-        -s * ju * avg_sn(v) * interior,
-        -jv * avg_sn(u) * interior,
-    ]
+    terms = [ngs.InnerProduct(stress(own, strain(u)), strain(v)) * ngs.dx]
+    if not method.conforming:  # continuous u, v: every term on interior edges vanishes
+        terms += [-s * ju * avg_sn(v) * interior, -jv * avg_sn(u) * interior]
     h = penalty_length(mesh) if h is None and method.penalty == "edge" else h
     found = set(mesh.GetBoundaries())
     parts = [support_terms(problem, material, mesh, u, v, method, penalty, order, h, part)
              for part in ("dirichlet", "symmetry") if part == "dirichlet" or found & set(problem.sides(part))]
     terms += [term for consistency, _ in parts for term in consistency]
     if method.penalty == "edge":
-        terms += [edge_penalty(penalty.interior, edge_order(order), h.interior) * jump_inner(ju, jv, n) * interior,
-                  *(penalised for _, penalised in parts)]
+        if not method.conforming:
+            weight = edge_penalty(penalty.interior, edge_order(order), h.interior)
+            terms.append(weight * jump_inner(ju, jv, n) * interior)
+        terms += [penalised for _, penalised in parts]
     return terms
 
 

@@ -1,6 +1,7 @@
-"""The five DG methods of Section 3 as data rows, and what their penalty parameter eta means.
+"""The five DG methods of Section 3 and a conforming baseline as data rows, and what their penalty
+parameter eta means.
 
-All five share the volume and consistency terms of B_h (:mod:`ngdgfric.forms`) and differ in a
+All five DG methods share the volume and consistency terms of B_h (:mod:`ngdgfric.forms`) and differ in a
 sign, a penalty and a lifting term:
 
     method   s    penalty on E_h^o                  global lifting   eta          default eta     stable for
@@ -9,6 +10,15 @@ sign, a penalty and a lifting term:
     bassi   +1    sum_e eta (C r_e[u], r_e[v])      -                1            6               eta > 3
     brezzi  +1    sum_e eta (C r_e[u], r_e[v])      (C r_0, r_0)     1            1               eta > 0
     ldg     +1    eta p^2 / h_e [u]:[v]             (C r_0, r_0)     a stress     30 mu           eta > 0
+    cg      +1    on supports only (Nitsche)        -                a stress     30 mu (*)       eta > t_p (2 mu + lam)
+
+``cg`` is the conforming baseline of issue 28: u_h continuous (H^1 elements of degree p_T, edges of the larger
+neighbouring degree), so that every interior jump [u_h] vanishes and with it every term of B_h on E_h^i; what
+remains is the volume term and SIPG's terms on the supported sides (Nitsche's method for u = u_D and for the
+symmetry sides), the same contact terms, solver, estimator (eta_3 only on the supports) and hp machinery.  On a
+mesh and order it is the DG solution restricted to conforming functions: fewer DOFs (about p^2 / 2 per component and
+element on large meshes against (p + 1)(p + 2) / 2), no skeleton assembly; it locks like any conforming P_p element
+for nu -> 1/2 at low p and needs data jumps on mesh edges as every method does.
 
 30 mu is the paper's choice (Section 6).  (*) For SIPG the default is raised to 1.5 times the
 threshold where 30 mu is not above it (nearly incompressible materials: the threshold grows like
@@ -28,7 +38,8 @@ import ngsolve as ngs
 from .errors import warn
 from .material import EdgeCoefficient
 
-__all__ = ["Method", "METHODS", "get_method", "SIPG_THRESHOLD", "PenaltyWarning", "check_penalty", "penalty"]
+__all__ = ["Method", "METHODS", "DG_METHODS", "get_method", "SIPG_THRESHOLD", "PenaltyWarning", "check_penalty",
+           "penalty"]
 
 SIPG_THRESHOLD = {1: 4.0, 2: 2.2, 3: 1.75, 4: 1.55}
 """Smallest coercive SIPG penalty as eta / (2 mu + lam), per order (p > 4: the p = 4 value).
@@ -47,7 +58,7 @@ class Method:
     "lift" (sum_e eta (C r_e[u], r_e[v]), eta dimensionless); global_lift: adds (C r_0[u], r_0[v]);
     default_eta: the default eta in units of :meth:`eta_scale`; thresholds: the smallest stable eta
     per order p = 1, 2, ... (the last one for higher p) in units of :meth:`threshold_scale`, empty
-    if any eta > 0 is stable.
+    if any eta > 0 is stable; conforming: u_h in H^1 (no terms on interior edges).
     """
 
     name: str
@@ -57,6 +68,7 @@ class Method:
     default_eta: float
     thresholds: tuple
     reference: str
+    conforming: bool = False
 
     def eta_scale(self, law):
         """The unit of eta: mu for the edge penalties (eta is a stress), 1 for the liftings (``law``: anything
@@ -100,7 +112,11 @@ METHODS = {
     "bassi": Method("bassi", +1, "lift", False, 6.0, (3.0,), "B_h^(3), Bassi et al."),
     "brezzi": Method("brezzi", +1, "lift", True, 1.0, (), "B_h^(4), Brezzi et al."),
     "ldg": Method("ldg", +1, "edge", True, 30.0, (), "B_h^(5), LDG"),
+    "cg": Method("cg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "conforming H^1, Nitsche on supports",
+                 conforming=True),
 }
+DG_METHODS = tuple(name for name, method in METHODS.items() if not method.conforming)
+"""The five DG methods of Section 3 (:data:`METHODS` without the conforming baseline)."""
 
 
 def get_method(name):

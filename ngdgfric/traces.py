@@ -51,7 +51,7 @@ class ContactTraces:
     their own), and ``redundant``: True if some element's
     traces at its points are linearly dependent (an element with two edges on Gamma_C, or on hp
     meshes an element of degree p_T < p, whose trace is fixed by fewer than p + 1 values); then
-    the forces at those points are not unique (u is).
+    the forces at those points are not unique (u is); for the conforming baseline see :meth:`_redundant`.
     """
 
     def __init__(self, disc, problem):
@@ -59,7 +59,7 @@ class ContactTraces:
         self.ndof = disc.V.ndof
         self.M = gauss.dofs.size
         q = gauss.q
-        weights = np.asarray(contact_rule(disc.order)[ngs.SEGM].weights)
+        weights = np.asarray(contact_rule(disc.contact_order)[ngs.SEGM].weights)
         self.omega = np.tile(weights, len(gauss.dofs)) * edge_jacobians(gauss.points)
         self.g_a = _point_values(problem.g_a, gauss.points)
         self.c_n = _point_values(problem.c_n, gauss.points)
@@ -104,12 +104,18 @@ class ContactTraces:
         return rows[nonzero], np.array(cols, dtype=np.int64)[nonzero], values[nonzero]
 
     def _redundant(self, disc):
-        """Whether the rows of B belonging to some element are linearly dependent."""
+        """Whether the rows of B belonging to some element are linearly dependent.  For the conforming baseline
+        (continuous traces of degree p on every edge of Gamma_C, p points per edge) the points of an open chain of
+        edges are independent; a closed one (a hole's whole boundary) can have a kernel (p = 1: alternating signs
+        on an even number of edges)."""
         gauss = disc.gauss
-        element_of_edge = []
+        element_of_edge, vertices = [], set()
         for el in disc.mesh.Elements(ngs.BND):
             if el.mat in disc.problem.sides("contact"):
                 element_of_edge.append(disc.mesh[el.edges[0]].elements[0].nr)
+                vertices.update(v.nr for v in el.vertices)
+        if disc.method.conforming:
+            return len(vertices) <= len(element_of_edge)
         element_of_edge = np.asarray(element_of_edge)
         if len(np.unique(element_of_edge)) < len(element_of_edge):
             return True  # an element with two edges on Gamma_C

@@ -12,9 +12,10 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import GaussValues
+from .discretization import dg_space, polynomial_degrees
 from .meshes import same_mesh
 
-__all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders"]
+__all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders", "discontinuous"]
 
 
 def _local(p, q):
@@ -54,6 +55,20 @@ def copy_orders(source, source_orders, target, target_orders):
         for component in range(2):
             out[to + component * blocks[1][-1]] = values[from_ + component * blocks[0][-1]]
     target.vec.FV().NumPy()[:] = out
+
+
+def discontinuous(sol):
+    """(u, degrees): the displacement of a Solution as a GridFunction of a variable-order ``L2**2`` space on its
+    mesh (what :func:`copy_orders` takes) and the degree of every element: ``sol.u`` itself for the DG methods;
+    for the conforming baseline u_h set into L2 of each element's largest degree
+    (:func:`~ngdgfric.discretization.polynomial_degrees`: exact on straight elements)."""
+    disc = sol.discretization
+    degrees = polynomial_degrees(disc)
+    if not disc.method.conforming:
+        return sol.u, degrees
+    u = ngs.GridFunction(dg_space(sol.mesh, degrees, dgjumps=False))
+    u.Set(sol.u)
+    return u, degrees
 
 
 def multiplier_snapshot(sol):

@@ -218,7 +218,7 @@ def plot(rows, path):
 
     ratio = locking(rows)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    colors = dict(zip(METHODS, ("C0", "C1", "C2", "C3", "C4"), strict=True))
+    colors = {method: f"C{k}" for k, method in enumerate(METHODS)}
     for ax, families in zip(axes, (("divergence-free",), ("6.1", "6.2")), strict=True):
         for method in METHODS:
             group = [r for r in rows if r["family"] in families and r["method"] == method]

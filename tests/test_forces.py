@@ -15,7 +15,7 @@ from ngdgfric.contact import normal_tangent, residual_terms
 from ngdgfric.domain import Domain, Loop
 from ngdgfric.forces import _constants, force_balance
 
-METHODS = ["sipg", "nipg", "bassi", "brezzi", "ldg"]
+METHODS = list(ndf.METHODS)  # the five DG methods and the conforming baseline
 COMMON = dict(E=1.0, nu=0.3, c_n=1e2, m_n=1)
 
 # two Dirichlet sides (u_D != 0 on the wall), a floor of two contact sides with a curved gap, friction sticking

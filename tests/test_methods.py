@@ -1,4 +1,5 @@
-"""ngdgfric.methods: the five methods as data rows, eta's unit, defaults above the coercivity thresholds."""
+"""ngdgfric.methods: the five DG methods and the conforming baseline as data rows, eta's unit, defaults above the
+coercivity thresholds."""
 
 import dataclasses
 import warnings
@@ -11,9 +12,10 @@ from ngdgfric.methods import METHODS, PenaltyWarning, check_penalty, get_method
 
 
 def test_method_table_shows_one_construction():
-    rows = {name: (m.symmetry, m.penalty, m.global_lift) for name, m in ndf.METHODS.items()}
-    assert rows == {"sipg": (1, "edge", False), "nipg": (-1, "edge", False), "bassi": (1, "lift", False),
-                    "brezzi": (1, "lift", True), "ldg": (1, "edge", True)}
+    rows = {name: (m.symmetry, m.penalty, m.global_lift, m.conforming) for name, m in ndf.METHODS.items()}
+    assert rows == {"sipg": (1, "edge", False, False), "nipg": (-1, "edge", False, False),
+                    "bassi": (1, "lift", False, False), "brezzi": (1, "lift", True, False),
+                    "ldg": (1, "edge", True, False), "cg": (1, "edge", False, True)}
     assert get_method("LDG").name == "ldg"
     with pytest.raises(ValueError, match="ipdg"):
         get_method("ipdg")

@@ -1,0 +1,107 @@
+"""The conforming baseline ``cg``: continuous spaces (also hp), optimal rates, a contact solver without redundant
+points, exact transfer to the DG carrier of the adaptive loop, and geometric layers towards corners."""
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+import ngdgfric as ndf
+from ngdgfric.discretization import Discretization, conforming_space, contact_edges, edge_orders, element_edges
+from ngdgfric.hp import HPState, hp_refine, touching
+from ngdgfric.meshes import element_diameters
+from ngdgfric.studies.manufactured import contact_manufactured
+from ngdgfric.transfer import discontinuous
+
+
+def random_orders(mesh, seed=0):
+    return np.random.default_rng(seed).integers(1, 5, mesh.ne)
+
+
+def test_a_variable_order_conforming_space_is_continuous_with_the_edges_of_the_larger_degree():
+    problem = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    orders = random_orders(mesh)
+    raised = contact_edges(problem, mesh)
+    space = conforming_space(mesh, orders, raised)
+    u = ngs.GridFunction(space)
+    u.vec.FV().NumPy()[:] = np.random.default_rng(1).standard_normal(space.ndof)
+    jump = ngs.Integrate((u - u.Other()) ** 2 * ngs.dx(element_boundary=True), mesh)
+    size = ngs.Integrate(u * u * ngs.dx, mesh)
+    assert jump <= 1e-24 * size
+    edges = edge_orders(mesh, orders, raised)
+    neighbours = element_edges(mesh)
+    expected = np.zeros(mesh.nedge, dtype=int)
+    for element, p in enumerate(orders):
+        for edge in neighbours[element]:
+            expected[edge] = max(expected[edge], p)
+    expected[raised] = orders.max()
+    assert np.array_equal(edges, expected) and len(raised) == 4
+    # per component: vertices + edge interiors + element interiors
+    count = mesh.nv + np.sum(edges - 1) + np.sum((orders - 1) * (orders - 2) // 2)
+    assert space.ndof == 2 * count < np.sum((orders + 1) * (orders + 2))
+
+
+@pytest.mark.parametrize("order", [1, 2, 3])
+def test_cg_converges_at_the_optimal_rate_on_a_manufactured_contact_solution(order):
+    problem, exact = contact_manufactured()
+    errors = [ndf.energy_norm(ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k), method="cg", order=order),
+                              exact) for k in (2, 3, 4)]
+    assert np.log2(errors[1] / errors[2]) == pytest.approx(order, abs=0.15)
+
+
+def test_cg_and_sipg_approach_the_same_solution_with_about_half_the_dofs():
+    problem = ndf.example_6_2()
+    reference = ndf.load_reference("results/reference_6_2.npz", problem)
+    mesh = ndf.uniform_mesh(problem, 1 / 8)
+    cg, sipg = (ndf.solve(problem, mesh, method=method, order=3) for method in ("cg", "sipg"))
+    assert cg.ndof < 0.5 * sipg.ndof
+    error_cg, error_sipg = ndf.energy_error(cg, reference), ndf.energy_error(sipg, reference)
+    assert error_sipg <= error_cg <= 1.05 * error_sipg  # V_cg is a subspace of V_sipg
+    kkt = ndf.kkt_residuals(cg)
+    assert kkt["lam_excess"] == 0 and kkt["equilibrium"] <= 1e-12
+
+
+def test_the_contact_points_of_a_conforming_hp_space_are_independent():
+    # p points per edge, traces of degree p on every edge of Gamma_C (raised): the Delassus operator is regular
+    # also where the elements along Gamma_C have lower degrees; with p + 1 points or the edges' own degrees the
+    # points would be linearly dependent and the solver would need its proximal point method
+    problem = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    orders = random_orders(mesh, seed=3)
+    disc = Discretization(problem, mesh, "cg", orders)
+    assert disc.contact_order == orders.max() - 1 and not disc.traces.redundant
+    assert disc.traces.M == len(contact_edges(problem, mesh)) * orders.max()
+    sol = ndf.solve(problem, mesh, method="cg", order=orders)
+    kkt = ndf.kkt_residuals(sol)
+    assert kkt["lam_excess"] <= 1e-12 and kkt["equilibrium"] <= 1e-12 and sol.iterations <= 10
+
+
+def test_discontinuous_copies_a_conforming_hp_solution_exactly():
+    problem = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    sol = ndf.solve(problem, mesh, method="cg", order=random_orders(mesh, seed=5))
+    u, degrees = discontinuous(sol)
+    difference = ngs.Integrate((u - sol.u) ** 2 * ngs.dx(bonus_intorder=6), sol.mesh)
+    assert difference <= 1e-26 * ngs.Integrate(sol.u * sol.u * ngs.dx, sol.mesh)
+    assert np.all(degrees >= sol.discretization.orders) and degrees.max() == sol.discretization.orders.max()
+
+
+@pytest.mark.parametrize("layers", [0, 2])
+def test_geometric_layers_halve_h_at_a_marked_corner_once_more_per_layer(layers):
+    problem = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    corner = np.array([[0.0, 0.0]])
+    at_corner = touching(mesh, corner)
+    assert at_corner.sum() >= 1
+    h_before = element_diameters(mesh)[at_corner].min()
+    far = element_diameters(mesh)[~at_corner].min()
+    state = HPState.uniform(mesh, 2)
+    marked = at_corner.copy()
+    new = hp_refine(mesh, state, np.ones(mesh.ne), marked, 8, corners=problem.geometry.corners, layers=layers)
+    h = element_diameters(mesh)
+    assert h[touching(mesh, corner)].max() == pytest.approx(h_before / 2 ** (layers + 1), rel=1e-12)
+    assert h[~touching(mesh, problem.geometry.corners)].min() >= far / 2 ** (layers + 1) - 1e-12
+    assert new.orders.shape == (mesh.ne,) and np.all(new.orders == 2)
+    # the other corners were not marked: untouched
+    other = touching(mesh, np.array([[1.0, 1.0]]))
+    assert h[other].min() == pytest.approx(far if far < h_before else h_before, rel=1e-12)
