@@ -1,24 +1,20 @@
 """SOLVE -> ESTIMATE -> MARK -> REFINE (Section 6): Doerfler marking, then h refinement by
 bisection (:func:`ngdgfric.meshes.refine`) or the hp decision (:func:`ngdgfric.hp.hp_refine`).
 
-Choice of the defaults of :func:`adapt` (hp, p from 2 to 8, theta = 0.5).  Theta = 0.5 is the
-fastest robust choice measured (results/time_to_accuracy.md; to tol = 5e-4: Example 6.1 in 28
-levels and 10.7 s against 46 levels and 20.3 s with theta = 0.3, Example 6.2 in 29 levels and
-9.3 s against 49 and 14.7 s); theta = 0.7 (best of two runs): 15 % faster on Example 6.2 (tol
-5e-4: 7.1 s against 8.3 s; 1e-4: 12.2 s against 13.3 s) but slower on Example 6.1 (11.5 s
-against 10.4 s; 1e-4: 22.4 s against 18.7 s), whose large hp contact solves it reaches sooner.
-The loop costs about 10 linear solves of its final mesh because the DOFs grow by only ~1.1 per
-level while eta_h falls by ~0.67 (sum_k N_k / N_final = 8.6 on Example 6.1).  Tried for faster
-growth, on Example 6.1 to tol = 5e-4 (against 28 levels, 42k DOFs): Doerfler's set extended
-to a DOF growth of 1.3 per level (the extra elements refined as hp_refine decides: 266k DOFs
-and eta_h still 3.5e-3 after 18 levels; raised in p only: 28 levels and 55-60k DOFs for
-growths 1.2-1.8); marked h elements bisected four times instead of twice (811k DOFs); a second
-Doerfler round on the predicted indicators before each solve (16 levels, 1.5 times the DOFs,
-the same time to the answer); p raised by 2 instead of 1 (28 and 29 levels, as with 1); theta =
-0.7 and 0.85 with p + 1 or p + 2 (21-24 levels, 8.9-10.3 linear solves); the smallest h
-elements bisected 4 or 6 times (24 and 23 levels, 69k and 156k DOFs).  Levels are paced by the
-grading towards the singular points: h_min halves on every level (2.8e-3 at level 8, 5.3e-9
-at level 27) and eta_h falls by about 0.67 per level whatever else is refined.
+Choice of the defaults of :func:`adapt` (issue 28: time to an answer): the conforming baseline where nu is
+moderate (:func:`choose_method`), hp from p = 4 up to 8, theta = 0.8 and one geometric layer (``layers=1``):
+a marked element that the hp decision bisects and that contains a singular point (a corner of the domain, an end
+of the contact or the stick zone) is bisected twice more towards it in the same step.  Before, the levels were
+paced by the grading towards the singular points: h_min halved on every level (5.3e-9 at level 27 on Example 6.1)
+and eta_h fell by about 0.67 per level whatever else was refined, with DOFs growing ~1.1 per level (28 levels to
+tol = 5e-4, about 10 linear solves of the final mesh).  With the layer h_min falls by 4 per level and theta = 0.8
+lets the DOFs grow ~1.3 per level: 12-13 levels to true errors of 1e-4 on both examples (measured in
+results/time_to_accuracy.md with the other variants: theta 0.5-0.95, layers 0-3, p = 2-4 at the start; more layers
+grade too fast for the p of the elements around, larger theta refines where it does not pay).  The paper's loop
+(``method="sipg", hp=False, order=1, theta=0.3, weights="paper"``) is unchanged: layers act in hp refinement only.
+Earlier attempts at faster growth without the layers (Doerfler's set extended to a DOF growth of 1.3, marked h
+elements bisected four times everywhere, a second Doerfler round on predicted indicators, p raised by 2) gave
+more DOFs for the same accuracy or the same number of levels.
 
 ``gamma_lin`` is not the default: on Example 6.1 gamma_lin = 0.1 left 0-3 Newton iterations per
 level, but the contact indicators eta_4, eta_6 of the inexact solutions steered the hp decisions
@@ -37,6 +33,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .checks import MEMORY_BUDGET, estimated_bytes
+from .contact import transitions
 from .estimator import WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, hp_refine
@@ -109,19 +106,22 @@ class Adaptation:
 
 
 def choose_method(problem, mesh, order):
-    """(method, reason): the DG method :func:`adapt` uses when none is given.  SIPG (symmetric: the fastest
-    solves, results/work_precision.md) unless its coercivity threshold t_p (2 mu + lam) at degree ``order``
-    reaches its default penalty 30 mu somewhere (nu close to 1/2: t_1 (2 mu + lam) >= 30 mu from nu = 0.42,
-    t_2 from nu = 0.46), where the raised penalty makes SIPG lock (results/effectivity.md: errors 1.75 times
-    the best method's at nu = 0.49, 6 times at 0.4999); then Bassi et al., which does not lock there (error
-    growth x1.0-1.1 from nu = 0.3 to 0.4999 in both regimes of results/stability.md and effectivity.md) and
-    is symmetric (Brezzi et al. is as robust at 1.3-1.5 times Bassi's assembly cost)."""
+    """(method, reason): the discretisation :func:`adapt` uses when none is given.  The conforming baseline ``cg``
+    (about half the DOFs of a DG method on the same mesh and orders, no skeleton terms, and the same contact solver,
+    estimator and hp loop: results/time_to_accuracy.md) unless nu is close to 1/2: where SIPG's coercivity
+    threshold t_p (2 mu + lam) at degree ``order`` reaches its default penalty 30 mu somewhere (t_1 (2 mu + lam) >=
+    30 mu from nu = 0.42, t_2 from nu = 0.46) conforming elements of low degree lock like SIPG with its raised
+    penalty (results/effectivity.md: errors 1.75 times the best method's at nu = 0.49, 6 times at 0.4999); then
+    Bassi et al., which does not lock there (error growth x1.0-1.1 from nu = 0.3 to 0.4999 in both regimes of
+    results/stability.md and effectivity.md) and is symmetric (Brezzi et al. is as robust at 1.3-1.5 times Bassi's
+    assembly cost)."""
     nu = _largest(problem.on(mesh).nu, mesh)
     law, sipg = dataclasses.replace(problem, E=1.0, nu=nu), get_method("sipg")  # the thresholds scale with E
     if sipg.default(law, order) == sipg.default_eta * sipg.eta_scale(law):  # not raised
-        return "sipg", "the default: symmetric, the fastest solves"
-    return "bassi", (f"nu reaches {nu:.6g}: SIPG's penalty would be raised above 30 mu to stay coercive and SIPG "
-                     f"then locks; Bassi et al. does not")
+        return "cg", (f"nu = {nu:.6g} is moderate: the conforming baseline, half the DOFs of a DG method on the same "
+                      f"mesh, is the cheapest adequate discretisation")
+    return "bassi", (f"nu reaches {nu:.6g}: conforming elements of low degree lock, and so does SIPG, whose penalty "
+                     f"would be raised above 30 mu to stay coercive; Bassi et al. does not")
 
 
 def _largest(datum, mesh):
@@ -133,9 +133,9 @@ def _largest(datum, mesh):
 
 
 @limited_blas
-def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, max_ndof=10**6, tol=None,
+def adapt(problem, mesh=None, method=None, order=4, theta=0.8, max_levels=100, max_ndof=10**6, tol=None,
           solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
-          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, rtol=None, layers=0, **options):
+          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, rtol=None, layers=1, **options):
     """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
 
     Stops as soon as eta_h <= ``tol`` or eta_h <= ``rtol`` |||u_h|||_h (a relative tolerance: with the default
@@ -146,8 +146,9 @@ def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, m
     :func:`ngdgfric.checks.check_size` (tried on a copy of the mesh, so the returned solution's mesh
     is never refined after its solve), or when the next level would end after ``max_seconds`` (its time
     predicted as the last level's times its growth in DOFs; the first level always runs).  Defaults:
-    hp-adaptive from p = ``order`` = 2 up to ``max_order`` = 8, Doerfler theta = 0.5 (why: module
-    docstring), ``method`` chosen by :func:`choose_method` (SIPG, or Bassi et al. for nearly
+    hp-adaptive from p = ``order`` = 4 up to ``max_order`` = 8, Doerfler theta = 0.8, ``layers`` = 1 geometric
+    layer towards the singular points in each hp step (:func:`ngdgfric.hp.hp_refine`; why: module docstring),
+    ``method`` chosen by :func:`choose_method` (the conforming baseline ``cg``, or Bassi et al. for nearly
     incompressible material) and reported; the paper's loop is
     ``method="sipg", hp=False, order=1, theta=0.3, weights="paper"``.  ``eta``, ``solver``, ``solver_tol``
     (the solver's tolerance) and further options go to :func:`ngdgfric.solve`.  The command line's
@@ -167,6 +168,8 @@ def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, m
     level, e.g. to save a picture.
     """
     _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, (tol, rtol), gamma_lin, max_seconds)
+    if not (isinstance(layers, (int, np.integer)) and not isinstance(layers, bool) and layers >= 0):
+        raise ValueError(f"layers must be an integer >= 0, got {layers!r}")
     start = time.perf_counter()
     if mesh is None:
         mesh = initial_mesh(problem)
@@ -193,6 +196,20 @@ def adapt(problem, mesh=None, method=None, order=2, theta=0.5, max_levels=100, m
         _report(records, csv_path, progress, solver)
         if stopped is not None:
             return Adaptation(records, sol, est, stopped, method, reason)
+
+
+LANDING = 0.7
+"""The fraction of the tolerance :func:`landing_theta` aims the last level at."""
+
+
+def landing_theta(theta, eta_h, tol):
+    """The Doerfler parameter of a level with estimate ``eta_h`` that has not reached ``tol``: ``theta``, but near the
+    tolerance no more than the share of eta_h^2 that must go for the rest to be (LANDING tol)^2, at least 0.3 (the
+    paper's): with theta = 0.8 and big hp steps (eta_h falling 3-8 times per level) the last level would
+    otherwise overshoot to errors of tol/20 at the cost of the largest solve of the loop."""
+    if tol is None:
+        return theta
+    return min(theta, max(0.3, 1.0 - (LANDING * tol / eta_h) ** 2))
 
 
 def _out_of_time(records, sol, seconds, start, max_seconds):
@@ -229,6 +246,9 @@ class _Loop:
         seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
         sol, est = self.settle(sol, None, last, seconds)
         self.sol, self.predicted = sol, est.eta_h
+        # the points the next refinement grades towards (hp_refine): corners and ends of the contact and stick zones
+        graded = self.layers and self.max_order is not None
+        self.singular = np.vstack([self.problem.geometry.corners, transitions(sol)]) if graded else None
         return sol, est, seconds
 
     def decide(self, level, sol, est, seconds, records, limits):
@@ -244,7 +264,8 @@ class _Loop:
         elif _out_of_time(records, sol, seconds, limits["start"], limits["max_seconds"]):
             stopped = "max_seconds"
         else:
-            marked = _timed(seconds, "mark_refine", dorfler_mark, est.eta_T_squared, limits["theta"])
+            theta = landing_theta(limits["theta"], est.eta_h, self.tol)
+            marked = _timed(seconds, "mark_refine", dorfler_mark, est.eta_T_squared, theta)
             refinement = dict(indicators=est.eta_T_squared, marked=marked)
             stopped = _timed(seconds, "mark_refine", self.too_large, limits["max_ndof"], refinement)
         if stopped not in (None, "tol", "max_levels"):
@@ -271,7 +292,7 @@ class _Loop:
     def _refine(self, mesh, state, indicators, marked):
         """Refine ``mesh`` in place (h: one bisection; hp: :func:`hp_refine`); returns the new HPState."""
         if self.max_order is not None:
-            return hp_refine(mesh, state, indicators, marked, self.max_order, corners=self.problem.geometry.corners,
+            return hp_refine(mesh, state, indicators, marked, self.max_order, singular=self.singular,
                              layers=self.layers)
         refine(mesh, marked)
         return HPState.uniform(mesh, self.order)

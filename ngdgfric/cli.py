@@ -128,11 +128,11 @@ def _common_options(sub, several_methods=False, library="solve"):
     method = default(library, "method")
     if several_methods:
         sub.add_argument("--method", nargs="+", choices=sorted(METHODS), default=[method],
-                         help=f"DG methods of Section 3 (default: {method})")
+                         help=f"DG methods of Section 3 or cg, the conforming baseline (default: {method})")
     else:
-        shown = method or "chosen for the problem: sipg, or bassi for nearly incompressible material"
+        shown = method or "chosen for the problem: cg, or bassi for nearly incompressible material"
         sub.add_argument("--method", choices=sorted(METHODS), default=method,
-                         help=f"DG method of Section 3 (default: {shown})")
+                         help=f"DG method of Section 3 or cg, the conforming baseline (default: {shown})")
     order = default(library, "order")
     sub.add_argument("--order", type=_number(int), default=order,
                      help=f"polynomial degree p >= 1 (default: {order}{', the lowest with hp' * (library == 'adapt')})")
@@ -212,6 +212,10 @@ def _adaptive_parser(commands):
     max_order = default("adapt", "max_order")
     sub.add_argument("--max-order", type=_number(int), default=max_order,
                      help=f"largest degree with --hp (default: {max_order})")
+    layers = default("adapt", "layers")
+    sub.add_argument("--layers", type=_number(int, low=-1, what="an integer >= 0"), default=layers,
+                     help=f"extra geometric layers towards corners and ends of the contact and stick zones in each "
+                          f"hp step (default: {layers})")
 
 
 def _version():
@@ -352,7 +356,8 @@ def cmd_adaptive(args, problem, tag):
                        max_levels=args.levels, max_ndof=args.max_ndof, tol=args.tol, rtol=args.rtol, solver=args.solver,
                        eta=args.eta,
                        solver_tol=args.solver_tol, max_seconds=args.max_seconds,
-                       csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights)
+                       csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights,
+                       layers=args.layers)
     records = adaptation.levels
     slope = (records, args.order) if not args.hp and len(records) > 1 else None
     write_adaptive_png(png_path, f"{problem.name}: theta = {args.theta:g}", f"{adaptation.method} {kind}-adaptive",

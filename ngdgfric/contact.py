@@ -31,7 +31,7 @@ __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "
            "friction_bound", "project_unit", "compliance_form", "friction_matrix",
            "frozen_bound", "residual", "residual_terms", "multiplier_space", "contact_points", "evaluate_on_contact",
            "ContactGauss",
-           "GaussValues", "contact_state", "kkt_residuals", "rounding_residual"]
+           "GaussValues", "contact_state", "transitions", "kkt_residuals", "rounding_residual"]
 
 
 def contact_rule(order):
@@ -265,6 +265,20 @@ def contact_state(sol):
         "c_tau": np.asarray(coefficient(problem.c_tau)(points)).ravel() * np.ones(len(points)),
         "bound": evaluate_on_contact(friction_bound(problem, u), points) * np.ones(len(points)),
     }
+
+
+def transitions(sol, tol=1e-8):
+    """The points of Gamma_C where the contact zone or the stick zone of a Solution ends, an (n, 2) array: midway
+    between two neighbouring Gauss points of an edge where u_n - g_a changes sign, or |lam_tau| crosses 1 - ``tol``
+    (where u may be singular; the adaptive loop grades its meshes towards them, :func:`ngdgfric.hp.hp_refine`)."""
+    gauss = sol.discretization.gauss
+    state = contact_state(sol)
+    shape = gauss.xy.shape[:2]
+    in_contact = (state["gap"] > 0).reshape(shape)
+    sticking = (np.abs(state["lam_tau"]) < 1 - tol).reshape(shape) & in_contact
+    flips = (np.diff(in_contact, axis=1) != 0) | (np.diff(sticking, axis=1) != 0)
+    edge, k = np.nonzero(flips)
+    return 0.5 * (gauss.xy[edge, k] + gauss.xy[edge, k + 1])
 
 
 def _relative_residual(disc, u, lam_tau):

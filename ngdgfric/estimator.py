@@ -184,11 +184,14 @@ def estimate(sol, weights="energy"):
     })
     # the jump terms need the neighbour (Other()), which only Integrate provides on element boundaries
     # (on boundary edges u - u.Other() evaluates to zero, so these terms cover interior edges only)
+    # (the conforming baseline's u_h has no jumps: its eta_3 lives on the supports only)
     jump_sigma, jump_u = sigma_n - neighbour * n, u - u.Other()
     jump_measure = ngs.dx(element_boundary=True, bonus_intorder=max(q - 5, 0))
-    for name, integrand in (("eta2", 0.5 * h_e / p * jump_sigma * jump_sigma),
-                            ("eta3", 0.5 * edge_penalty(weight.interior, edge_order(p), h_penalty.interior)
-                             * jump_inner(jump_u, jump_u, n))):
+    jumps = [("eta2", 0.5 * h_e / p * jump_sigma * jump_sigma)]
+    if not disc.method.conforming:
+        jumps.append(("eta3", 0.5 * edge_penalty(weight.interior, edge_order(p), h_penalty.interior)
+                      * jump_inner(jump_u, jump_u, n)))
+    for name, integrand in jumps:
         parts[name] = parts.get(name, 0) + ngs.Integrate(integrand * jump_measure, mesh, element_wise=True).NumPy()
     parts = {name: parts[name] for name in sorted(parts)}
     if weights == "energy":

@@ -32,7 +32,7 @@ import numpy as np
 
 from .meshes import refine, triangle_corners
 
-__all__ = ["HPState", "smooth", "refinement_parents", "hp_refine", "touching"]
+__all__ = ["HPState", "smooth", "refinement_parents", "hp_refine", "containing"]
 
 
 @dataclass
@@ -73,27 +73,31 @@ def refinement_parents(mesh, ne_old):
     return parent, np.bincount(parent, minlength=ne_old)
 
 
-def touching(mesh, points):
-    """True for the elements with a vertex at one of ``points`` (an (n, 2) array)."""
+def containing(mesh, points):
+    """True for the elements that contain one of ``points`` (an (n, 2) array; closed triangles, so a point on an edge
+    or at a vertex is in all its elements)."""
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     if not len(points):
         return np.zeros(mesh.ne, dtype=bool)
     corners = triangle_corners(mesh)
-    scale = np.ptp(corners.reshape(-1, 2), axis=0).max()
-    distance = np.linalg.norm(corners[:, :, None, :] - points[None, None, :, :], axis=3)
-    return (distance <= 1e-12 * scale).any(axis=(1, 2))
+    a = corners[:, 0]
+    frame = np.stack([corners[:, 1] - a, corners[:, 2] - a], axis=2)  # columns b - a, c - a
+    local = np.linalg.solve(frame[:, None], (points[None, :, :] - a[:, None, :])[..., None])[..., 0]
+    barycentric = np.concatenate([local, 1 - local.sum(axis=2, keepdims=True)], axis=2)
+    return (barycentric >= -1e-10).all(axis=2).any(axis=1)
 
 
-def hp_refine(mesh, state, indicators, marked, max_order, gamma_h=4.0, gamma_p=0.4, gamma_n=1.0, corners=None,
+def hp_refine(mesh, state, indicators, marked, max_order, gamma_h=4.0, gamma_p=0.4, gamma_n=1.0, singular=None,
               layers=0):
     """Refine the marked elements in h or p (module docstring); returns the new :class:`HPState`.
 
     ``indicators``: eta_T^2 of the current mesh; ``marked``: Doerfler's set.  The mesh is bisected
     in place (marked h elements twice + closure); p_T is raised by one on the other marked elements.
-    ``corners``, ``layers``: a marked h element with a vertex at one of the ``corners`` (points where u may be
-    singular, :attr:`ngdgfric.domain.Geometry.corners`) is refined towards it by ``layers`` more geometric
-    layers in the same step (its descendants at the corner bisected twice more, ``layers`` times: h halves per
-    layer), so that one level does what ``layers + 1`` levels of single steps would.
+    ``singular``, ``layers``: a marked h element containing one of the points ``singular`` (where u may be
+    singular: :attr:`ngdgfric.domain.Geometry.corners`, and the ends of the contact and stick zones,
+    :func:`ngdgfric.contact.transitions`) is refined towards it by ``layers`` more geometric layers in the same
+    step (its descendants containing the point bisected twice more, ``layers`` times: h halves per layer), so that
+    one level does what ``layers + 1`` levels of single steps would.
     """
     indicators = np.asarray(indicators, dtype=float)
     marked = np.asarray(marked, dtype=bool)
@@ -108,11 +112,11 @@ def hp_refine(mesh, state, indicators, marked, max_order, gamma_h=4.0, gamma_p=0
     predicted = np.where(in_p, gamma_p * indicators, gamma_n * state.predicted)
     ne_old = mesh.ne
     if in_h.any():
-        graded = in_h & touching(mesh, corners) if layers and corners is not None else None
+        graded = in_h & containing(mesh, singular) if layers and singular is not None else None
         refine(mesh, in_h, bisections=2)
         for _ in range(layers if graded is not None and graded.any() else 0):
             parent, _ = refinement_parents(mesh, ne_old)
-            refine(mesh, graded[parent] & touching(mesh, corners), bisections=2)
+            refine(mesh, graded[parent] & containing(mesh, singular), bisections=2)
     parent, descendants = refinement_parents(mesh, ne_old)
     descendant = gamma_h * descendants ** -(state.orders + 1.0) * indicators
     predicted = np.where(descendants > 1, descendant, predicted)

@@ -113,11 +113,11 @@ def test_the_command_line_has_the_libraries_defaults():
     adaptive = build_parser().parse_args(["adaptive", "6.1"])
     options = dict(method="method", order="order", theta="theta", levels="max_levels", max_ndof="max_ndof",
                    tol="tol", hp="hp", max_order="max_order", weights="weights", solver="solver",
-                   max_seconds="max_seconds", eta="eta", solver_tol="solver_tol")
+                   max_seconds="max_seconds", eta="eta", solver_tol="solver_tol", layers="layers")
     signature = inspect.signature(ndf.adapt).parameters
     assert {name: getattr(adaptive, name) for name in options} == {
         name: signature[keyword].default for name, keyword in options.items()}
-    assert (adaptive.order, adaptive.theta, adaptive.levels, adaptive.max_ndof, adaptive.hp) == (2, 0.5, 100, 10**6,
+    assert (adaptive.order, adaptive.theta, adaptive.levels, adaptive.max_ndof, adaptive.hp) == (4, 0.8, 100, 10**6,
                                                                                                  True)
     solve = build_parser().parse_args(["solve", "6.1"])
     signature = inspect.signature(ndf.solve).parameters
@@ -129,7 +129,7 @@ def test_an_adaptive_run_that_stops_before_its_tolerance_exits_with_4(tmp_path, 
     assert main(["adaptive", "6.2", "--levels", "2", "--tol", "1e-9", "--out", str(tmp_path)]) == 4
     err = capsys.readouterr().err
     assert "stopped before --tol 1e-09 (--levels reached): eta_h = " in err and "after 2 levels" in err
-    assert (tmp_path / "6_2_adaptive_auto_p2_hp.csv").exists()  # the levels done are written
+    assert (tmp_path / "6_2_adaptive_auto_p4_hp.csv").exists()  # the levels done are written
     assert main(["adaptive", "6.2", "--tol", "1e3", "--out", str(tmp_path), "--overwrite"]) == 0
     assert main(["adaptive", "6.2", "--no-hp", "--order", "1", "--max-seconds", "1e-9", "--tol", "1e-9",
                  "--out", str(tmp_path)]) == 4
@@ -144,26 +144,26 @@ def test_uniform_and_adaptive_commands(tmp_path, capsys):
     assert "| sipg | 2^-1 |" in (tmp_path / "6_2_uniform.md").read_text()
     assert main(["adaptive", "6.1", "--levels", "3", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert out.count("level ") == 3 and "method sipg: the default" in out
-    with open(tmp_path / "6_1_adaptive_auto_p2_hp.csv") as handle:
+    assert out.count("level ") == 3 and "method cg: nu = 0.4 is moderate" in out
+    with open(tmp_path / "6_1_adaptive_auto_p4_hp.csv") as handle:
         levels = list(csv.DictReader(handle))
     assert [int(r["level"]) for r in levels] == [0, 1, 2]
-    assert (tmp_path / "6_1_adaptive_auto_p2_hp.png").stat().st_size > 0
+    assert (tmp_path / "6_1_adaptive_auto_p4_hp.png").stat().st_size > 0
     assert f"final solution ({levels[-1]['ndof']} DOFs): forces on the body" in out  # printed and written
-    with open(tmp_path / "6_1_adaptive_auto_p2_hp_forces.csv") as handle:
+    with open(tmp_path / "6_1_adaptive_auto_p4_hp_forces.csv") as handle:
         forces = {row["kind"]: row for row in csv.DictReader(handle)}
     assert float(forces["contact"]["normal"]) > 0 and float(forces["contact"]["slip_length"]) > 0
     assert abs(float(forces["residual"]["force_x"])) < 1e-12 * abs(float(forces["dirichlet"]["force_x"]))
-    assert (tmp_path / "6_1_adaptive_auto_p2_hp_contact.png").stat().st_size > 0
+    assert (tmp_path / "6_1_adaptive_auto_p4_hp_contact.png").stat().st_size > 0
     # a re-run with other options does not touch an earlier run's output unless asked to
-    before = (tmp_path / "6_1_adaptive_auto_p2_hp.csv").read_bytes()
+    before = (tmp_path / "6_1_adaptive_auto_p4_hp.csv").read_bytes()
     assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path)]) == 2
     assert "--overwrite" in capsys.readouterr().err
-    assert (tmp_path / "6_1_adaptive_auto_p2_hp.csv").read_bytes() == before
+    assert (tmp_path / "6_1_adaptive_auto_p4_hp.csv").read_bytes() == before
     # --weights paper: the same loop with the estimator of Section 4 as printed (larger: E = 2000)
     assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path),
                  "--overwrite"]) == 0
-    with open(tmp_path / "6_1_adaptive_auto_p2_hp.csv") as handle:
+    with open(tmp_path / "6_1_adaptive_auto_p4_hp.csv") as handle:
         paper = list(csv.DictReader(handle))
     assert float(paper[0]["eta_h"]) > 20 * float(levels[0]["eta_h"])
 

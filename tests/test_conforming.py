@@ -7,7 +7,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.discretization import Discretization, conforming_space, contact_edges, edge_orders, element_edges
-from ngdgfric.hp import HPState, hp_refine, touching
+from ngdgfric.hp import HPState, containing, hp_refine
 from ngdgfric.meshes import element_diameters
 from ngdgfric.studies.manufactured import contact_manufactured
 from ngdgfric.transfer import discontinuous
@@ -91,17 +91,17 @@ def test_geometric_layers_halve_h_at_a_marked_corner_once_more_per_layer(layers)
     problem = ndf.example_6_2()
     mesh = ndf.uniform_mesh(problem, 1 / 4)
     corner = np.array([[0.0, 0.0]])
-    at_corner = touching(mesh, corner)
+    at_corner = containing(mesh, corner)
     assert at_corner.sum() >= 1
     h_before = element_diameters(mesh)[at_corner].min()
     far = element_diameters(mesh)[~at_corner].min()
     state = HPState.uniform(mesh, 2)
     marked = at_corner.copy()
-    new = hp_refine(mesh, state, np.ones(mesh.ne), marked, 8, corners=problem.geometry.corners, layers=layers)
+    new = hp_refine(mesh, state, np.ones(mesh.ne), marked, 8, singular=problem.geometry.corners, layers=layers)
     h = element_diameters(mesh)
-    assert h[touching(mesh, corner)].max() == pytest.approx(h_before / 2 ** (layers + 1), rel=1e-12)
-    assert h[~touching(mesh, problem.geometry.corners)].min() >= far / 2 ** (layers + 1) - 1e-12
+    assert h[containing(mesh, corner)].max() == pytest.approx(h_before / 2 ** (layers + 1), rel=1e-12)
+    assert h[~containing(mesh, problem.geometry.corners)].min() >= far / 2 ** (layers + 1) - 1e-12
     assert new.orders.shape == (mesh.ne,) and np.all(new.orders == 2)
     # the other corners were not marked: untouched
-    other = touching(mesh, np.array([[1.0, 1.0]]))
+    other = containing(mesh, np.array([[1.0, 1.0]]))
     assert h[other].min() == pytest.approx(far if far < h_before else h_before, rel=1e-12)
