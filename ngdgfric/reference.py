@@ -30,7 +30,7 @@ from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
 from .problem import Polygon, coefficient, is_number, strain, strain_of, stress
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
-           "energy_norm", "energy_norm_squared_parts", "difference"]
+           "energy_norm", "energy_norm_squared_parts", "difference", "gridfunction_errors"]
 
 
 @dataclass
@@ -354,3 +354,17 @@ def energy_norm(sol, w=None):
     order = max(2 * _order(u.space) + 4, EXACT_ORDER)
     volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)
     return (volume + _jump_part(problem, mesh, u, dirichlet_value=w)) ** 0.5
+
+
+@dataclass(frozen=True)
+class _Approximation:
+    problem: object
+    mesh: object
+    u: object
+
+
+def gridfunction_errors(problem, mesh, u, reference):
+    """:func:`reference_errors` of a displacement GridFunction ``u`` of any H1 or DG vector space on ``mesh``
+    (for example a conforming u_h of another code) against a :class:`Reference`: the same norms as for a
+    Solution; for a continuous u_h with u_h = 0 on Gamma_D the jump part is zero."""
+    return reference_errors(_Approximation(problem, mesh, u), reference)
