@@ -1,159 +1,247 @@
-"""Time to an answer: ``adapt(problem, tol=t)`` against the cost of one linear solve of its final mesh.
+"""Time to an answer: ``ndf.adapt`` against the conforming baseline of benchmarks/conforming.py, side by side.
 
-For Examples 6.1 and 6.2 and t = 1e-1, 1e-2, 1e-3, 5e-4 (issue 15's criterion) and 1e-4:
-``ndf.adapt(problem, tol=t, max_ndof=2e5)`` with its defaults (hp SIPG, p = 2..8, theta = 0.5,
-every level solved fully), for t >= 5e-4 also with the old default theta = 0.3 and with
-theta = 0.7, and for t >= 1e-2 with inexact levels (``gamma_lin=0.1``); the smaller tolerances of
-these variants take many minutes (the contact solves of their last levels).  A run whose solver
-fails is reported as failed.
-Reported per run: levels,
-DOFs, the loop's seconds (solve + estimate + mark + refine, as recorded by ``adapt``), the seconds
-of one linear solve on the final mesh (``ndf.solve`` of the same problem without contact,
-c_tau = 0 and g_a = 1e6, same orders: assembly + factorisation + substitution, best of 3), their
-ratio, the Newton iterations, and the true energy error |||u_ref - u_h|||_h of the answer against
-the stored hp references (results/reference.md); also the contact points M of the final mesh and
-the seconds of its contact solve (the dense Newton work grows like M^3).  Timings on a shared
-2-core machine, one run at a time.
+Cases: Examples 6.1 and 6.2 (true errors against the stored hp references, results/reference.md; absolute targets
+1e-1 ... 1e-4) and the scenes of results/scenes.md that have an hp reference and that the baseline can solve
+(straight contact sides, m_t = 0: l-shape, hertz, wedge; targets relative to |||u_ref|||: 1e-1 ... 1e-3, the
+references of ``python scripts/scenes.py``, cached in results/.cache/scenes).  Runs per case, one process,
+alternating, best of ``--repeat`` (2):
 
-Writes results/time_to_accuracy.csv, .md and .png.
+* ``adapt``: ``ndf.adapt(problem)`` with its defaults (the method it chooses), its tolerance far below the
+  targets, the true error of every level measured outside the timing;
+* the conforming baseline (benchmarks/conforming.py: H^1 of fixed degree p = 2, 3, 4, exact friction by
+  semismooth Newton, ZZ estimator, Doerfler theta = 0.5, ``mesh.Refine``), the best p per target;
+* every DG method's own ``adapt(problem, method=m)`` (one run each), the best method per target.
+
+Time to a target = the cumulative seconds (solve + estimate + mark + refine of the levels before, solve +
+estimate of the level itself) to the first level whose true error is at or below it, DOFs and levels of that
+level.  Then the stopping runs: ``adapt(problem, tol=t)`` for t = 5e-4 and 1e-5 on both examples: levels, the
+loop's seconds, one linear solve of its final mesh (``ndf.solve`` of the problem without contact, same method and
+orders, best of 3), their ratio, the true error.  Timings on a shared 2-core machine.
+
+Writes results/time_to_accuracy.csv, time_to_accuracy_stops.csv, .md and .png.
 """
 
 import argparse
-import csv
 import itertools
+import math
+import sys
 import time
 from pathlib import Path
 
-from common import best, contact_free, fmt, results_path, run_script, save_figure, say, write_csv
+from common import RESULTS, best, contact_free, fmt, results_path, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
-from ngdgfric.examples import EXAMPLES
 from ngdgfric.output import markdown_table
-from ngdgfric.reference import energy_error, load_reference
+from ngdgfric.studies.scenes import SCENES
 
-TOLERANCES = (1e-1, 1e-2, 1e-3, 5e-4, 1e-4)
-VARIANTS = {"defaults (theta 0.5)": {}, "theta 0.3 (old default)": dict(theta=0.3), "theta 0.7": dict(theta=0.7),
-            "gamma_lin 0.1": dict(gamma_lin=0.1)}
-DOWN_TO = {"theta 0.3 (old default)": 5e-4, "theta 0.7": 5e-4, "gamma_lin 0.1": 1e-2}  # smallest tol run
-MAX_NDOF = 200000
-FIELDS = ["example", "variant", "tol", "levels", "ndof", "p_max", "contact_points", "stopped", "loop_seconds",
-          "solve_seconds", "estimate_seconds", "mark_refine_seconds", "final_solve_seconds", "linear_seconds",
-          "ratio", "iterations", "eta_h", "error"]
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+import conforming  # noqa: E402  (benchmarks/conforming.py, the baseline)
+
+EXAMPLE_TARGETS = (1e-1, 1e-2, 1e-3, 1e-4)
+SCENE_TARGETS = (1e-1, 1e-2, 1e-3)  # relative to |||u_ref|||
+SCENE_CASES = {"l-shape": "l_shape", "hertz": "hertz", "wedge": "wedge"}
+BASELINE_ORDERS = (2, 3, 4)
+STOP_TOLERANCES = (5e-4, 1e-5)
+MAX_NDOF = 400_000
+FIELDS = ["case", "run", "target", "relative", "seconds", "ndof", "levels", "error"]
+STOP_FIELDS = ["case", "tol", "method", "levels", "ndof", "p_max", "stopped", "loop_seconds", "linear_seconds",
+               "ratio", "eta_h", "error", "last_growth", "mean_growth"]
 
 
 def parse(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="Example 6.2, tol = 1e-1 only (for the tests)")
-    parser.add_argument("--out", type=str, default=None, help="folder for the outputs (default results/)")
-    parser.add_argument("--report", action="store_true",
-                        help="only rewrite the Markdown and the plot from the CSV of an earlier run")
+    parser.add_argument("--quick", action="store_true", help="Example 6.2, targets 1e-1 and 1e-2, one repeat, SIPG "
+                                                             "only among the DG methods (for the tests)")
+    parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--case", nargs="+", default=None, help="6.1, 6.2, l-shape, hertz, wedge (default: all)")
+    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 
-def run(example, variant, tol):
-    """One adaptive run and its row."""
-    problem = EXAMPLES[example]()
-    reference = load_reference(results_path(f"reference_{example.replace('.', '_')}.npz"), problem)
+def case(name):
+    """(problem, reference, targets, scale): the absolute targets and |||u_ref||| (1 for the examples)."""
+    if name in ndf.examples.EXAMPLES:
+        problem = ndf.example(name)
+        reference = ndf.load_reference(results_path(f"reference_{name.replace('.', '_')}.npz"), problem)
+        return problem, reference, EXAMPLE_TARGETS, 1.0
+    scene = SCENES[SCENE_CASES[name]]()
+    path = RESULTS / ".cache" / "scenes" / f"{name}.npz"
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: run python scripts/scenes.py first (it computes the hp references)")
+    reference = ndf.load_reference(path, scene.problem)
+    scale = ndf.energy_norm(reference)
+    return scene.problem, reference, tuple(t * scale for t in SCENE_TARGETS), scale
+
+
+def reached(history, targets):
+    """{target: (seconds, ndof, levels, error) of the first level at or below it} from (seconds, ndof, error) per
+    level."""
+    out = {}
+    for k, (seconds, ndof, error) in enumerate(history):
+        for target in targets:
+            if target not in out and error <= target:
+                out[target] = (seconds, ndof, k + 1, error)
+    return out
+
+
+def adapt_history(problem, reference, targets, **options):
+    """(seconds, ndof, true error) per level of ``ndf.adapt(problem, **options)`` with a tolerance of a fifth of the
+    smallest target (eta_h is about three times the error: the run goes just past the smallest target)."""
+    errors = []
+
+    def keep(level, sol, est):
+        errors.append((sol.ndof, ndf.energy_error(sol, reference)))
+
+    try:
+        run = ndf.adapt(problem, tol=min(targets) / 5, max_ndof=MAX_NDOF, progress=None, keep=keep, **options)
+    except ndf.SolverError as error:
+        say(f"  failed: {str(error)[:100]}")
+        return []
+    return _cumulative(run.levels, errors)
+
+
+def _cumulative(levels, errors):
+    """Seconds to each level's solution: the levels before in full, this level's solve and estimate."""
+    history, total = [], 0.0
+    for record, (ndof, error) in zip(levels, errors, strict=False):
+        here = record["solve_seconds"] + record["estimate_seconds"]
+        history.append((total + here, ndof, error))
+        total += here + record["mark_refine_seconds"]
+    return history
+
+
+def baseline_history(problem, reference, targets, order):
+    results, history = conforming.time_to_targets(problem, order, targets, reference, max_ndof=MAX_NDOF)
+    return [(seconds, ndof, error) for _, ndof, seconds, error, _, _ in history]
+
+
+def measure(name, repeat, quick):
+    """The rows of one case: adapt, the baseline per p, each DG method; best of ``repeat`` for the first two."""
+    problem, reference, targets, scale = case(name)
+    if quick:
+        targets = targets[:2]
+    runs = {}
+
+    def keep_best(label, history):
+        for target, result in reached(history, targets).items():
+            if (label, target) not in runs or result[0] < runs[label, target][0]:
+                runs[label, target] = result
+
+    for _ in range(repeat):  # alternating: adapt, then the baseline at every p
+        keep_best("adapt", _traced(name, "adapt", adapt_history(problem, reference, targets)))
+        for order in BASELINE_ORDERS[1:2] if quick else BASELINE_ORDERS:
+            keep_best(f"baseline P{order}", _traced(name, f"baseline P{order}",
+                                                    baseline_history(problem, reference, targets, order)))
+    for method in ("sipg",) if quick else ndf.DG_METHODS:
+        keep_best(method, _traced(name, method, adapt_history(problem, reference, targets, method=method)))
+    return [dict(case=name, run=label, target=target, relative=target / scale, seconds=r[0], ndof=r[1],
+                 levels=r[2], error=r[3]) for (label, target), r in sorted(runs.items(), key=lambda kv: kv[0][1])]
+
+
+def _traced(name, label, history):
+    if history:
+        say(f"{name} {label}: {len(history)} levels, {history[-1][1]} DOFs, {history[-1][0]:.2f} s, error "
+            f"{history[-1][2]:.3e}")
+    return history
+
+
+def stopping(name, tol):
+    """``adapt(problem, tol=tol)`` with its defaults: one row."""
+    problem, reference, _, _ = case(name)
     start = time.perf_counter()
     try:
-        result = ndf.adapt(problem, tol=tol, max_ndof=MAX_NDOF, progress=None, **VARIANTS[variant])
+        run = ndf.adapt(problem, tol=tol, max_ndof=MAX_NDOF, progress=None)
     except ndf.SolverError as error:
-        return dict(example=example, variant=variant, tol=tol, stopped=f"failed: {str(error)[:120]}",
-                    loop_seconds=time.perf_counter() - start)
-    levels = result.levels
-    seconds = {key: sum(r[f"{key}_seconds"] for r in levels) for key in ("solve", "estimate", "mark_refine")}
-    loop = sum(seconds.values())
-    sol = result.solution
-    linear, _ = best(3, lambda: ndf.solve(contact_free(problem), sol.mesh, order=sol.discretization.orders))
-    return dict(example=example, variant=variant, tol=tol, levels=len(levels), ndof=sol.ndof,
-                p_max=levels[-1]["p_max"], contact_points=sol.info["contact_points"], stopped=result.stopped,
-                loop_seconds=loop, final_solve_seconds=levels[-1]["solve_seconds"],
-                **{f"{key}_seconds": value for key, value in seconds.items()}, linear_seconds=linear,
-                ratio=loop / linear, iterations=sum(r["iterations"] for r in levels), eta_h=result.estimate.eta_h,
-                error=energy_error(sol, reference))
+        return dict(case=name, tol=tol, stopped=f"failed: {str(error)[:100]}", loop_seconds=time.perf_counter() - start)
+    levels, sol = run.levels, run.solution
+    loop = sum(r["solve_seconds"] + r["estimate_seconds"] + r["mark_refine_seconds"] for r in levels)
+    linear, _ = best(3, lambda: ndf.solve(contact_free(problem), sol.mesh, method=run.method,
+                                          order=sol.discretization.orders))
+    growth = [b["ndof"] / a["ndof"] for a, b in zip(levels, levels[1:], strict=False)]
+    return dict(case=name, tol=tol, method=run.method, levels=len(levels), ndof=sol.ndof, p_max=levels[-1]["p_max"],
+                stopped=run.stopped, loop_seconds=loop, linear_seconds=linear, ratio=loop / linear,
+                eta_h=run.estimate.eta_h, error=ndf.energy_error(sol, reference),
+                last_growth=growth[-1] if growth else math.nan,
+                mean_growth=math.exp(sum(map(math.log, growth)) / len(growth)) if growth else math.nan)
 
 
 def main(argv=None):
     args = parse(argv)
-    out = results_path("") if args.out is None else Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    if args.report:
-        rows = read_rows(out / "time_to_accuracy.csv")
-        report(rows, out)
-        plot(rows, out / "time_to_accuracy.png")
-        return rows
-    examples, tolerances = (("6.2",), (1e-1,)) if args.quick else (("6.1", "6.2"), TOLERANCES)
-    rows = []
-    for example in examples:
-        for tol in tolerances:
-            for variant in VARIANTS:
-                if tol < DOWN_TO.get(variant, 0):
-                    continue
-                rows.append(run(example, variant, tol))
-                r = rows[-1]
-                say(f"{example} tol {tol:g} {variant}: {r.get('levels')} levels, {r.get('ndof')} dofs, loop "
-                    f"{r['loop_seconds']:.2f} s, linear {fmt(r.get('linear_seconds'), '.3f')} s, ratio "
-                    f"{fmt(r.get('ratio'), '.1f')}, error {fmt(r.get('error'), '.3e')}, {r['stopped']}")
-                write_csv(out / "time_to_accuracy.csv", rows, FIELDS)
-                report(rows, out)  # after every run: an interrupted study keeps what it measured
-                plot(rows, out / "time_to_accuracy.png")
-    return rows
+    args.out.mkdir(parents=True, exist_ok=True)
+    names = args.case or (["6.2"] if args.quick else ["6.1", "6.2", *SCENE_CASES])
+    rows, stops = [], []
+    for name in names:
+        rows += measure(name, 1 if args.quick else args.repeat, args.quick)
+        write_csv(args.out / "time_to_accuracy.csv", rows, FIELDS)
+        report(rows, stops, args.out)
+    for name in [n for n in names if n in ndf.examples.EXAMPLES]:
+        for tol in STOP_TOLERANCES[:1] if args.quick else STOP_TOLERANCES:
+            stops.append(stopping(name, tol))
+            s = stops[-1]
+            say(f"{name} adapt(tol={tol:g}): {s.get('levels')} levels, {fmt(s['loop_seconds'], '.2f')} s = "
+                f"{fmt(s.get('ratio'), '.1f')} linear solves, error {fmt(s.get('error'), '.3e')}, {s['stopped']}")
+            write_csv(args.out / "time_to_accuracy_stops.csv", stops, STOP_FIELDS)
+            report(rows, stops, args.out)
+    plot(rows, args.out / "time_to_accuracy.png")
+    return rows, stops
 
 
-def read_rows(path):
-    """The rows of an earlier run's CSV, numbers as numbers, empty cells left out."""
-    with open(path, newline="") as handle:
-        rows = list(csv.DictReader(handle))
-    text, integer = {"example", "variant", "stopped"}, {"levels", "ndof", "p_max", "contact_points", "iterations"}
-    return [{key: value if key in text else int(value) if key in integer else float(value)
-             for key, value in row.items() if value != ""} for row in rows]
+def comparison(rows):
+    """Per case and target: adapt, the best baseline p, the best DG method, and the ratios to the baseline."""
+    table, verdicts = [], []
+    for (name, target), group in itertools.groupby(rows, key=lambda r: (r["case"], r["target"])):
+        group = list(group)
+        adapt = _fastest([r for r in group if r["run"] == "adapt"])
+        base = _fastest([r for r in group if r["run"].startswith("baseline")])
+        dg = _fastest([r for r in group if r["run"] in ndf.DG_METHODS])
+        ratio = adapt["seconds"] / base["seconds"] if adapt and base else math.nan
+        dg_ratio = dg["seconds"] / base["seconds"] if dg and base else math.nan
+        verdicts.append((name, target, ratio, dg_ratio))
+        show = lambda r: "-" if r is None else f"{r['seconds']:.2f} ({r['ndof']}, {r['levels']})"  # noqa: E731
+        table.append([name, f"{group[0]['relative']:g}" + ("" if name in ndf.examples.EXAMPLES else " rel."),
+                      show(adapt), "-" if base is None else f"{base['run'][-2:]}: {show(base)}",
+                      "-" if dg is None else f"{dg['run']}: {show(dg)}", fmt(ratio, ".2f"), fmt(dg_ratio, ".2f")])
+    return table, verdicts
 
 
-def findings(rows):
-    """What the rows say about issue 15's criteria (error <= 1e-3 at tol = 5e-4 in <= 5 linear solves; 1e-4)."""
-    lines = ["## Findings", ""]
-    for example in sorted({r["example"] for r in rows}):
-        def pick(variant, tol, example=example):
-            return next((r for r in rows if r["example"] == example and r["variant"] == variant
-                         and r["tol"] == tol), None)
-        new, old = pick("defaults (theta 0.5)", 5e-4), pick("theta 0.3 (old default)", 5e-4)
-        if new and old and "error" in new and "error" in old:
-            lines.append(f"- Example {example}, tol = 5e-4: defaults {int(new['levels'])} levels, "
-                         f"{new['loop_seconds']:.1f} s = {new['ratio']:.1f} linear solves of the final mesh "
-                         f"(true error {new['error']:.2e}); old default theta = 0.3: {int(old['levels'])} levels, "
-                         f"{old['loop_seconds']:.1f} s = {old['ratio']:.1f} linear solves (true error "
-                         f"{old['error']:.2e}): {old['loop_seconds'] / new['loop_seconds']:.1f} times faster; the "
-                         f"contact solves are {new['solve_seconds'] / new['loop_seconds']:.0%} of the loop, the last "
-                         f"one {new['final_solve_seconds'] / new['linear_seconds']:.1f} linear solves "
-                         f"(M = {int(new['contact_points'])} contact points).  Criterion (<= 5 linear solves): "
-                         f"{'met' if new['ratio'] <= 5 and new['error'] <= 1e-3 else 'not met'}.")
-        fine = pick("defaults (theta 0.5)", 1e-4)
-        if fine and "error" in fine:
-            lines.append(f"- Example {example}, tol = 1e-4: defaults {fine['stopped']} after {int(fine['levels'])} "
-                         f"levels, {int(fine['ndof'])} DOFs, {fine['loop_seconds']:.1f} s = {fine['ratio']:.1f} linear "
-                         f"solves, true error {fine['error']:.2e}.")
-    failed = [r for r in rows if r["stopped"].startswith("failed")]
-    for r in failed:
-        lines.append(f"- Failed: Example {r['example']}, {r['variant']}, tol = {r['tol']:g}: {r['stopped']}")
-    return lines + [""]
+def _fastest(rows):
+    return min(rows, key=lambda r: r["seconds"]) if rows else None
 
 
-def report(rows, out):
-    lines = ["# Time to an answer: adapt(problem, tol) against one linear solve of its final mesh", "",
-             __doc__.split("\n\n")[1].replace("\n", " "), "",
-             "![loop seconds and ratio against the true error](time_to_accuracy.png)", ""]
-    header = ["example", "variant", "tol", "levels", "DOFs", "p max", "M", "stopped", "loop s", "solve s",
-              "estimate s", "mark+refine s", "last solve s", "linear s", "loop / linear", "Newton its", "eta_h",
-              "true error"]
-    table = [[r["example"], r["variant"], f"{r['tol']:g}", r.get("levels", "-"), r.get("ndof", "-"),
-              r.get("p_max", "-"), r.get("contact_points", "-"), r["stopped"], fmt(r["loop_seconds"], ".2f"),
-              *(fmt(r.get(key), ".2f") for key in ("solve_seconds", "estimate_seconds", "mark_refine_seconds",
-                                                   "final_solve_seconds")),
-              fmt(r.get("linear_seconds"), ".3f"), fmt(r.get("ratio"), ".1f"), r.get("iterations", "-"),
-              fmt(r.get("eta_h"), ".3e"), fmt(r.get("error"), ".3e")] for r in rows]
-    lines += findings(rows)
-    lines += [markdown_table(header, table), "", "Regenerate: `python scripts/time_to_accuracy.py` (the Markdown and "
-              "the plot alone from the CSV: `--report`)", ""]
+def report(rows, stops, out):
+    lines = ["# Time to an answer: adapt against a conforming baseline", "",
+             __doc__.split("\n\n")[1].replace("\n", " "), "", "![seconds to each true error](time_to_accuracy.png)", ""]
+    table, verdicts = comparison(rows)
+    finite = [v for v in verdicts if math.isfinite(v[2])]
+    if finite:
+        worst = max(finite, key=lambda v: v[2])
+        lines += ["## Findings", "",
+                  f"- adapt / baseline: at most {worst[2]:.2f} ({worst[0]}, target {worst[1]:.3g}); at or below 1 in "
+                  f"{sum(v[2] <= 1 for v in finite)} of {len(finite)} (case, target) pairs; median "
+                  f"{sorted(v[2] for v in finite)[len(finite) // 2]:.2f}."]
+        dg = [v for v in verdicts if math.isfinite(v[3])]
+        if dg:
+            worst_dg = max(dg, key=lambda v: v[3])
+            lines.append(f"- best DG method / baseline: at most {worst_dg[3]:.2f} ({worst_dg[0]}, target "
+                         f"{worst_dg[1]:.3g}); within 2 in {sum(v[3] <= 2 for v in dg)} of {len(dg)}.")
+        lines.append("")
+    lines += [markdown_table(["case", "target", "adapt s (DOFs, levels)", "baseline: best p, s (DOFs, levels)",
+                              "best DG method, s (DOFs, levels)", "adapt / baseline", "DG / baseline"], table), ""]
+    if stops:
+        lines += ["## Stopping at a tolerance: adapt(problem, tol)", "",
+                  markdown_table(["case", "tol", "method", "levels", "DOFs", "p max", "stopped", "loop s", "linear s",
+                                  "loop / linear", "DOF growth (mean, last)", "eta_h", "true error"],
+                                 [[s["case"], f"{s['tol']:g}", s.get("method", "-"), s.get("levels", "-"),
+                                   s.get("ndof", "-"), s.get("p_max", "-"), s["stopped"],
+                                   fmt(s["loop_seconds"], ".2f"), fmt(s.get("linear_seconds"), ".3f"),
+                                   fmt(s.get("ratio"), ".1f"),
+                                   f"{fmt(s.get('mean_growth'), '.2f')}, {fmt(s.get('last_growth'), '.2f')}",
+                                   fmt(s.get("eta_h"), ".3e"), fmt(s.get("error"), ".3e")] for s in stops]), ""]
+    lines += ["All runs, each at its first level below the target:", "",
+              markdown_table(["case", "run", "target", "s", "DOFs", "levels", "true error"],
+                             [[r["case"], r["run"], f"{r['target']:.3g}", f"{r['seconds']:.2f}", r["ndof"],
+                               r["levels"], f"{r['error']:.3e}"] for r in rows]), "",
+              "Regenerate: `python scripts/time_to_accuracy.py` (about an hour; `--case 6.2` for one case)", ""]
     ndf.files.write_text(out / "time_to_accuracy.md", "\n".join(lines))
 
 
@@ -162,19 +250,19 @@ def plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    series = sorted({(r["example"], r["variant"]) for r in rows})
-    for (example, variant), marker in zip(series, itertools.cycle("osd^v<>ph"), strict=False):
-        chosen = [r for r in rows if (r["example"], r["variant"]) == (example, variant) and "error" in r]
-        label = f"{example}, {variant}"
-        axes[0].loglog([r["error"] for r in chosen], [r["loop_seconds"] for r in chosen], marker + "-", label=label)
-        axes[1].semilogx([r["error"] for r in chosen], [r["ratio"] for r in chosen], marker + "-", label=label)
-    axes[0].set(xlabel="true energy error of the answer", ylabel="loop seconds")
-    axes[1].set(xlabel="true energy error of the answer", ylabel="loop / one linear solve of the final mesh")
-    axes[1].axhline(5, color="gray", lw=0.8, ls="--")
-    for ax in axes:
+    names = list(dict.fromkeys(r["case"] for r in rows))
+    fig, axes = plt.subplots(1, len(names), figsize=(4 * len(names), 3.6), squeeze=False)
+    for ax, name in zip(axes[0], names, strict=True):
+        labels = dict.fromkeys(r["run"] for r in rows if r["case"] == name)
+        for label, marker in zip(labels, itertools.cycle("osd^v<>ph"), strict=False):
+            chosen = [r for r in rows if r["case"] == name and r["run"] == label]
+            style = "-" if label == "adapt" else ":" if label.startswith("baseline") else "--"
+            ax.loglog([r["relative"] for r in chosen], [r["seconds"] for r in chosen], marker + style, label=label,
+                      lw=2.5 if label == "adapt" else 1)
         ax.invert_xaxis()
-        ax.legend(fontsize=7)
+        ax.set(title=name, xlabel="true error reached" + ("" if name in ndf.examples.EXAMPLES else " (relative)"),
+               ylabel="seconds")
+        ax.legend(fontsize=6)
     save_figure(fig, path)
 
 
