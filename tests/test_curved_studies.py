@@ -27,16 +27,16 @@ from ngdgfric.studies.curved import (
 
 @pytest.fixture(scope="module")
 def hertz_run():
-    """A coarse hp run of the Hertz problem (a / R ~ 0.03, c_n a / E* ~ 3000) and its solution at level 8."""
+    """A coarse hp run of the Hertz problem (a / R ~ 0.03, c_n a / E* ~ 3000) and its last solution with an
+    estimate at least 30 times the final one."""
     problem = hertz_problem(0.002, 1e5)
-    early = {}
+    levels = []
 
     def keep(level, sol, est):
-        if level == 8:
-            early["sol"], early["eta_h"] = sol, est.eta_h
+        levels.append(dict(sol=sol, eta_h=est.eta_h))
 
     run = ndf.adapt(problem, ndf.netgen_mesh(problem, 0.25), rtol=3e-3, keep=keep, progress=None, solver_tol=1e-11)
-    return run, early
+    return run, [level for level in levels if level["eta_h"] >= 30 * run.estimate.eta_h][-1]
 
 
 def test_half_disk_polygon_is_inscribed_with_a_vertex_at_the_lowest_point():
@@ -110,7 +110,6 @@ def test_energy_and_pointwise_reference_errors_agree(hertz_run):
     sol, reference = early["sol"], run.solution
     by_energy = math.sqrt(2 * (discrete_energy(sol) - discrete_energy(reference)))
     assert reference_error(sol, reference) == pytest.approx(by_energy, rel=0.15)
-    assert early["eta_h"] > 10 * run.estimate.eta_h  # the reference is much finer
 
 
 @pytest.fixture(scope="module")
