@@ -40,7 +40,7 @@ import conforming  # noqa: E402  (benchmarks/conforming.py, the baseline)
 EXAMPLE_TARGETS = (1e-1, 1e-2, 1e-3, 1e-4)
 SCENE_TARGETS = (1e-1, 1e-2, 1e-3)  # relative to |||u_ref|||
 SCENE_CASES = {"l-shape": "l_shape", "hertz": "hertz", "wedge": "wedge"}
-BASELINE_ORDERS = (3, 4)  # p = 2 is never the fastest (benchmarks/README.md: 2-7 times slower to 1e-2)
+BASELINE_ORDERS = (3, 4)  # p = 2 is never the fastest (benchmarks/README.md: 5-7 times slower to 1e-2)
 STOP_TOLERANCES = (5e-4, 1e-5)
 MAX_NDOF = 400_000
 FIELDS = ["case", "run", "target", "relative", "seconds", "ndof", "levels", "error"]

@@ -128,3 +128,27 @@ def test_lifting_methods_on_curved_elements():
     for method in ("bassi", "brezzi", "ldg"):
         sol = ndf.solve(p, mesh, method=method, order=3)
         assert ndf.kkt_residuals(sol)["equilibrium"] < 1e-12 and ndf.contact_state(sol)["pressure"].max() > 0
+
+
+def test_the_lifting_mass_matrix_is_inverted_on_tiny_high_order_elements():
+    # ten geometric layers towards the corners and p = 7: the mass matrix of Sigma_h is diagonal up to round-off
+    # entries of 1.7e-13 against the diagonal of a low-degree row of a tiny element, but below 1e-13 of the
+    # geometric mean of the two diagonals (the row criterion called it "not block diagonal": adapt with Bassi et
+    # al. crashed on Example 6.1)
+    from ngdgfric.hp import containing
+    from ngdgfric.liftings import _block_inverse
+    from ngdgfric.meshes import refine
+
+    problem = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(problem, 0.5)
+    for _ in range(10):
+        refine(mesh, containing(mesh, problem.geometry.corners), bisections=2)
+    cells = lifting_space(mesh, 7, dgjumps=False)
+    sigma, tau = cells.TnT()
+    mass = ngs.BilinearForm(cells)
+    mass += ngs.InnerProduct(sigma, tau) * ngs.dx
+    mass.Assemble()
+    x = mass.mat.CreateColVector()
+    x.FV().NumPy()[:] = np.random.default_rng(0).standard_normal(len(x))
+    y = (_block_inverse(mass.mat) @ mass.mat * x).Evaluate()
+    assert np.max(np.abs(y.FV().NumPy() - x.FV().NumPy())) <= 1e-10
