@@ -1,5 +1,6 @@
 """The conforming baseline ``cg``: continuous spaces (also hp), optimal rates, a contact solver without redundant
-points, exact transfer to the DG carrier of the adaptive loop, and geometric layers towards corners."""
+points, exact transfer to the DG carrier of the adaptive loop; the singular points (corners, ends of the contact
+zones) and the geometric layers towards them."""
 
 import ngsolve as ngs
 import numpy as np
@@ -105,3 +106,32 @@ def test_geometric_layers_halve_h_at_a_marked_corner_once_more_per_layer(layers)
     # the other corners were not marked: untouched
     other = containing(mesh, np.array([[1.0, 1.0]]))
     assert h[other].min() == pytest.approx(far if far < h_before else h_before, rel=1e-12)
+
+
+def test_transitions_are_the_ends_of_the_contact_zones_of_a_manufactured_solution():
+    # contact and slip for x < 1/4 and x > 1/2, no contact between (incompressible_contact_manufactured)
+    from ngdgfric.contact import transitions
+    from ngdgfric.studies.manufactured import incompressible_contact_manufactured
+
+    problem, _ = incompressible_contact_manufactured()
+    h = 1 / 32
+    points = transitions(ndf.solve(problem, ndf.uniform_mesh(problem, h), method="cg", order=2))
+    assert np.allclose(points[:, 1], 0.0)
+    for end in (0.25, 0.5):
+        assert np.min(np.abs(points[:, 0] - end)) <= h
+    assert np.all(np.min(np.abs(points[:, 0, None] - np.array([0.25, 0.5])), axis=1) <= 2 * h)
+
+
+def test_corners_are_where_the_boundary_turns_or_its_conditions_change():
+    square = ndf.example_6_2().geometry
+    assert sorted(map(tuple, square.corners)) == [(0, 0), (0, 1), (1, 0), (1, 1)]
+    # a side cut in two with one condition is no corner; with two conditions it is; a circle has none
+    same = ndf.Polygon(((0, 0), (1, 0), (2, 0), (2, 1), (0, 1)), ("contact", "contact", "traction", "dirichlet",
+                                                                  "traction"))
+    assert (1.0, 0.0) not in map(tuple, same.corners) and len(same.corners) == 4
+    split = ndf.Polygon(((0, 0), (1, 0), (2, 0), (2, 1), (0, 1)), ("contact", "traction", "traction", "dirichlet",
+                                                                   "traction"))
+    assert (1.0, 0.0) in map(tuple, split.corners)
+    holed = ndf.example("block_with_hole").geometry
+    assert len(holed.corners) == 6  # the outline's; the circular hole has none
+    assert len(ndf.example("half_disk").geometry.corners) == 2  # the ends of the arc
