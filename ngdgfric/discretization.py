@@ -23,7 +23,7 @@ from .problem import ContactProblem
 from .traces import ContactTraces
 
 __all__ = ["Discretization", "dg_space", "conforming_space", "space", "polynomial_degrees", "edge_orders",
-           "contact_edges", "check_order", "order_function"]
+           "contact_edges", "contact_elements", "check_order", "order_function"]
 
 
 def dg_space(mesh, order, dgjumps=True):
@@ -63,6 +63,11 @@ def contact_edges(problem, mesh):
     """The numbers of the edges on Gamma_C."""
     sides = set(problem.sides("contact"))
     return [element.edges[0].nr for element in mesh.Elements(ngs.BND) if element.mat in sides]
+
+
+def contact_elements(problem, mesh):
+    """The numbers of the elements with an edge on Gamma_C."""
+    return np.unique([mesh[ngs.NodeId(ngs.EDGE, nr)].elements[0].nr for nr in contact_edges(problem, mesh)])
 
 
 def polynomial_degrees(disc):
