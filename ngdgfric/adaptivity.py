@@ -8,9 +8,10 @@ of the contact or the stick zone) is bisected twice more towards it in the same 
 paced by the grading towards the singular points: h_min halved on every level (5.3e-9 at level 27 on Example 6.1)
 and eta_h fell by about 0.67 per level whatever else was refined, with DOFs growing ~1.1 per level (28 levels to
 tol = 5e-4, about 10 linear solves of the final mesh).  With the layer h_min falls by 4 per level and theta = 0.8
-lets the DOFs grow ~1.3 per level: 12-13 levels to true errors of 1e-4 on both examples (measured in
-results/time_to_accuracy.md with the other variants: theta 0.5-0.95, layers 0-3, p = 2-4 at the start; more layers
-grade too fast for the p of the elements around, larger theta refines where it does not pay).  The paper's loop
+lets the DOFs grow ~1.3 per level: 11-12 levels to true errors of 1e-4 on both examples (results/time_to_accuracy.md).
+Exploratory runs (a loaded machine, not kept), to 1e-3 on Example 6.2 without the graded first mesh: p = 4, theta =
+0.8, one layer 1.8-1.9 s; from p = 3 2.1-2.4 s; two layers 2.4-2.8 s (they grade faster than the p around can
+follow); theta = 0.9-0.95 2.3-2.5 s; theta = 0.5 with two layers 3.1 s; no layers, theta = 0.8, 3.1 s.  The paper's loop
 (``method="sipg", hp=False, order=1, theta=0.3, weights="paper"``) is unchanged: layers act in hp refinement only.
 Earlier attempts at faster growth without the layers (Doerfler's set extended to a DOF growth of 1.3, marked h
 elements bisected four times everywhere, a second Doerfler round on predicted indicators, p raised by 2) gave
@@ -243,6 +244,7 @@ class _Loop:
         self.weights, self.gamma_lin, self.solve_options = weights, gamma_lin, solve_options
         self.tolerances, self.tol = tolerances, None
         self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
+        self.singular = None  # the points the next hp refinement grades towards (set by solve)
         # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
         # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
         self.carrier_order = order if max_order is None else max_order
@@ -339,8 +341,8 @@ def initial_mesh(problem, layers=0):
     """The first mesh of :func:`adapt`: uniform h = 1/2 on a rectangle, else Netgen with maxh = min(1/2, a
     quarter of the domain's diameter); then ``layers`` geometric layers towards the domain's corners (the elements
     containing one bisected twice, ``layers`` times), where the solution is singular whatever the data: hp-adaptive
-    runs start with ``INITIAL_LAYERS`` (on Examples 6.1 and 6.2 they reach the true error 1e-1 in 3 levels instead of
-    4-5, and every target to 1e-4 in about 40 % less time, results/time_to_accuracy.md)."""
+    runs start with ``INITIAL_LAYERS`` (exploratory runs, not kept: on Examples 6.1 and 6.2 the true errors 1e-1 ...
+    1e-4 are reached in 35-65 % less time, 1e-1 one level sooner)."""
     if problem.geometry.is_rectangle:
         mesh = uniform_mesh(problem, 0.5)
     else:
