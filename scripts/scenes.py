@@ -182,7 +182,8 @@ def hertz_comparison(scene, solution):
 
 # ============================================================================ REPORT
 INTRO = ("Scenes of `ngdgfric.studies.scenes` beyond the paper's rectangles, each solved by the five DG methods "
-         "at p = 1, 2, 3 on a family of meshes (the default solver), then by `ndf.adapt(problem, tol)` with its "
+         "and the conforming baseline cg at p = 1, 2, 3 on a family of meshes (the default solver), then by "
+         "`ndf.adapt(problem, tol)` with its "
          "defaults.  Errors are true energy errors |||u - u_h|||_h against the exact solution or an hp reference "
          "(hp-adaptive SIPG far below the errors studied), relative to |||u_h|||_h; the rate is the observed "
          "order in h over the last two meshes (\"exact\": the solution lies in V_h and every level is at "
