@@ -143,7 +143,8 @@ class Discretization:
     ``F`` (load vector of (f, v)), ``M_inv`` (inverse Gauss-rule mass matrix of Q), ``dS`` (the
     contact measure), ``h_e`` (the edge length |e|), ``h_penalty`` (the penalty's length,
     :func:`ngdgfric.forms.penalty_length`), ``timings``; ``orders`` (p_T per element), ``order`` (the
-    largest, which sets the lifting space), ``contact_order`` (the degree of the multiplier space and of the
+    largest, which sets the lifting space), ``degrees`` (the polynomial degree of u_h on every element,
+    :func:`polynomial_degrees`), ``contact_order`` (the degree of the multiplier space and of the
     contact Gauss rule: ``order``, one less for the conforming baseline), ``p`` (p_T as
     a number or GridFunction, for the penalty and the estimator weights); ``material`` (the Lame
     parameters element by element, :class:`ngdgfric.material.Material`); ``eta`` (the penalty parameter:
@@ -177,8 +178,8 @@ class Discretization:
         self.contact_order = self.order - 1 if self.method.conforming else self.order
         # p_T of the penalty and the estimator weights: the degree of the element's polynomials (for the conforming
         # baseline with the degrees of its edges, which the inverse trace inequality of Nitsche's terms must see)
-        degrees = polynomial_degrees(self)
-        self.p = self.order if np.all(degrees == self.order) else order_function(mesh, degrees)
+        self.degrees = polynomial_degrees(self)
+        self.p = self.order if np.all(self.degrees == self.order) else order_function(mesh, self.degrees)
         lowest = int(self.orders.min())  # the lowest order has the highest SIPG threshold
         self.material = Material(problem, mesh, self.order)
         eta = None if eta is None else _check_eta(eta)

@@ -73,7 +73,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, friction_bound, normal_tangent
-from .discretization import contact_elements, polynomial_degrees
+from .discretization import contact_elements
 from .forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
 from .linalg import limited_blas, threads
 from .material import BONUS
@@ -216,7 +216,7 @@ def estimate(sol, weights="energy"):
 def _degrees(disc):
     """The degree of every element's integrands for :func:`element_integrals`: its polynomial degree, the largest
     on elements along Gamma_C (the multiplier has the largest degree on every edge there)."""
-    degrees = polynomial_degrees(disc).copy()
+    degrees = disc.degrees.copy()
     degrees[contact_elements(disc.problem, disc.mesh)] = disc.order
     return degrees
 

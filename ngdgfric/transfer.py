@@ -12,7 +12,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import GaussValues
-from .discretization import dg_space, polynomial_degrees
+from .discretization import dg_space
 from .meshes import same_mesh
 
 __all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders", "discontinuous"]
@@ -61,9 +61,9 @@ def discontinuous(sol):
     """(u, degrees): the displacement of a Solution as a GridFunction of a variable-order ``L2**2`` space on its
     mesh (what :func:`copy_orders` takes) and the degree of every element: ``sol.u`` itself for the DG methods;
     for the conforming baseline u_h set into L2 of each element's largest degree
-    (:func:`~ngdgfric.discretization.polynomial_degrees`: exact on straight elements)."""
+    (``Discretization.degrees``: exact on straight elements)."""
     disc = sol.discretization
-    degrees = polynomial_degrees(disc)
+    degrees = disc.degrees
     if not disc.method.conforming:
         return sol.u, degrees
     u = ngs.GridFunction(dg_space(sol.mesh, degrees, dgjumps=False))
