@@ -25,6 +25,7 @@ results/time_to_accuracy.md), and gamma_lin = 0.01 kept the path but not the ite
 
 import contextlib
 import dataclasses
+import functools
 import gc
 import math
 import time
@@ -36,7 +37,7 @@ import numpy as np
 
 from .checks import MEMORY_BUDGET, estimated_bytes
 from .contact import transitions
-from .estimator import WEIGHTS, estimate
+from .estimator import KINDS, WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, containing, hp_refine
 from .linalg import limited_blas
@@ -137,7 +138,8 @@ def _largest(datum, mesh):
 @limited_blas
 def adapt(problem, mesh=None, method=None, order=4, theta=0.8, max_levels=100, max_ndof=10**6, tol=None,
           solver="newton", eta=None, csv_path=None, progress=print, keep=None, hp=True, max_order=8,
-          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, rtol=None, layers=1, **options):
+          weights="energy", gamma_lin=None, solver_tol=None, max_seconds=None, rtol=None, layers=1,
+          estimator="residual", **options):
     """The adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE); returns an :class:`Adaptation`.
 
     Stops as soon as eta_h <= ``tol`` or eta_h <= ``rtol`` |||u_h|||_h (a relative tolerance: with the default
@@ -156,6 +158,10 @@ def adapt(problem, mesh=None, method=None, order=4, theta=0.8, max_levels=100, m
     (the solver's tolerance) and further options go to :func:`ngdgfric.solve`.  The command line's
     ``adaptive`` takes its defaults from this signature.
 
+    ``estimator``: "residual" (default, :func:`ngdgfric.estimate`) or "equilibrated" (the guaranteed upper bound
+    of :mod:`ngdgfric.equilibration`: stopping at eta_h <= tol then certifies |||u - u_h|||_h <= tol where its
+    assumptions hold, ``Estimate.guaranteed``); marking uses the chosen estimator's indicators.
+
     ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
     linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
     Ern & Vohralik, SISC 35, 2013; :mod:`ngdgfric.newton`), starting from eta_lin <= gamma_lin x the
@@ -170,6 +176,8 @@ def adapt(problem, mesh=None, method=None, order=4, theta=0.8, max_levels=100, m
     level, e.g. to save a picture.
     """
     _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, (tol, rtol), gamma_lin, max_seconds)
+    if estimator not in KINDS:
+        raise ValueError(f"estimator must be one of {KINDS}, got {estimator!r}")
     if not (isinstance(layers, (int, np.integer)) and not isinstance(layers, bool) and layers >= 0):
         raise ValueError(f"layers must be an integer >= 0, got {layers!r}")
     start = time.perf_counter()
@@ -181,7 +189,8 @@ def adapt(problem, mesh=None, method=None, order=4, theta=0.8, max_levels=100, m
     method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
     if progress is not None:
         progress(f"method {method}: {reason}")
-    loop = _Loop(problem, mesh, order, max_order if hp else None, weights, (tol, rtol), layers,
+    estimator = functools.partial(estimate, weights=weights, kind=estimator)
+    loop = _Loop(problem, mesh, order, max_order if hp else None, estimator, (tol, rtol), layers,
                  gamma_lin if solver == "newton" else None,
                  dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol, **options))
     limits, records = dict(theta=theta, max_levels=max_levels, max_ndof=max_ndof, max_seconds=max_seconds,
@@ -239,9 +248,9 @@ class _Loop:
     """The state the levels of :func:`adapt` hand on: the mesh and its :class:`HPState`, the previous
     solution on the refined mesh (a warm start) and the eta_h the next level starts from."""
 
-    def __init__(self, problem, mesh, order, max_order, weights, tolerances, layers, gamma_lin, solve_options):
+    def __init__(self, problem, mesh, order, max_order, estimator, tolerances, layers, gamma_lin, solve_options):
         self.problem, self.mesh, self.order, self.max_order, self.layers = problem, mesh, order, max_order, layers
-        self.weights, self.gamma_lin, self.solve_options = weights, gamma_lin, solve_options
+        self.estimator, self.gamma_lin, self.solve_options = estimator, gamma_lin, solve_options
         self.tolerances, self.tol = tolerances, None
         self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
         self.singular = None  # the points the next hp refinement grades towards (set by solve)
@@ -288,8 +297,8 @@ class _Loop:
         return sol, est, stopped, refinement
 
     def settle(self, sol, est, returned, seconds):
-        """:func:`_settle` with this loop's weights, tolerances and gamma_lin."""
-        return _settle(sol, est, self.weights, (self.tol, self.solve_options["solver_tol"]), self.gamma_lin, returned,
+        """:func:`_settle` with this loop's estimator, tolerances and gamma_lin."""
+        return _settle(sol, est, self.estimator, (self.tol, self.solve_options["solver_tol"]), self.gamma_lin, returned,
                        seconds)
 
     def too_large(self, max_ndof, refinement):
@@ -367,16 +376,17 @@ def _check_arguments(order, max_order, hp, weights, max_levels, max_ndof, tolera
         raise ValueError(f"gamma_lin must be a number in (0, 1) or None, got {gamma_lin!r}")
 
 
-def _settle(sol, est, weights, tolerances, gamma_lin, returned, seconds):
+def _settle(sol, est, estimator, tolerances, gamma_lin, returned, seconds):
     """The estimate of a level, and an inexact solve made good enough (Ern & Vohralik's adaptive
     inexact loop): if eta_lin > gamma_lin eta_h, solved on to eta_lin <= gamma_lin eta_h and
     re-estimated (then, if still short, to the full tolerance); solved to the full tolerance at once
-    where it is returned (``returned``, or eta_h <= tol; ``tolerances``: (tol, solver_tol)).  ``est``: the
+    where it is returned (``returned``, or eta_h <= tol; ``tolerances``: (tol, solver_tol)).  ``estimator``:
+    callable(sol) -> Estimate.  ``est``: the
     estimate of ``sol`` if known;
     ``seconds``: its "solve" and "estimate" entries are increased.  Returns (sol, est)."""
     tol, solver_tol = tolerances
     if est is None:
-        est = _timed(seconds, "estimate", estimate, sol, weights)
+        est = _timed(seconds, "estimate", estimator, sol)
     for partial in (True, False):
         if sol.state is None:
             break
@@ -385,7 +395,7 @@ def _settle(sol, est, weights, tolerances, gamma_lin, returned, seconds):
             break
         sol = _timed(seconds, "solve", finish, sol, solver_tol=solver_tol,
                      energy_tol=None if full else gamma_lin * est.eta_h)
-        est = _timed(seconds, "estimate", estimate, sol, weights)
+        est = _timed(seconds, "estimate", estimator, sol)
     return sol, est
 
 

@@ -32,7 +32,7 @@ from pathlib import Path
 from .adaptivity import adapt
 from .checks import DataError, check_size
 from .errors import SolverError
-from .estimator import estimate
+from .estimator import KINDS, estimate
 from .examples import EXAMPLES, SCENES, example
 from .files import check_writable, write_csv, write_text
 from .forces import force_balance
@@ -205,6 +205,11 @@ def _adaptive_parser(commands):
     sub.add_argument("--weights", choices=["energy", "paper"], default=weights,
                      help=f"estimator (default: {weights}): 'energy' (in the units of the energy norm) or 'paper' "
                           "(Section 4 as printed)")
+    kind = default("adapt", "estimator")
+    sub.add_argument("--estimator", choices=list(KINDS), default=kind,
+                     help=f"estimator that marks and stops (default: {kind}): 'residual' (Section 4) or "
+                          "'equilibrated' (a guaranteed upper bound of the energy error, ngdgfric.equilibration; "
+                          "--weights does not apply to it)")
     hp = default("adapt", "hp")
     sub.add_argument("--hp", action=argparse.BooleanOptionalAction, default=hp,
                      help=f"hp refinement (ngdgfric.hp.hp_refine), or h refinement only "
@@ -357,7 +362,7 @@ def cmd_adaptive(args, problem, tag):
                        eta=args.eta,
                        solver_tol=args.solver_tol, max_seconds=args.max_seconds,
                        csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights,
-                       layers=args.layers)
+                       layers=args.layers, estimator=args.estimator)
     records = adaptation.levels
     slope = (records, args.order) if not args.hp and len(records) > 1 else None
     write_adaptive_png(png_path, f"{problem.name}: theta = {args.theta:g}", f"{adaptation.method} {kind}-adaptive",

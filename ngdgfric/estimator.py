@@ -80,17 +80,23 @@ from .material import BONUS
 from .meshes import element_diameters, facet_indicator
 from .problem import PARTS, coefficient, strain, stress
 
-__all__ = ["Estimate", "estimate", "div_stress"]
+__all__ = ["Estimate", "estimate", "div_stress", "KINDS"]
 
 
 @dataclass
 class Estimate:
     """The estimator of a solution: ``eta_T_squared``, eta_T^2 per element (numpy); ``terms_squared``,
-    the global eta_1^2 ... eta_6^2 (keys "eta1" ... "eta6"); ``eta_h`` = (sum_T eta_T^2)^(1/2)."""
+    the global eta_1^2 ... eta_6^2 (keys "eta1" ... "eta6"; the equilibrated bound's parts for
+    ``kind="equilibrated"``); ``eta_h`` = (sum_T eta_T^2)^(1/2) (the guaranteed bound for "equilibrated",
+    :mod:`ngdgfric.equilibration`); ``kind``; ``guaranteed`` (True only for an equilibrated bound whose
+    assumptions were all met) and ``reason`` (why not)."""
 
     eta_T_squared: np.ndarray
     terms_squared: dict
     eta_h: float
+    kind: str = "residual"
+    guaranteed: bool = False
+    reason: str = "the residual estimator's constants are not known"
 
 
 def div_stress(material, u, pressure=True):
@@ -143,6 +149,7 @@ def element_integrals(mesh, integrands, degrees, extra=2):
 
 
 WEIGHTS = ("energy", "paper")
+KINDS = ("residual", "equilibrated")  # the estimators of :func:`estimate`
 
 
 def discrete_pressure(material, u):
@@ -159,14 +166,24 @@ def averaged_pressure(material, u, order):
 
 
 @limited_blas
-def estimate(sol, weights="energy"):
+def estimate(sol, weights="energy", kind="residual"):
     """Element indicators eta_T^2 and the six terms of eta_h for a Solution (module docstring).
 
     ``weights="paper"``: the terms of Section 4 as printed; ``weights="energy"`` (default): the
     estimate of |||u - u_h|||_h in its own units described in the module docstring.
+    ``kind="equilibrated"``: instead, the guaranteed upper bound of |||u - u_h|||_h from an equilibrated
+    stress (:func:`ngdgfric.equilibration.equilibrate`; ``weights`` does not apply).
     """
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
     if weights not in WEIGHTS:
         raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
+    if kind == "equilibrated":
+        from .equilibration import equilibrate
+
+        bound = equilibrate(sol)
+        return Estimate(eta_T_squared=bound.eta_T_squared, terms_squared=bound.terms_squared, eta_h=bound.eta_h,
+                        kind=kind, guaranteed=bound.guaranteed, reason=bound.reason)
     disc = sol.discretization
     problem, mesh, u, p = disc.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
