@@ -41,7 +41,7 @@ from .estimator import KINDS, WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, containing, hp_refine
 from .linalg import limited_blas
-from .meshes import element_diameters, netgen_mesh, refine, triangle_corners, uniform_mesh
+from .meshes import element_diameters, netgen_mesh, refine, smallest_angles, uniform_mesh
 from .methods import get_method
 from .reference import energy_norm
 from .solution import finish, solve
@@ -74,14 +74,7 @@ def dorfler_mark(element_indicators, theta=0.3):
 
 def minimum_angle(mesh):
     """The smallest interior angle of the mesh's triangles, in degrees."""
-    corners = triangle_corners(mesh)
-    smallest = np.full(len(corners), np.inf)
-    for i in range(3):
-        a = corners[:, (i + 1) % 3] - corners[:, i]
-        b = corners[:, (i + 2) % 3] - corners[:, i]
-        cos = np.sum(a * b, axis=1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
-        smallest = np.minimum(smallest, np.degrees(np.arccos(np.clip(cos, -1, 1))))
-    return float(smallest.min())
+    return float(np.degrees(smallest_angles(mesh).min()))
 
 
 FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",

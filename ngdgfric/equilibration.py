@@ -53,7 +53,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, friction_bound, normal_tangent, positive_power
-from .meshes import element_diameters, facet_indicator, triangle_corners
+from .meshes import element_diameters, facet_indicator, smallest_angles
 from .problem import coefficient, exponents, strain
 from .reference import energy_norm_squared_parts
 
@@ -189,14 +189,7 @@ def equilibrated_stress(sol, traction, skew_weight=None):
 def inf_sup_lower_bounds(mesh):
     """beta_T >= sin(omega_T / 2) per triangle, omega_T = half its smallest angle (the Horgan-Payne angle seen
     from the incentre; module docstring)."""
-    corners = triangle_corners(mesh)
-    smallest = np.full(len(corners), np.pi)
-    for i in range(3):
-        a = corners[:, (i + 1) % 3] - corners[:, i]
-        b = corners[:, (i + 2) % 3] - corners[:, i]
-        cos = np.sum(a * b, axis=1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
-        smallest = np.minimum(smallest, np.arccos(np.clip(cos, -1.0, 1.0)))
-    return np.sin(smallest / 4)
+    return np.sin(smallest_angles(mesh) / 4)
 
 
 def _element_values(mesh, density, order):

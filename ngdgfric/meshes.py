@@ -15,8 +15,8 @@ from .domain import INTERFACE
 from .mesher import default_timeout, generate, triangles_of
 
 __all__ = ["uniform_mesh", "netgen_mesh", "refine", "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator",
-           "element_diameters", "triangle_corners", "estimated_elements", "snapshot", "same_mesh", "curve",
-           "MAX_ELEMENTS"]
+           "element_diameters", "smallest_angles", "triangle_corners", "estimated_elements", "snapshot", "same_mesh",
+           "curve", "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 MAX_ELEMENTS = 10**6
@@ -249,6 +249,18 @@ def triangle_corners(mesh):
     """(ne, 3, 2) corner coordinates of every triangle, in element order."""
     points, triangles = triangles_of(mesh.ngmesh)
     return points[triangles]
+
+
+def smallest_angles(mesh):
+    """The smallest interior angle of every triangle, in radians (numpy array in element order)."""
+    corners = triangle_corners(mesh)
+    smallest = np.full(len(corners), np.pi)
+    for i in range(3):
+        a = corners[:, (i + 1) % 3] - corners[:, i]
+        b = corners[:, (i + 2) % 3] - corners[:, i]
+        cos = np.sum(a * b, axis=1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
+        smallest = np.minimum(smallest, np.arccos(np.clip(cos, -1.0, 1.0)))
+    return smallest
 
 
 def element_diameters(mesh):
