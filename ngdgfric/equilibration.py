@@ -52,9 +52,10 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import compliance, friction_bound, normal_tangent, positive_power
+from .contact import compliance, evaluate_on_contact, friction_bound, normal_tangent, positive_power
+from .forms import element_areas
 from .meshes import element_diameters, facet_indicator, smallest_angles
-from .problem import coefficient, exponents, strain
+from .problem import coefficient, exponents, strain, stress
 from .reference import energy_norm_squared_parts
 
 __all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "contact_traction",
@@ -123,8 +124,9 @@ def contact_traction(sol):
     gauss = disc.gauss
     points = gauss.points
     shape = gauss.xy.shape[:2]
-    pressure = np.broadcast_to(np.asarray(compliance(disc.problem, sol.u)(points)).ravel(), shape[0] * shape[1])
-    bound = np.broadcast_to(np.asarray(friction_bound(disc.problem, sol.u)(points)).ravel(), shape[0] * shape[1])
+    size = shape[0] * shape[1]
+    pressure = np.broadcast_to(evaluate_on_contact(compliance(disc.problem, sol.u), points), size)
+    bound = np.broadcast_to(evaluate_on_contact(friction_bound(disc.problem, sol.u), points), size)
     lam = np.clip(gauss.values(sol.lam_tau), -1.0, 1.0)
     a, d = gauss.ends[:, 0], gauss.ends[:, 1] - gauss.ends[:, 0]
     nodes = np.einsum("eqk,ek->eq", gauss.xy - a[:, None], d) / np.sum(d * d, axis=1)[:, None]
@@ -244,17 +246,14 @@ def equilibrate(sol):
     s = potential(sol)
     traction = contact_traction(sol)
     sigma, divergence = equilibrated_stress(sol, traction)
-    mu, lam = coefficient(problem.mu), coefficient(problem.lam)
+    mu = coefficient(problem.mu)
     symmetric = 0.5 * (sigma + sigma.trans)
     strain_h, strain_s = strain(u_h), strain(s)
-
-    def stiffness(e):
-        return 2 * mu * e + lam * ngs.Trace(e) * ngs.Id(2)
 
     def energy(tau):  # tau : C^-1 tau
         return ngs.InnerProduct(compliance_inverse(problem, tau), tau)
 
-    A, B = symmetric - stiffness(strain_h), stiffness(strain_s - strain_h)  # a = C^-1/2 A, b = C^-1/2 B
+    A, B = symmetric - stress(problem, strain_h), stress(problem, strain_s - strain_h)  # a = C^-1/2 A, b = C^-1/2 B
     order = 2 * k + 2
     parts = {"stress": _element_values(mesh, energy(A - B), order),
              "conformity": _element_values(mesh, energy(B), order)}
@@ -264,7 +263,7 @@ def equilibrate(sol):
     parts["contact"] = 2 * gap
     _, parts["jumps"] = energy_norm_squared_parts(problem, mesh, u_h, element_wise=True)
     beta = inf_sup_lower_bounds(mesh)
-    stiff = _element_values(mesh, 2 * mu, order) / _element_values(mesh, ngs.CF(1), 0)  # 2 mu, element mean
+    stiff = _element_values(mesh, 2 * mu, order) / element_areas(mesh).vec.FV().NumPy()  # 2 mu, element mean
     skew = _element_values(mesh, (sigma[0, 1] - sigma[1, 0]) ** 2, order)
     load_residual = coefficient(problem.f) + divergence
     residual = _element_values(mesh, load_residual * load_residual, order + BONUS)

@@ -1,6 +1,7 @@
 """The equilibrated bound (ngdgfric.equilibration): never below the true error, its stress equilibrated,
 its contact traction admissible, and the adaptive loop stopping on it."""
 
+import dataclasses
 from pathlib import Path
 
 import ngsolve as ngs
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.contact import compliance, evaluate_on_contact
 from ngdgfric.equilibration import _bernstein, contact_traction, equilibrate, inf_sup_lower_bounds
 from ngdgfric.examples import example
 from ngdgfric.meshes import facet_indicator
@@ -63,6 +65,12 @@ def test_traction_admissible():
     gauss = sol.discretization.gauss
     values_n, values_t = gauss.values(t_n), gauss.values(t_tau)
     assert np.all(values_n >= -1e-9) and np.all(np.abs(values_t) <= 450 * (1 + 1e-12))
+    # a stiff foundation (c_n = 1e5): the normal force reaches the stress, not zero (it was, while u_h was
+    # evaluated on boundary points without BoundaryFromVolumeCF)
+    stiff = dataclasses.replace(example("6.2"), c_n=1e5)
+    sol = ndf.solve(stiff, ndf.uniform_mesh(stiff, 0.25), order=2)
+    pressure = evaluate_on_contact(compliance(sol.discretization.problem, sol.u), sol.discretization.gauss.points)
+    assert np.max(sol.discretization.gauss.values(contact_traction(sol)[0])) == pytest.approx(pressure.max(), rel=0.2)
     # Bernstein polynomials: a partition of unity, so clipped coefficients bound the polynomial everywhere
     basis = _bernstein(4, np.linspace(0, 1, 50))
     assert np.allclose(basis.sum(axis=1), 1.0) and np.all(basis >= 0)
