@@ -2,7 +2,7 @@ from setuptools import find_packages, setup
 
 setup(
     name="ngdgfric",
-    version="0.1.0",
+    version="0.2.0",
     description="DG methods for 2D frictional contact with normal compliance on NGSolve (Porwal & Tanvi)",
     packages=find_packages(include=["ngdgfric", "ngdgfric.*"]),
     package_data={"ngdgfric": ["data/*.toml"]},

@@ -1,35 +1,73 @@
 """ngdgfric: DG methods for frictional contact with normal compliance on NGSolve.
 
 Porwal & Tanvi, "Unified analysis of DG methods for frictional contact problem with normal
-compliance": model (1.1)-(1.10), DG forms of Section 3, Uzawa solver of Section 6.
+compliance": model (1.1)-(1.10), DG forms of Section 3, estimator of Section 4, Section 6's
+adaptive loop.  Everything a script needs is here (:data:`__all__`); the modules below are the
+data path problem -> :mod:`ngdgfric.dg` (methods, forms, liftings, discretisation) ->
+:mod:`ngdgfric.solvers` (the contact solvers) -> estimator -> marking -> refinement.
 
-The entry points (solve, finish, estimate, adapt) limit OpenBLAS to NGDGFRIC_BLAS_THREADS threads
-(default 1) while they run (:func:`ngdgfric.linalg.blas_threads`); importing changes nothing.
+The entry points (solve, finish, estimate, adapt) limit OpenBLAS to one thread while they run
+(:func:`ngdgfric.threads.blas_threads`); importing changes nothing.  Import paths of 0.1 that
+moved in 0.2 still work for one release, with a DeprecationWarning (:mod:`ngdgfric._moved`).
 """
 
-from .adaptivity import Adaptation, adapt, dorfler_mark, minimum_angle, refine
+from importlib.metadata import PackageNotFoundError, version
+
+from . import _moved
+from .adaptivity import Adaptation, adapt, dorfler_mark
+from .checks import DataError
 from .contact import contact_state, kkt_residuals
-from .discretization import Discretization
+from .dg.discretization import Discretization
+from .dg.material import MaterialWarning
+from .dg.methods import DG_METHODS, METHODS, Method, PenaltyWarning
 from .domain import Domain, Loop
+from .equilibration import Equilibration, equilibrate
 from .errors import SolverError, TimeLimitError
 from .estimator import Estimate, estimate
 from .examples import example, example_6_1, example_6_2
 from .forces import ForceBalance, force_balance
-from .hp import HPState, hp_refine
-from .material import MaterialWarning
-from .meshes import check_mesh, netgen_mesh, uniform_mesh
-from .methods import DG_METHODS, METHODS
+from .hp import hp_refine
+from .meshes import check_mesh, netgen_mesh, refined, uniform_mesh
 from .problem import ContactProblem, Polygon
 from .problem_file import example_file, load_problem
 from .reference import Reference, energy_error, energy_norm, load_reference, save_reference
 from .solution import Solution, finish, solve
+from .solvers.fixed_point import FixedPointOptions
+from .solvers.newton import NewtonOptions
+from .solvers.options import SolverOptions
+from .solvers.pardiso import PardisoError
+from .solvers.uzawa import UzawaOptions
 from .transfer import WarmStart
 
-__all__ = ["ContactProblem", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2", "load_problem",
-           "example_file",
-           "uniform_mesh", "netgen_mesh", "check_mesh", "Discretization", "METHODS", "DG_METHODS",
-           "solve", "finish", "Solution", "WarmStart", "SolverError", "TimeLimitError", "MaterialWarning",
-           "contact_state", "kkt_residuals", "force_balance", "ForceBalance",
-           "estimate", "Estimate", "dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle",
-           "HPState", "hp_refine",
-           "energy_norm", "Reference", "energy_error", "load_reference", "save_reference"]
+try:
+    __version__ = version("ngdgfric")
+    """The installed release (setup.py is the one place that states it)."""
+except PackageNotFoundError:  # pragma: no cover - run from a source tree that was never installed
+    __version__ = "unknown"
+
+__all__ = [
+    "__version__",
+    # scenes
+    "ContactProblem", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2", "load_problem",
+    "example_file", "DataError",
+    # meshes
+    "uniform_mesh", "netgen_mesh", "check_mesh", "refined",
+    # methods and discretisation
+    "Method", "METHODS", "DG_METHODS", "Discretization", "MaterialWarning", "PenaltyWarning",
+    # solving
+    "solve", "finish", "Solution", "WarmStart", "SolverOptions", "NewtonOptions", "UzawaOptions",
+    "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError",
+    # outputs
+    "contact_state", "kkt_residuals", "force_balance", "ForceBalance",
+    # estimators and adaptivity
+    "estimate", "Estimate", "equilibrate", "Equilibration", "dorfler_mark", "adapt", "Adaptation", "hp_refine",
+    # true errors
+    "energy_norm", "Reference", "energy_error", "load_reference", "save_reference",
+]
+
+_moved.install()
+
+
+def __getattr__(name):
+    """Top-level names of 0.1 that moved in 0.2 (``refine``, ``minimum_angle``, ``HPState``), with a warning."""
+    return _moved.moved_name(name)

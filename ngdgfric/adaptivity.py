@@ -37,17 +37,17 @@ import numpy as np
 
 from .checks import MEMORY_BUDGET, estimated_bytes
 from .contact import transitions
+from .dg.methods import get_method
 from .estimator import KINDS, WEIGHTS, estimate
 from .files import check_writable, write_csv
 from .hp import HPState, containing, hp_refine
-from .linalg import limited_blas
 from .meshes import element_diameters, netgen_mesh, refine, smallest_angles, uniform_mesh
-from .methods import get_method
 from .reference import energy_norm
 from .solution import finish, solve
+from .threads import limited_blas
 from .transfer import WarmStart, copy_orders, discontinuous, multiplier_snapshot
 
-__all__ = ["dorfler_mark", "refine", "adapt", "Adaptation", "minimum_angle", "choose_method"]
+__all__ = ["dorfler_mark", "adapt", "Adaptation", "minimum_angle", "choose_method"]
 
 
 def dorfler_mark(element_indicators, theta=0.3):
@@ -157,7 +157,7 @@ def adapt(problem, mesh=None, method=None, order=4, theta=0.8, max_levels=100, m
 
     ``gamma_lin`` (Newton solver only): solve every level but the returned one inexactly, until the
     linearisation estimate eta_lin is at most ``gamma_lin`` times eta_h (adaptive inexact Newton:
-    Ern & Vohralik, SISC 35, 2013; :mod:`ngdgfric.newton`), starting from eta_lin <= gamma_lin x the
+    Ern & Vohralik, SISC 35, 2013; :mod:`ngdgfric.solvers.newton`), starting from eta_lin <= gamma_lin x the
     previous level's eta_h; the returned level is solved to the full tolerance.
 
     mesh: initial mesh (default: :func:`initial_mesh`, uniform h = 1/2 on a rectangle, Netgen maxh = 1/2

@@ -31,13 +31,13 @@ from pathlib import Path
 
 from .adaptivity import adapt
 from .checks import DataError, check_size
+from .dg.methods import METHODS
 from .errors import SolverError
 from .estimator import KINDS, estimate
 from .examples import EXAMPLES, SCENES, example
 from .files import check_writable, write_csv, write_text
 from .forces import force_balance
 from .meshes import estimated_elements, netgen_mesh, uniform_mesh
-from .methods import METHODS
 from .output import (
     rate_text,
     uniform_markdown,

@@ -24,8 +24,8 @@ import dataclasses
 import ngsolve as ngs
 import numpy as np
 
-from .linalg import threads
 from .problem import PerSide, coefficient, exponents, strain, stress
+from .threads import threads
 
 __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "positive_power", "compliance",
            "friction_bound", "project_unit", "compliance_form", "friction_matrix",
@@ -109,7 +109,7 @@ def friction_matrix(disc, bound):
 def frozen_bound(problem, u):
     """``problem`` with the reduced law (m_t = 0) and, as its friction coefficient, the bound
     c_tau (u_n - g_a)_+^{m_t} of (1.9) at (a copy of) the GridFunction ``u``: the problem of one step of
-    the fixed point (:mod:`ngdgfric.fixed_point`).  Only c_tau and m_t differ, so a discretisation of
+    the fixed point (:mod:`ngdgfric.solvers.fixed_point`).  Only c_tau and m_t differ, so a discretisation of
     ``problem`` serves it too."""
     u_frozen = ngs.GridFunction(u.space)
     u_frozen.vec.data = u.vec

@@ -53,7 +53,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, evaluate_on_contact, friction_bound, normal_tangent, positive_power
-from .forms import element_areas
+from .dg.forms import element_areas
 from .meshes import element_diameters, facet_indicator, smallest_angles
 from .problem import coefficient, exponents, strain, stress
 from .reference import energy_norm_squared_parts

@@ -19,8 +19,8 @@ the friction force of (1.9) does; for p > 1 they carry the usual hp weights h/p 
 residual f + div sigma_h(u_h).  With a variable order (hp), p is p_T of the element integrated
 over (volume terms and the element's share of edge terms) and eta_3 uses the penalty of the
 forms, with p_e = max(p_T+, p_T-).  eta_3 uses the method's edge penalty eta p^2/h_e with the forms' h_e
-(:func:`ngdgfric.forms.penalty_length`; the others use the edge length |e|) (for the lifting
-methods 2 mu eta p^2/h_e, see :meth:`ngdgfric.methods.Method.jump_weight`).  Edge terms of interior edges are shared
+(:func:`ngdgfric.dg.forms.penalty_length`; the others use the edge length |e|) (for the lifting
+methods 2 mu eta p^2/h_e, see :meth:`ngdgfric.dg.methods.Method.jump_weight`).  Edge terms of interior edges are shared
 half-half by the two neighbours; boundary edges go to their element.  The element values are
 those of ``Integrate(..., element_wise=True)``, computed for all six terms in one assembly
 (:func:`element_integrals`).
@@ -44,7 +44,7 @@ instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an
 discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
 error (measured on :func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured`, NIPG, P3,
 nu = 0.4999, h = 1/16, before the calibration below: effectivity 12.5 with p_h, 5.5 with p~_h).
-Where the material jumps across edges (:attr:`ngdgfric.material.Material.jumps`) the pressure jumps with
+Where the material jumps across edges (:attr:`ngdgfric.dg.material.Material.jumps`) the pressure jumps with
 it and is not averaged: the terms use sigma_h(u_h) itself (still divided by 2 mu).
 
 Calibrated constant: every element indicator is multiplied by p_T^(-1/2).  The hp weights h/p
@@ -56,7 +56,7 @@ results/effectivity.md checks it on every other case (the other example, the fiv
 the manufactured solutions at E = 1 ... 1e6, nu up to 0.4999).
 
 The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies; where the material
-varies, mu and lam are the element-wise fields C_h of :mod:`ngdgfric.material` that the forms use, and
+varies, mu and lam are the element-wise fields C_h of :mod:`ngdgfric.dg.material` that the forms use, and
 eta_1 also carries their data oscillation int_T |(C - C_h) eps_h(u_h)|^2 / (2 mu) with the true C and mu
 pointwise and no calibration factor, the stress that C_h misses in energy units: zero on a mesh that
 follows the material's jumps, the error of the element means where a jump cuts elements):
@@ -73,12 +73,12 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import compliance, friction_bound, normal_tangent
-from .discretization import contact_elements
-from .forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
-from .linalg import limited_blas, threads
-from .material import BONUS
+from .dg.discretization import contact_elements
+from .dg.forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
+from .dg.material import BONUS
 from .meshes import element_diameters, facet_indicator
 from .problem import PARTS, coefficient, strain, stress
+from .threads import limited_blas, threads
 
 __all__ = ["Estimate", "estimate", "div_stress", "KINDS"]
 
@@ -102,7 +102,7 @@ class Estimate:
 def div_stress(material, u, pressure=True):
     """div sigma(u) element by element, from the Hessian of u: 2 mu div eps(u) + lam grad div u, plus
     2 eps(u) grad mu + div u grad lam where the material varies (``material``: the
-    :class:`~ngdgfric.material.Material` of the discretisation); ``pressure=False`` gives the deviatoric
+    :class:`~ngdgfric.dg.material.Material` of the discretisation); ``pressure=False`` gives the deviatoric
     part div(2 mu eps(u))."""
     mu, lam = material.mu, material.lam
     H = u.Operator("hesse")  # H[4 c + 2 a + b] = d_a d_b u_c
@@ -266,7 +266,7 @@ def _stress_and_volume_term(sol, weights):
 
 def _material_oscillation(sol, order):
     """Per element int_T (C - C_h) eps_h(u_h) : (C - C_h) eps_h(u_h) / (2 mu) dx with the problem's C and
-    mu at every point: the stress the forms' element-wise material C_h (:mod:`ngdgfric.material`) misses, in
+    mu at every point: the stress the forms' element-wise material C_h (:mod:`ngdgfric.dg.material`) misses, in
     energy units (zero where C_h = C, on a mesh that follows the material's jumps).  Gauss degree ``order``."""
     problem, u = sol.discretization.problem, sol.u
     missed = stress(problem, strain(u)) - stress(sol.discretization.material.own, strain(u))

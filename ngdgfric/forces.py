@@ -10,7 +10,7 @@ discrete problem (Lemma 3.1), sigma_tau = -beta lam_tau, beta = c_tau (u_n - g_a
     vector       F_S = -int_S (c_n (u_hn - g_a)_+^{m_n} n + beta lam_tau t) ds     (on the body)
 
 each with the contact Gauss rule of the discrete problem (p + 1 points per edge, weights omega_q of
-:class:`ngdgfric.traces.ContactTraces`, n and t at the points from its trace matrix B), so that
+:class:`ngdgfric.solvers.traces.ContactTraces`, n and t at the points from its trace matrix B), so that
 F_S . e_i = -(j_n(u_h, e_i) + g(lam_tau, e_i)) over the edges of S: the discrete contact forces of (3.3), not an
 approximation of them.  Sign conventions: n is the outward normal, t = (-n_y, n_x) the direction in which the
 boundary runs with the body on its left (counter-clockwise around the body); T_S > 0 pushes the body along t.
@@ -47,11 +47,11 @@ boundary terms:
     sum_{S supported} b_S(u_h, e_i) + j_n(u_h, e_i) + g(lam_tau, e_i) = (f, e_i) + int_{Gamma_F} g . e_i ds,
 
 b_S the part of B_h(u_h, e_i), minus the part of the right-hand side that u_D carries, on the edges of the
-Dirichlet or symmetry side S (:func:`ngdgfric.forms.dg_terms`, :func:`ngdgfric.forms.load_terms`):
+Dirichlet or symmetry side S (:func:`ngdgfric.dg.forms.dg_terms`, :func:`ngdgfric.dg.forms.load_terms`):
 -e_i . sigma_h(u_h) n + w eta p^2 / h_e [u_h - u_D] : [e_i] ds, with only normal parts (u . n) n and the weight
-w = :data:`~ngdgfric.forms.SYMMETRY_WEIGHT` on symmetry sides, plus for Bassi, Brezzi and LDG the lifting terms
+w = :data:`~ngdgfric.dg.forms.SYMMETRY_WEIGHT` on symmetry sides, plus for Bassi, Brezzi and LDG the lifting terms
 of its edges, eta sum_{e in S} (C r_e[u_h - u_D], r_e[e_i]) and sum_{e in S} (C r_0[u_h - u_D], r_e[e_i])
-(:mod:`ngdgfric.liftings`).  The reaction of S, the force the support exerts on the body, is R_S = -b_S(u_h, e_i)
+(:mod:`ngdgfric.dg.liftings`).  The reaction of S, the force the support exerts on the body, is R_S = -b_S(u_h, e_i)
 (the DG flux: int_S sigma_h(u_h) n ds minus the penalty), so that
 
     sum_S R_S + F_f + F_g + sum_C F_C = 0,      F_f = (f, e_i) (body force, (1.5)),  F_g = int_{Gamma_F} g ds (1.7),
@@ -66,10 +66,10 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import contact_rule, contact_state
-from .forms import dirichlet_load_terms, has_dirichlet_data, support_terms
-from .liftings import edge_colours, lifting_matrices, lifting_space
-from .linalg import threads
+from .dg.forms import dirichlet_load_terms, has_dirichlet_data, support_terms
+from .dg.liftings import edge_colours, lifting_matrices, lifting_space
 from .problem import coefficient, pattern
+from .threads import threads
 
 __all__ = ["Zone", "ContactSide", "Reaction", "ForceBalance", "force_balance", "contact_sides", "LAM_TOL", "SLIP_TOL"]
 
@@ -432,7 +432,7 @@ def _reactions(disc, u, constants):
 
 
 def _support_form(disc, part, side):
-    """The terms of B_h on the edges of one Dirichlet or symmetry side (:func:`ngdgfric.forms.support_terms`), as
+    """The terms of B_h on the edges of one Dirichlet or symmetry side (:func:`ngdgfric.dg.forms.support_terms`), as
     a bilinear form on V_h that is applied, not assembled."""
     u, v = disc.V.TnT()
     consistency, penalised = support_terms(disc.problem, disc.material, disc.mesh, u, v, disc.method, disc.penalty,
@@ -445,7 +445,7 @@ def _support_form(disc, part, side):
 
 def _dirichlet_load(disc, side):
     """The part of the load vector that u_D carries on one Dirichlet side
-    (:func:`ngdgfric.forms.dirichlet_load_terms`)."""
+    (:func:`ngdgfric.dg.forms.dirichlet_load_terms`)."""
     form = ngs.LinearForm(disc.V)
     for term in dirichlet_load_terms(disc.problem, disc.material, disc.mesh, disc.V.TestFunction(), disc.method,
                                      disc.penalty, disc.p, disc.h_penalty, sides=[side]):
@@ -457,7 +457,7 @@ def _dirichlet_load(disc, side):
 def _lifting_parts(disc, u, constants):
     """{side: the lifting terms of B_h(u_h, e_i) - (u_D part) on the edges of the side, an (x, y) array}.
 
-    The liftings of the edge colours (:func:`ngdgfric.liftings.lifting_matrices`): r_c[e_i] = R_c e_i lives on
+    The liftings of the edge colours (:func:`ngdgfric.dg.liftings.lifting_matrices`): r_c[e_i] = R_c e_i lives on
     the elements with a Dirichlet or symmetry edge of colour c, and no element has two edges of one colour, so
     its part on the elements of the side's edges of colour c is sum_{e in S, e in c} r_e[e_i].  Then
     eta sum_{e in S} (C r_e[u - u_D], r_e[e_i]) = eta sum_c (R_c u - r_c)^T P (R_c e_i restricted to those
@@ -506,7 +506,7 @@ def _lifting_parts(disc, u, constants):
 
 
 def _loads(disc, constants):
-    """({traction side: int_S g ds}, (f, e_i)): the load vector's terms (:func:`ngdgfric.forms.load_terms`) at
+    """({traction side: int_S g ds}, (f, e_i)): the load vector's terms (:func:`ngdgfric.dg.forms.load_terms`) at
     v = e_i."""
     problem, mesh = disc.problem, disc.mesh
     v = disc.V.TestFunction()

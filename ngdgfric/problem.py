@@ -249,10 +249,10 @@ class ContactProblem:
     {traction side: value} (sides left out are free, g = 0), u_D a dict {Dirichlet side: value} (left out:
     u_D = 0), c_n, g_a and c_tau dicts {contact side: value}; on a mesh they become CoefficientFunctions
     (:meth:`on`), and every region's interfaces are edges of the mesh, so the forms take each region's own
-    material (:mod:`ngdgfric.material`).
+    material (:mod:`ngdgfric.dg.material`).
 
     E, nu:     Young's modulus and Poisson ratio (Lame parameters ``mu``, ``lam`` by Section 6); where they
-               vary, the forms take them element by element (:mod:`ngdgfric.material`).
+               vary, the forms take them element by element (:mod:`ngdgfric.dg.material`).
     f:         body force in Omega (1.5).
     g:         traction on Gamma_F (1.7).
     c_n, m_n:  normal compliance sigma_n = -c_n (u_n - g_a)_+^{m_n} on Gamma_C (1.8), m_n >= 1.
@@ -409,7 +409,7 @@ def strain_of(u):
 
 def stress(law, e):
     """sigma = C e = lam tr(e) I + 2 mu e for a strain e, (1.3); ``law``: anything with Lame parameters
-    ``mu`` and ``lam`` (a :class:`ContactProblem`, or :class:`ngdgfric.material.Material` element by element)."""
+    ``mu`` and ``lam`` (a :class:`ContactProblem`, or :class:`ngdgfric.dg.material.Material` element by element)."""
     return 2 * law.mu * e + law.lam * ngs.Trace(e) * ngs.Id(2)
 
 

@@ -23,9 +23,9 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from .discretization import dg_space
+from .dg.discretization import dg_space
+from .dg.forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
 from .files import atomic_path
-from .forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
 from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
 from .problem import Polygon, coefficient, is_number, strain, strain_of, stress
 

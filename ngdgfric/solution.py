@@ -4,13 +4,13 @@ import time
 import warnings
 from dataclasses import dataclass, field
 
-from .discretization import Discretization
-from .fixed_point import FixedPointOptions, fixed_point
-from .linalg import limited_blas
+from .dg.discretization import Discretization
 from .meshes import snapshot
-from .newton import NewtonOptions, newton
+from .solvers.fixed_point import FixedPointOptions, fixed_point
+from .solvers.newton import NewtonOptions, newton
+from .solvers.uzawa import UzawaOptions, uzawa
+from .threads import limited_blas
 from .transfer import WarmStart, initial_guess
-from .uzawa import UzawaOptions, uzawa
 
 __all__ = ["Solution", "solve", "finish", "SOLVERS", "DEFAULT_SOLVER_TOL"]
 
@@ -29,7 +29,7 @@ class Solution:
     ``iterations``, ``history``: the nonlinear solver's iteration count and convergence history;
     ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics; ``state``: for an
     inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
-    :class:`~ngdgfric.newton.NewtonState` that :func:`finish` continues; None otherwise.
+    :class:`~ngdgfric.solvers.newton.NewtonState` that :func:`finish` continues; None otherwise.
     """
 
     problem: object
@@ -62,26 +62,26 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     solution lives on its own copy of ``mesh`` (``Solution.mesh``, :func:`ngdgfric.meshes.snapshot`), so
     ``mesh`` may be refined afterwards (a hand-written SOLVE -> ESTIMATE -> MARK -> REFINE loop) while the
     Solution stays valid and can start the next solve (``initial``).
-    method: one of ``ngdgfric.methods.METHODS`` (Section 3); order: polynomial degree p >= 1.
+    method: one of ``ngdgfric.dg.methods.METHODS`` (Section 3); order: polynomial degree p >= 1.
     eta: penalty parameter (default 30 mu, Section 6).
     solver: "newton" (default; the problem condensed onto the contact points and solved there by a
-    globalised semismooth Newton method, :func:`ngdgfric.newton.newton`, fully coupled for
-    m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.uzawa.uzawa`, m_t = 0 only) or
-    "fixed_point" (on the friction bound for m_t > 0, :func:`ngdgfric.fixed_point.fixed_point`,
+    globalised semismooth Newton method, :func:`ngdgfric.solvers.newton.newton`, fully coupled for
+    m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.solvers.uzawa.uzawa`, m_t = 0 only) or
+    "fixed_point" (on the friction bound for m_t > 0, :func:`ngdgfric.solvers.fixed_point.fixed_point`,
     option ``inner="newton"|"uzawa"``); all solve the same discrete problem.
     solver_tol: the solver's tolerance; None: ``DEFAULT_SOLVER_TOL[solver]`` (Newton: 1e-13 on the
     relative KKT residual at the contact points; Uzawa and the fixed point: 1e-8 on the relative
     max-norm change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4)).
     The old name ``tol`` still works (DeprecationWarning).
     penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
-    threshold (:func:`ngdgfric.methods.check_penalty`).
+    threshold (:func:`ngdgfric.dg.methods.check_penalty`).
     initial: a Solution (or a :class:`~ngdgfric.transfer.WarmStart`) to start from, on this mesh or on
     another, e.g. coarser, mesh of the same domain (:func:`ngdgfric.transfer.initial_guess`).
     max_ndof: refuse (ValueError, before assembly) above this many DOFs; None: above an estimated
     8 GB (:func:`ngdgfric.checks.check_size`).  Data given as CoefficientFunctions are checked
     pointwise first (:func:`ngdgfric.checks.check_data`).
-    options: the solver's options (:class:`~ngdgfric.newton.NewtonOptions`,
-    :class:`~ngdgfric.uzawa.UzawaOptions`, :class:`~ngdgfric.fixed_point.FixedPointOptions`), e.g.
+    options: the solver's options (:class:`~ngdgfric.solvers.newton.NewtonOptions`,
+    :class:`~ngdgfric.solvers.uzawa.UzawaOptions`, :class:`~ngdgfric.solvers.fixed_point.FixedPointOptions`), e.g.
     ``maxit``, ``progress`` (callable(message)); unknown names and bad values raise ValueError before
     anything is assembled.
     """

@@ -12,7 +12,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact import GaussValues
-from .discretization import dg_space
+from .dg.discretization import dg_space
 from .meshes import same_mesh
 
 __all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders", "discontinuous"]

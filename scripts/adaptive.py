@@ -18,10 +18,10 @@ import numpy as np
 from common import RESULTS, command_line, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.meshes import mesh_arrays
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
 from ngdgfric.studies import slope
 

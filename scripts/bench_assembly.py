@@ -15,10 +15,11 @@ from pathlib import Path
 from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.files import write_text
-from ngdgfric.linalg import direct_inverse, threads
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
+from ngdgfric.sparse import direct_inverse
+from ngdgfric.threads import threads
 
 
 def parse(argv=None):

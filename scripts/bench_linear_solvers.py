@@ -1,7 +1,7 @@
 """Which sparse direct solver: speed, Schur complements, what the install needs (issue 12, item 2).
 
 The contact solver condenses the DG system onto the contact Gauss points (W = B A^-1 B^T,
-:mod:`ngdgfric.condensation`), so it needs either a sparse factorisation that returns a Schur
+:mod:`ngdgfric.solvers.condensation`), so it needs either a sparse factorisation that returns a Schur
 complement, or 2M back-substitutions.  For the matrices A of Example 6.1 (SIPG symmetric, NIPG
 nonsymmetric, 1e5-4e5 DOFs) this script times, best of ``--repeat`` runs in one process:
 
@@ -9,7 +9,7 @@ nonsymmetric, 1e5-4e5 DOFs) this script times, best of ``--repeat`` runs in one 
   interface (present when the ``mkl`` wheel is installed);
 * scipy's SuperLU (``scipy.sparse.linalg.splu``) and ``pypardiso``, if installed;
 * MKL PARDISO with the Schur complement of the trace block of [[A, B^T], [B, 0]]
-  (:class:`ngdgfric.pardiso.SchurFactorization`), as the contact solver uses it;
+  (:class:`ngdgfric.solvers.pardiso.SchurFactorization`), as the contact solver uses it;
 * the same W from back-substitutions with NGSolve's fastest factorisation (the path without mkl),
   timed on 64 columns and scaled to 2M;
 
@@ -29,11 +29,11 @@ import numpy as np
 from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
-from ngdgfric import pardiso
-from ngdgfric.condensation import augmented_matrix
 from ngdgfric.files import write_text
-from ngdgfric.linalg import threads
 from ngdgfric.output import markdown_table
+from ngdgfric.solvers import pardiso
+from ngdgfric.solvers.condensation import augmented_matrix
+from ngdgfric.threads import threads
 
 CASES = [("sipg", 1, 7), ("sipg", 2, 7), ("nipg", 1, 7), ("nipg", 2, 6)]
 QUICK = [("sipg", 1, 4), ("nipg", 1, 4)]
@@ -248,7 +248,7 @@ def report(rows, packages, imports):
              markdown_table(["import", "works"], [[name, text] for name, text in imports.items()]), "",
              "- NGSolve's solvers (sparsecholesky, umfpack) come with the ngsolve wheel; no Schur complement.",
              "- MKL PARDISO comes with the `mkl` wheel (x86_64 Linux and Windows; it pulls intel-openmp, tbb and "
-             "umf); NGSolve's wheel finds it at run time, and `ngdgfric.pardiso` calls its Schur-complement "
+             "umf); NGSolve's wheel finds it at run time, and `ngdgfric.solvers.pardiso` calls its Schur-complement "
              "mode through ctypes.  pypardiso wraps the same library without the Schur complement.",
              "- scipy's SuperLU: no Schur complement, and not a dependency of ngdgfric.",
              "- MUMPS (Schur complement via ICNTL(19)): on PyPI only python-mumps 0.0.2 has a wheel, built "

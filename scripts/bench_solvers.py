@@ -29,9 +29,10 @@ from common import RESULTS, best, command_line, contact_free, run_script, save_f
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
-from ngdgfric.linalg import direct_inverse, threads
 from ngdgfric.output import markdown_table
+from ngdgfric.sparse import direct_inverse
 from ngdgfric.studies import max_rel_diff
+from ngdgfric.threads import threads
 from ngdgfric.transfer import WarmStart, multiplier_snapshot
 
 matplotlib.use("Agg")

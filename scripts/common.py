@@ -12,8 +12,8 @@ from pathlib import Path
 
 from ngdgfric import files
 from ngdgfric.examples import EXAMPLES
-from ngdgfric.linalg import call_limited
 from ngdgfric.output import write_png
+from ngdgfric.threads import call_limited
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
 
@@ -85,7 +85,7 @@ def save_figure(fig, path, dpi=120):
 
 def run_script(main):
     """A script's ``main()`` under the OpenBLAS limit of the library's entry points
-    (:func:`ngdgfric.linalg.blas_threads`): the work a script does outside solve/estimate/adapt
+    (:func:`ngdgfric.threads.blas_threads`): the work a script does outside solve/estimate/adapt
     (assembly, factorisations, dense eigenvalues) runs as the library's does."""
     return call_limited(main)
 

@@ -28,10 +28,10 @@ import numpy as np
 from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.errors import SolverError
 from ngdgfric.files import write_text
 from ngdgfric.meshes import element_diameters
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
 from ngdgfric.studies.curved import annulus_problem, inscribed, manufactured_loads, square_problem, uniform_meshes
 

@@ -26,8 +26,8 @@ from pathlib import Path
 
 from common import RESULTS, command_line, in_processes, run_script, save_figure, say, write_csv
 
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.files import write_text
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
 
 ORDERS = (1, 2, 3, 4)

@@ -29,8 +29,8 @@ from common import RESULTS, command_line, in_processes, run_script, say, write_c
 
 import ngdgfric as ndf
 from ngdgfric.contact import contact_state, rounding_residual
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.files import write_text
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
 from ngdgfric.problem import strain_of, stress
 from ngdgfric.studies import slope

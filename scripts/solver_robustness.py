@@ -1,7 +1,7 @@
 """Robustness of the default solver (condensation + semismooth Newton) over the data: issue 12, item 6.
 
 Every case is one ``ndf.solve(problem, mesh, method=..., order=...)`` with the default solver
-(:mod:`ngdgfric.newton`).  A case passes iff the solve raises nothing and the solution satisfies
+(:mod:`ngdgfric.solvers.newton`).  A case passes iff the solve raises nothing and the solution satisfies
 the discrete KKT system (3.3)-(3.4) of Lemma 3.1 at round-off (``ndf.kkt_residuals``):
 
     lam_excess = max(|l| - 1, 0) <= 1e-14,     complementarity <= 1e-12,
@@ -51,17 +51,17 @@ import numpy as np
 from common import RESULTS, command_line, in_processes, run_script, say, write_csv
 
 import ngdgfric as ndf
-from ngdgfric.condensation import Condensation
 from ngdgfric.contact import rounding_residual
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
-from ngdgfric.reduced import ReducedContact
+from ngdgfric.solvers.condensation import Condensation
+from ngdgfric.solvers.reduced import ReducedContact
+from ngdgfric.solvers.uzawa import REPORT_EVERY
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.studies.manufactured import contact_manufactured, friction_manufactured
 from ngdgfric.studies.scenes import strip
-from ngdgfric.uzawa import REPORT_EVERY
 
 # ============================================================================ PARAMETERS
 SEED = 20261112
@@ -315,7 +315,7 @@ def adapted_mesh(family, hp, levels):
         kept.update(mesh=ngs.Mesh(sol.mesh.ngmesh.Copy()), orders=sol.discretization.orders.copy())
 
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ndf.methods.PenaltyWarning)
+        warnings.simplefilter("ignore", ndf.PenaltyWarning)
         if hp:
             ndf.adapt(problem, hp=True, order=2, max_order=5, max_levels=levels, weights="paper", theta=0.3,
                       progress=None, keep=keep)

@@ -19,8 +19,8 @@ import matplotlib
 import numpy as np
 from common import RESULTS, command_line, run_script, save_figure, say, write_csv
 
+from ngdgfric.dg.methods import METHODS, SIPG_THRESHOLD
 from ngdgfric.files import write_text
-from ngdgfric.methods import METHODS, SIPG_THRESHOLD
 from ngdgfric.output import markdown_table
 from ngdgfric.studies import cases
 from ngdgfric.studies.runner import run_cases
@@ -95,7 +95,7 @@ def report(results, speedup):
               "SIPG's threshold is a constant times 2 mu + lam (at p = 1: " + ", ".join(
                   f"Example {r['example']} {r['threshold_2mu_lam']:.2f}" for r in sipg1) + "), falling with p because",
               f"the penalty carries p^2; the library warns below {SIPG_THRESHOLD} x (2 mu + lam)",
-              "(`ngdgfric.methods.SIPG_THRESHOLD`, which also covers nu = 0 ... 0.49) and raises its default above",
+              "(`ngdgfric.dg.methods.SIPG_THRESHOLD`, which also covers nu = 0 ... 0.49) and raises its default above",
               "30 mu where 30 mu is not enough.  The paper's 30 mu is " + ", ".join(
                   f"{30 / r['threshold_mu']:.2f} times the P1 threshold of Example {r['example']}" for r in sipg1)
               + ".", ""]

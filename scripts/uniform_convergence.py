@@ -19,9 +19,9 @@ from pathlib import Path
 from common import RESULTS, command_line, fmt, run_script, say, write_csv
 
 import ngdgfric as ndf
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
 from ngdgfric.reference import reference_errors
 from ngdgfric.studies import max_rel_diff, rates, uniform_study

@@ -17,8 +17,8 @@ import matplotlib
 import numpy as np
 from common import RESULTS, command_line, examples_parser, run_script, save_figure, say, write_csv
 
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.files import write_text
-from ngdgfric.methods import METHODS
 from ngdgfric.output import markdown_table
 from ngdgfric.studies.cases import precision_case
 from ngdgfric.studies.runner import run_cases

@@ -1,4 +1,4 @@
-"""Condensed contact problems (:class:`ngdgfric.reduced.ReducedContact`) for the tests of reduced,
+"""Condensed contact problems (:class:`ngdgfric.solvers.reduced.ReducedContact`) for the tests of reduced,
 complementary_energy and semismooth: random ones, and Example 6.1 with nu = 0.499 condensed."""
 
 import dataclasses
@@ -6,8 +6,8 @@ import dataclasses
 import numpy as np
 
 import ngdgfric as ndf
-from ngdgfric.condensation import Condensation
-from ngdgfric.reduced import ReducedContact
+from ngdgfric.solvers.condensation import Condensation
+from ngdgfric.solvers.reduced import ReducedContact
 
 
 def random_problem(seed, M=12, symmetric=True, redundant=False, c_n=1e3, c_tau=50.0, m_n=1.0, m_t=0.0, gap=0.0):

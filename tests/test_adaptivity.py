@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.adaptivity import _out_of_time, choose_method
+from ngdgfric.adaptivity import _out_of_time, choose_method, minimum_angle
+from ngdgfric.meshes import refine
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -18,14 +19,14 @@ ROOT = Path(__file__).resolve().parent.parent
 def test_refinement_keeps_labels_and_shape_regularity():
     p = ndf.example_6_1()
     mesh = ndf.uniform_mesh(p, 1 / 2)
-    angle = ndf.minimum_angle(mesh)
+    angle = minimum_angle(mesh)
     for _ in range(15):  # refine towards the corner (0, 0.05), where Gamma_C meets Gamma_F
         centers = [np.mean([mesh[v].point for v in el.vertices], axis=0) for el in mesh.Elements()]
         marked = np.array([np.hypot(c[0], c[1] - 0.05) < 0.4 for c in centers])
-        ndf.refine(mesh, marked)
+        refine(mesh, marked)
     assert set(mesh.GetBoundaries()) == {"contact", "dirichlet", "traction"}
     assert abs(ngs.Integrate(ngs.CF(1), mesh, definedon=mesh.Boundaries("contact")) - 1) < 1e-12
-    assert ndf.minimum_angle(mesh) >= angle - 1e-9  # newest vertex bisection: no new angles
+    assert minimum_angle(mesh) >= angle - 1e-9  # newest vertex bisection: no new angles
     assert mesh.ne > 100
 
 
@@ -120,7 +121,7 @@ def test_adapt_stops_before_a_mesh_above_the_memory_budget(monkeypatch):
 def test_inexact_levels_solve_the_returned_level_fully():
     """gamma_lin: every level's eta_lin <= gamma_lin eta_h; the returned solution meets the solver's tolerance
     (KKT conditions at round-off) and equals a full solve on its mesh (u; the multiplier is not unique on
-    hp meshes, :mod:`ngdgfric.reduced`)."""
+    hp meshes, :mod:`ngdgfric.solvers.reduced`)."""
     problem = ndf.example_6_1()
     run = ndf.adapt(problem, max_levels=8, gamma_lin=0.1, progress=None)
     for record in run.levels:

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.methods import SIPG_THRESHOLD, PenaltyWarning, get_method
+from ngdgfric.dg.methods import SIPG_THRESHOLD, PenaltyWarning, get_method
 from ngdgfric.reference import energy_norm_squared_parts
 from ngdgfric.studies.cases import (
     coercivity,

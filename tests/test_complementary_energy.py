@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from reduced_problems import law_violation, nearly_incompressible_data, random_problem
 
-from ngdgfric.complementary_energy import conjugate, energy_change, gradient
-from ngdgfric.reduced import ReducedContact
-from ngdgfric.semismooth import solve
+from ngdgfric.solvers.complementary_energy import conjugate, energy_change, gradient
+from ngdgfric.solvers.reduced import ReducedContact
+from ngdgfric.solvers.semismooth import solve
 
 
 def test_solution_minimises_the_complementary_energy():

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric import pardiso
-from ngdgfric.condensation import Condensation, augmented_matrix
+from ngdgfric.solvers import pardiso
+from ngdgfric.solvers.condensation import Condensation, augmented_matrix
 
 SOLVERS = ["ngsolve"] + (["pardiso"] if pardiso.available() else [])
 

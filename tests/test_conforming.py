@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.discretization import Discretization, conforming_space, contact_edges, edge_orders, element_edges
+from ngdgfric.dg.discretization import Discretization, conforming_space, contact_edges, edge_orders, element_edges
 from ngdgfric.hp import HPState, containing, hp_refine
 from ngdgfric.meshes import element_diameters
 from ngdgfric.studies.manufactured import contact_manufactured

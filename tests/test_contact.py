@@ -52,7 +52,7 @@ def test_residual_is_the_weak_form_of_3_3(m_n, m_t):
 
 @pytest.mark.parametrize("order", [1, 3])
 def test_compliance_form_is_the_sum_over_the_gauss_points(order):
-    """j_n(u, v) = v^T B^T f with f_n,q = omega_q c_n (u_n - g_a)_+(x_q), f_t = 0 (:mod:`ngdgfric.traces`)."""
+    """j_n(u, v) = v^T B^T f with f_n,q = omega_q c_n (u_n - g_a)_+(x_q), f_t = 0 (:mod:`ngdgfric.solvers.traces`)."""
     p = ndf.example_6_1()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4), order=order)
     u, _ = random_pair(disc, 1)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.discretization import check_order, dg_space
+from ngdgfric.dg.discretization import check_order, dg_space
 
 
 def test_dimension_of_the_dg_space():

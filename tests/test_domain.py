@@ -9,7 +9,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.domain import INTERFACE, Arc, Domain, Loop
-from ngdgfric.meshes import mesh_arrays, mesh_from_arrays
+from ngdgfric.meshes import mesh_arrays, mesh_from_arrays, refine
 
 HALF_DISK = Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})
 
@@ -100,7 +100,7 @@ def test_refinement_puts_new_boundary_points_on_the_circle_and_solve_curves_the_
     p = problem(Domain({"omega": HALF_DISK}), u_D=(0, -0.01), g_a=ngs.y)
     mesh = ndf.netgen_mesh(p, 0.5)
     for _ in range(2):
-        ndf.refine(mesh, np.ones(mesh.ne, dtype=bool))
+        refine(mesh, np.ones(mesh.ne, dtype=bool))
     points, _, segments, labels = mesh_arrays(mesh)
     on_arc = points[np.unique(segments[labels == "contact"])]
     assert np.abs(np.hypot(on_arc[:, 0], on_arc[:, 1] - 1) - 1).max() < 1e-14

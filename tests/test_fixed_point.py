@@ -8,9 +8,9 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.contact import frozen_bound
-from ngdgfric.fixed_point import FixedPointOptions, fixed_point
-from ngdgfric.newton import NewtonOptions, newton
-from ngdgfric.uzawa import UzawaOptions, uzawa
+from ngdgfric.solvers.fixed_point import FixedPointOptions, fixed_point
+from ngdgfric.solvers.newton import NewtonOptions, newton
+from ngdgfric.solvers.uzawa import UzawaOptions, uzawa
 
 
 @pytest.fixture(scope="module")
@@ -54,6 +54,6 @@ def test_the_inner_solves_get_the_outer_tolerance(m_t_1, monkeypatch):
         seen.append(options.solver_tol)
         return newton(disc, options, **kwargs)
 
-    monkeypatch.setitem(ndf.fixed_point.INNER, "newton", (spy, NewtonOptions))
+    monkeypatch.setitem(ndf.solvers.fixed_point.INNER, "newton", (spy, NewtonOptions))
     fixed_point(m_t_1, FixedPointOptions(solver_tol=1e-11))
     assert seen and set(seen) == {1e-11}

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.liftings import edge_colours, lifting_matrices, lifting_space
-from ngdgfric.meshes import facet_indicator
-from ngdgfric.methods import PenaltyWarning
+from ngdgfric.dg.liftings import edge_colours, lifting_matrices, lifting_space
+from ngdgfric.dg.methods import PenaltyWarning
+from ngdgfric.meshes import facet_indicator, refine
 
 
 @pytest.fixture(scope="module", params=["netgen", "bisected"])
@@ -15,7 +15,7 @@ def small(request):
     p = ndf.example_6_1()
     mesh = ndf.netgen_mesh(p, 0.35)  # unstructured: more colours than a structured mesh
     if request.param == "bisected":  # facet numbers then include the bisected edges: not the facet dofs
-        ndf.refine(mesh, np.arange(mesh.ne) % 3 == 0)
+        refine(mesh, np.arange(mesh.ne) % 3 == 0)
         assert mesh.nfacet > ngs.FacetFESpace(mesh, order=0).ndof
     return p, mesh, ndf.Discretization(p, mesh, order=2)
 
@@ -107,8 +107,8 @@ def test_lifting_methods_on_curved_elements():
     """On a curved mesh the mass matrix of Sigma_h has a full block per curved element and component (it was
     taken to be diagonal, and Bassi, Brezzi and LDG stopped with "not diagonal"): its inverse is exact, and the
     three methods solve a half-disk to the round-off of the KKT system."""
+    from ngdgfric.dg.liftings import _block_inverse
     from ngdgfric.domain import Domain, Loop
-    from ngdgfric.liftings import _block_inverse
 
     domain = Domain({"omega": Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})})
     p = ndf.ContactProblem(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=1e2, m_n=1, g_a=ngs.y, c_tau=0.05,
@@ -135,8 +135,8 @@ def test_the_lifting_mass_matrix_is_inverted_on_tiny_high_order_elements():
     # entries of 1.7e-13 against the diagonal of a low-degree row of a tiny element, but below 1e-13 of the
     # geometric mean of the two diagonals (the row criterion called it "not block diagonal": adapt with Bassi et
     # al. crashed on Example 6.1)
+    from ngdgfric.dg.liftings import _block_inverse
     from ngdgfric.hp import containing
-    from ngdgfric.liftings import _block_inverse
     from ngdgfric.meshes import refine
 
     problem = ndf.example_6_1()

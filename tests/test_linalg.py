@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.linalg import BlockSum, blas_threads, dense_threads, diagonal, limited_blas, sparse_sum
+from ngdgfric.sparse import BlockSum, diagonal, sparse_sum
+from ngdgfric.threads import blas_threads, dense_threads, limited_blas
 
 
 def test_block_sum_adds_the_contact_blocks_only():

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.discretization import Discretization
-from ngdgfric.material import EdgeCoefficient, Material, MaterialWarning
+from ngdgfric.dg.discretization import Discretization
+from ngdgfric.dg.material import EdgeCoefficient, Material, MaterialWarning
 from ngdgfric.studies import rates
 from ngdgfric.studies.scenes import columns, layers_indented, layers_pressure
 

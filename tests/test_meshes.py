@@ -4,7 +4,7 @@ import ngsolve as ngs
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.meshes import triangle_corners
+from ngdgfric.meshes import refine, triangle_corners
 
 
 @pytest.mark.parametrize("diagonal", ["sw-ne", "nw-se"])
@@ -22,7 +22,7 @@ def test_uniform_mesh_has_squares_of_side_h_and_the_problem_labels(diagonal):
 
 
 def test_edge_length_function_is_the_edge_length():
-    from ngdgfric.forms import edge_length
+    from ngdgfric.dg.forms import edge_length
     mesh = ndf.uniform_mesh(ndf.example_6_2(), 1 / 4)
     h_e = edge_length(mesh)
     # int_{dT} h_e ds = sum_e |e|^2 = 2 (1/4)^2 + (sqrt(2)/4)^2 on every triangle
@@ -59,7 +59,7 @@ def test_mesh_of_another_geometry_with_the_same_names_is_rejected():
         ndf.check_mesh(p, ndf.netgen_mesh(dataclasses.replace(p, geometry=shifted), 0.5))
     ndf.check_mesh(p, ndf.netgen_mesh(p, 0.3))  # its own meshes fit, also after refinement
     mesh = ndf.uniform_mesh(p, 0.25)
-    ndf.refine(mesh, [True] * mesh.ne)
+    refine(mesh, [True] * mesh.ne)
     ndf.check_mesh(p, mesh)
 
 
@@ -94,7 +94,7 @@ def test_refine_bisects_every_marked_triangle_once_or_twice(bisections, children
     problem = ndf.example_6_2()
     mesh = ndf.uniform_mesh(problem, 1 / 4)
     ne = mesh.ne
-    ndf.refine(mesh, [True] * ne, bisections=bisections)
+    refine(mesh, [True] * ne, bisections=bisections)
     assert mesh.ne == children * ne
     assert ngs.Integrate(1, mesh) == pytest.approx(1.0, rel=1e-14)
     ndf.check_mesh(problem, mesh)
@@ -103,9 +103,9 @@ def test_refine_bisects_every_marked_triangle_once_or_twice(bisections, children
 def test_refine_refuses_bad_arguments():
     mesh = ndf.uniform_mesh(ndf.example_6_2(), 1 / 2)
     with pytest.raises(ValueError, match="bisections must be 1 or 2"):
-        ndf.refine(mesh, [True] * mesh.ne, bisections=3)
+        refine(mesh, [True] * mesh.ne, bisections=3)
     with pytest.raises(ValueError, match="marked has 3 entries"):
-        ndf.refine(mesh, [True] * 3)
+        refine(mesh, [True] * 3)
 
 
 def test_triangle_corners_are_the_elements_vertices():

@@ -1,4 +1,4 @@
-"""ngdgfric.methods: the five DG methods and the conforming baseline as data rows, eta's unit, defaults above the
+"""ngdgfric.dg.methods: the five DG methods and the conforming baseline as data rows, eta's unit, defaults above the
 coercivity thresholds."""
 
 import dataclasses
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.methods import METHODS, PenaltyWarning, check_penalty, get_method
+from ngdgfric.dg.methods import METHODS, PenaltyWarning, check_penalty, get_method
 
 
 def test_method_table_shows_one_construction():

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric import pardiso
 from ngdgfric.contact import rounding_residual
 from ngdgfric.solution import finish
+from ngdgfric.solvers import pardiso
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.studies.manufactured import contact_manufactured
 from ngdgfric.studies.scenes import strip
@@ -194,7 +194,7 @@ def test_energy_tol_is_checked():
 def test_hp_mesh_with_redundant_contact_points_is_solved_by_the_proximal_point_method():
     """Contact elements of degree 1 on a mesh of degree 4: five Gauss points per contact edge carry traces of
     degree 1, W is singular and the forces are not unique (u is); the proximal point method of
-    ngdgfric.reduced converges to round-off and agrees with Uzawa (an independent solver)."""
+    ngdgfric.solvers.reduced converges to round-off and agrees with Uzawa (an independent solver)."""
     p = ndf.example_6_1()
     mesh = ndf.uniform_mesh(p, 1 / 4)
     orders = np.full(mesh.ne, 4)

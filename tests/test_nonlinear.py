@@ -9,8 +9,8 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.contact import evaluate_on_contact, normal_tangent, project_unit, residual
-from ngdgfric.nonlinear import ContactOperator, ReusedFactorization, multiplier_update, relative_change
 from ngdgfric.problem import coefficient
+from ngdgfric.solvers.nonlinear import ContactOperator, ReusedFactorization, multiplier_update, relative_change
 
 
 def setup(m_n=1.0, order=2):

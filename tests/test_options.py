@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.fixed_point import FixedPointOptions
-from ngdgfric.newton import NewtonOptions
-from ngdgfric.uzawa import UzawaOptions
+from ngdgfric.solvers.fixed_point import FixedPointOptions
+from ngdgfric.solvers.newton import NewtonOptions
+from ngdgfric.solvers.uzawa import UzawaOptions
 
 
 @pytest.mark.parametrize("options, name", [

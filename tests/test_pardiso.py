@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ngdgfric import pardiso
+from ngdgfric.solvers import pardiso
 
 pytestmark = pytest.mark.skipif(not pardiso.available(), reason="MKL PARDISO not installed (pip install mkl)")
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from reduced_problems import law_violation, random_problem
 
-from ngdgfric.semismooth import solve
+from ngdgfric.solvers.semismooth import solve
 
 
 @pytest.mark.parametrize("symmetric, redundant", [(True, False), (False, False), (True, True)])

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.adaptivity import minimum_angle
 from ngdgfric.problem import strain_of, stress
 from ngdgfric.studies.scenes import SCENES, hertz_solution, layers_indented
 
@@ -48,7 +49,7 @@ def test_every_scene_has_a_family_of_meshes_that_fit_it(name):
 
 def test_the_wedge_has_triangles_as_thin_as_its_tip():
     scene = SCENES["wedge"]()
-    assert ndf.minimum_angle(scene.mesh(0)) == pytest.approx(6.6, abs=1e-6)
+    assert minimum_angle(scene.mesh(0)) == pytest.approx(6.6, abs=1e-6)
     assert math.degrees(math.atan2(scene.problem.geometry.vertices[2][1], 2)) == pytest.approx(6.6)
 
 

@@ -75,7 +75,7 @@ def test_stability(tmp_path):
     results = run("stability", tmp_path, "--cache", str(tmp_path / "cache"))
     assert set(results) == {"threshold", "penalty", "locking", "compliance", "friction", "rho"}
     sipg = [r for r in results["threshold"] if r["method"] == "sipg"]
-    assert all(1 < r["threshold_2mu_lam"] < 4.0 for r in sipg)  # below ngdgfric.methods.SIPG_THRESHOLD[1]
+    assert all(1 < r["threshold_2mu_lam"] < 4.0 for r in sipg)  # below ngdgfric.dg.methods.SIPG_THRESHOLD[1]
     assert (tmp_path / "stability.png").exists() and "Uzawa's step rho" in (tmp_path / "stability.md").read_text()
 
 

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from reduced_problems import law_violation, random_problem
 
 import ngdgfric as ndf
-from ngdgfric.semismooth import solve
+from ngdgfric.solvers.semismooth import solve
 
 
 @pytest.mark.parametrize("symmetric", [True, False])

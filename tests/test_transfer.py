@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.discretization import dg_space
+from ngdgfric.dg.discretization import dg_space
 from ngdgfric.transfer import WarmStart, copy_orders, initial_guess, starting_point
 
 

@@ -12,16 +12,16 @@ import numpy as np
 
 from .. import contact_state, kkt_residuals
 from ..contact import normal_tangent
-from ..discretization import Discretization
+from ..dg.discretization import Discretization
+from ..dg.methods import get_method
 from ..errors import SolverError
 from ..estimator import estimate
 from ..examples import example
 from ..meshes import uniform_mesh
-from ..methods import get_method
 from ..problem import strain_of, stress
 from ..reference import energy_error, energy_norm, load_reference
 from ..solution import solve
-from ..uzawa import UzawaOptions, default_rho, uzawa
+from ..solvers.uzawa import UzawaOptions, default_rho, uzawa
 from .manufactured import elasticity_manufactured
 from .strategies import strategy_run
 

@@ -14,7 +14,7 @@ import os
 import time
 from pathlib import Path
 
-from ..linalg import call_limited
+from ..threads import call_limited
 
 __all__ = ["case_key", "run_cases"]
 

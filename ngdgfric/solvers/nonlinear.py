@@ -1,15 +1,15 @@
 """The contact operator on the full sparse system, with factorisation reuse (Uzawa's inner problem).
 
-Uzawa's inner problem (:mod:`ngdgfric.uzawa`) is the equation
+Uzawa's inner problem (:mod:`ngdgfric.solvers.uzawa`) is the equation
 
     F(u)(v) = B_h(u, v) + j_n(u, v) + int_{Gamma_C} c_tau lam_tau v_tau ds - (f, v) = 0
 
 (Gauss rule) for a fixed multiplier lam_tau, solved by Newton's method on the compliance term.  The
 Jacobian of F is A + K_n(u), with K_n nonzero only in the blocks of the contact elements
-(:class:`ngdgfric.linalg.BlockSum`); it changes only when the set of penetrating Gauss points
+(:class:`ngdgfric.sparse.BlockSum`); it changes only when the set of penetrating Gauss points
 (or, for m_n > 1, the penetrations) change, and the last factorisation is reused until then.
 This path works on the whole sparse system with NGSolve's factorisations, independently of the
-condensation used by the default solver (:mod:`ngdgfric.newton`).
+condensation used by the default solver (:mod:`ngdgfric.solvers.newton`).
 """
 
 import time
@@ -17,9 +17,10 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .contact import compliance_form, evaluate_on_contact, normal_tangent, penetration
-from .linalg import BlockSum, direct_inverse, threads
-from .problem import exponents
+from ..contact import compliance_form, evaluate_on_contact, normal_tangent, penetration
+from ..problem import exponents
+from ..sparse import BlockSum, direct_inverse
+from ..threads import threads
 
 __all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newton_step", "relative_change"]
 

@@ -2,12 +2,12 @@
 
 The nonlinearity of (3.3)-(3.4) lives at the M Gauss points of Gamma_C.  The solver
 
-1. builds the traces B at those points (:class:`ngdgfric.traces.ContactTraces`) and condenses
+1. builds the traces B at those points (:class:`ngdgfric.solvers.traces.ContactTraces`) and condenses
    the linear part onto them: W = B A^-1 B^T and w0 = B A^-1 F, by one partial factorisation
-   (:class:`ngdgfric.condensation.Condensation`);
+   (:class:`ngdgfric.solvers.condensation.Condensation`);
 2. solves the contact laws at the points for the forces f with a globalised semismooth Newton
-   method on the dense 2M x 2M problem (:class:`ngdgfric.reduced.ReducedContact`,
-   :func:`ngdgfric.semismooth.solve`: energy descent for the symmetric methods with m_t = 0, inside a
+   method on the dense 2M x 2M problem (:class:`ngdgfric.solvers.reduced.ReducedContact`,
+   :func:`ngdgfric.solvers.semismooth.solve`: energy descent for the symmetric methods with m_t = 0, inside a
    proximal point method where W is singular (redundant points on hp meshes), a merit function with
    Levenberg-Marquardt safeguards for NIPG and m_t > 0; stopping test on the KKT residual of Lemma 3.1);
 3. recovers u = A^-1 (F - B^T f) by one substitution, and the multiplier lam_tau = f_t / beta
@@ -25,7 +25,7 @@ matters; the whole solve costs about one sparse factorisation (results/solver_be
 
 **Inexact solves** (``energy_tol``, used by the adaptive loop): the iteration also stops once the
 linearisation estimate eta_lin = (sum_q W_qq G_q^2)^(1/2), the KKT residual of the laws measured in
-the energy units of |||.|||_h (:meth:`ngdgfric.reduced.ReducedContact.linearization`), is at most
+the energy units of |||.|||_h (:meth:`ngdgfric.solvers.reduced.ReducedContact.linearization`), is at most
 ``energy_tol``.  The returned ``state`` (:class:`NewtonState`: the factorisation, the condensed
 problem and the forces) continues such a solve to the full tolerance without factorising again
 (:func:`ngdgfric.solution.finish`).
@@ -35,13 +35,13 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..errors import deadline
+from ..transfer import starting_point
 from . import semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
-from .errors import deadline
 from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
 from .reduced import ReducedContact
 from .traces import ContactTraces
-from .transfer import starting_point
 
 __all__ = ["newton", "NewtonOptions", "NewtonState"]
 
@@ -53,12 +53,12 @@ class NewtonOptions(SolverOptions):
     """The options of :func:`newton` (the keywords of ``solve(solver="newton")``).
 
     solver_tol: the relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points at which
-        the iteration stops (:mod:`ngdgfric.reduced`; round-off sets its floor).
+        the iteration stops (:mod:`ngdgfric.solvers.reduced`; round-off sets its floor).
     maxit: Newton iterations.
     progress: None, or callable(message) called after each iteration with a line such as
         "newton 3: KKT residual 1.2e-09".
     linear_solver: "auto" (MKL PARDISO if installed, else NGSolve), "pardiso" or "ngsolve"
-        (:class:`ngdgfric.condensation.Condensation`).
+        (:class:`ngdgfric.solvers.condensation.Condensation`).
     energy_tol: None, or also stop once the linearisation estimate eta_lin <= energy_tol (module
         docstring); then ``info["state"]`` can continue the solve (:class:`NewtonState`).
     max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) once the solve has
@@ -79,10 +79,10 @@ class NewtonOptions(SolverOptions):
 
 
 class NewtonState:
-    """One discretisation's condensed problem (:class:`~ngdgfric.condensation.Condensation`, one
-    factorisation) and :class:`~ngdgfric.reduced.ReducedContact`, with the current forces f.
+    """One discretisation's condensed problem (:class:`~ngdgfric.solvers.condensation.Condensation`, one
+    factorisation) and :class:`~ngdgfric.solvers.reduced.ReducedContact`, with the current forces f.
 
-    ``traces``: the :class:`~ngdgfric.traces.ContactTraces` of the problem solved (``disc.traces``, or
+    ``traces``: the :class:`~ngdgfric.solvers.traces.ContactTraces` of the problem solved (``disc.traces``, or
     those of a fixed-point step's problem)."""
 
     def __init__(self, disc, traces, linear_solver="auto"):

@@ -1,6 +1,6 @@
 """MKL PARDISO through ctypes: a sparse factorisation that returns a Schur complement.
 
-The contact solver (:mod:`ngdgfric.condensation`) needs the Schur complement of the last ``m``
+The contact solver (:mod:`ngdgfric.solvers.condensation`) needs the Schur complement of the last ``m``
 rows of a sparse matrix K, computed by one partial factorisation (PARDISO's ``iparm[35] = 2``:
 the other rows are eliminated first, the dense m x m Schur complement is returned), and solves
 with the eliminated block through the forward (phase 331) and backward (phase 333) substitutions

@@ -29,13 +29,14 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import evaluate_on_contact, friction_matrix, normal_tangent, project_unit
-from .errors import SolverError, check_deadline, deadline
-from .linalg import direct_inverse, threads
+from ..contact import evaluate_on_contact, friction_matrix, normal_tangent, project_unit
+from ..errors import SolverError, check_deadline, deadline
+from ..problem import coefficient, exponents
+from ..sparse import direct_inverse
+from ..threads import threads
+from ..transfer import starting_point
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
 from .options import SolverOptions, callback, optional, positive_integer, positive_number
-from .problem import coefficient, exponents
-from .transfer import starting_point
 
 __all__ = ["uzawa", "UzawaOptions", "default_rho", "complementarity"]
 
@@ -133,7 +134,7 @@ def uzawa(disc, options=None, initial=None, problem=None):
     frozen-bound problem, :func:`ngdgfric.contact.frozen_bound`).
     info: ``iterations``, ``history`` (changes), ``kkt_history`` (complementarity residuals), ``rho``,
     ``inner_steps``, ``factorizations``, ``timings``.  Raises :class:`SolverError` (module docstring) and
-    ValueError for m_t > 0 (Uzawa solves the reduced law; the fixed point of :mod:`ngdgfric.fixed_point`
+    ValueError for m_t > 0 (Uzawa solves the reduced law; the fixed point of :mod:`ngdgfric.solvers.fixed_point`
     runs it with the friction bound frozen).
     """
     options = UzawaOptions() if options is None else options
@@ -170,7 +171,7 @@ def uzawa(disc, options=None, initial=None, problem=None):
 
 
 def _operators(disc, problem, u, lam_tau, rho):
-    """Uzawa's inner operator F_lam_tau(u) (:class:`~ngdgfric.nonlinear.ContactOperator` with the friction force
+    """Uzawa's inner operator F_lam_tau(u) (:class:`~ngdgfric.solvers.nonlinear.ContactOperator` with the friction force
     density c_tau lam_tau) and the update lam_tau <- P_[-1,1](lam_tau + rho c_tau u_tau) (sign(u_tau) where
     c_tau = 0), a callable."""
     _, t = normal_tangent()

@@ -1,7 +1,8 @@
 """Solver options: one frozen dataclass per solver, its values checked when it is built.
 
-Each solver's options class (:class:`ngdgfric.newton.NewtonOptions`, :class:`ngdgfric.uzawa.UzawaOptions`,
-:class:`ngdgfric.fixed_point.FixedPointOptions`) derives from :class:`SolverOptions`; ``solve(**options)``
+Each solver's options class (:class:`ngdgfric.solvers.newton.NewtonOptions`,
+:class:`ngdgfric.solvers.uzawa.UzawaOptions`,
+:class:`ngdgfric.solvers.fixed_point.FixedPointOptions`) derives from :class:`SolverOptions`; ``solve(**options)``
 builds it with :meth:`SolverOptions.from_keywords`, so an unknown name or a bad value raises a
 ValueError naming it before anything is assembled.
 """

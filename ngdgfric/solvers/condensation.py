@@ -1,18 +1,18 @@
 """Static condensation of (3.3) onto the contact traces: the Delassus operator W = B A^-1 B^T.
 
-The nonlinearity of (3.1) lives at the M Gauss points of Gamma_C (:mod:`ngdgfric.traces`):
+The nonlinearity of (3.1) lives at the M Gauss points of Gamma_C (:mod:`ngdgfric.solvers.traces`):
 
     A u + B^T f = F,   w = B u   =>   w = w0 - W f,   w0 = B A^-1 F,   W = B A^-1 B^T,
 
 with f the contact forces and w the traces (u_n, u_t) at the points.  W is the Delassus operator
 of contact mechanics (a 2M x 2M dense matrix, M = (p + 1) x edges on Gamma_C); once it is known
-the contact problem is a small dense one (:mod:`ngdgfric.reduced`), and u = A^-1 (F - B^T f)
+the contact problem is a small dense one (:mod:`ngdgfric.solvers.reduced`), and u = A^-1 (F - B^T f)
 comes back with one more substitution.  Two ways to get W:
 
 * ``"pardiso"``: the matrix K = [[A, B^T], [B, 0]] factorised by MKL PARDISO with the Schur
   complement of its trace block, K_SS - B A^-1 B^T = -W, in one partial factorisation (it costs
   1.3-2 factorisations of A, measured in results/linear_solvers.md); w0 comes from its forward
-  substitution and u from its backward substitution (:class:`ngdgfric.pardiso.SchurFactorization`).
+  substitution and u from its backward substitution (:class:`ngdgfric.solvers.pardiso.SchurFactorization`).
 * ``"ngsolve"``: A factorised by NGSolve (sparsecholesky for symmetric A, else umfpack) and W
   assembled column by column from 2M back-substitutions: the same W, slower on large meshes.
   Used when the ``mkl`` wheel is not installed.
@@ -26,9 +26,10 @@ import time
 import ngsolve as ngs
 import numpy as np
 
+from ..errors import SolverError
+from ..sparse import direct_inverse
+from ..threads import threads
 from . import pardiso
-from .errors import SolverError
-from .linalg import direct_inverse, threads
 
 __all__ = ["Condensation", "LINEAR_SOLVERS", "default_linear_solver"]
 

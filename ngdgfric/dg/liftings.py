@@ -10,8 +10,8 @@ p - 1 because the jumps [v] of V_h are of degree p on the edges, and only then i
 them (||r_e([v])|| ~ h_e^-1/2 ||[v]||_e), so that the local lifting penalty of Bassi et al.
 controls every jump.
 
-With a varying material {tau} is the weighted average of :mod:`ngdgfric.material` and C is each
-element's own (the liftings then match the consistency terms of :mod:`ngdgfric.forms`).
+With a varying material {tau} is the weighted average of :mod:`ngdgfric.dg.material` and C is each
+element's own (the liftings then match the consistency terms of :mod:`ngdgfric.dg.forms`).
 
 r_e is supported on the (one or two) elements sharing e.  The edges of E_h^o are coloured so that
 no triangle has two edges of one colour; for one colour c the liftings of its edges have disjoint
@@ -33,9 +33,10 @@ from typing import NamedTuple
 import ngsolve as ngs
 import numpy as np
 
+from ..problem import coefficient, stress
+from ..sparse import diagonal
+from ..threads import threads
 from .forms import has_dirichlet_data, normal_part
-from .linalg import diagonal, threads
-from .problem import coefficient, stress
 
 __all__ = ["lifting_space", "EdgeColour", "edge_colours", "lifting_matrices", "lifting_terms"]
 
@@ -176,11 +177,11 @@ def _blocks(members, rows, cols, values):
 def lifting_matrices(problem, material, mesh, V, order, local=True, total=False):
     """(list of R_c, P = M^-1 K M^-1, list of r_c) as NGSolve sparse matrices and vectors (module docstring).
 
-    ``material``: the :class:`~ngdgfric.material.Material` (C element by element in K, and the weights of
-    the average {tau}, the same as in the consistency terms of :func:`ngdgfric.forms.dg_terms`);
+    ``material``: the :class:`~ngdgfric.dg.material.Material` (C element by element in K, and the weights of
+    the average {tau}, the same as in the consistency terms of :func:`ngdgfric.dg.forms.dg_terms`);
     ``local``: the matrices R_c of the edge colours; ``total``: append R = sum_c R_c (assembled
     directly, over all of E_h^o).  On symmetry sides the lifting sees the normal part (u . n) n of u
-    (:func:`ngdgfric.forms.normal_part`).  r_c: the liftings of the prescribed displacement u_D on Gamma_D
+    (:func:`ngdgfric.dg.forms.normal_part`).  r_c: the liftings of the prescribed displacement u_D on Gamma_D
     (the jump there is u - u_D, so r_e[u] = R_c u - r_c), None if u_D = 0.
     """
     S = lifting_space(mesh, order)
@@ -252,7 +253,7 @@ def _dirichlet_trace(problem, mesh, order):
 
 def lifting_terms(problem, material, mesh, V, order, method, eta):
     """The lifting terms of ``method``: (pairs (weight, sparse matrix on V), to be added to B_h's matrix by
-    :func:`ngdgfric.linalg.sparse_sum` (the local terms lie in the DG pattern, so they are scattered into it
+    :func:`ngdgfric.sparse.sparse_sum` (the local terms lie in the DG pattern, so they are scattered into it
     without a union pattern), and the load vector they give a prescribed displacement u_D (None if u_D = 0 or
     the method has no liftings)).
 

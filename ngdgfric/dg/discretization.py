@@ -1,7 +1,7 @@
 """The discrete problem (3.1)/(3.3) on one mesh: its spaces and the matrices of its linear part.
 
 The contact terms (forms, residual, KKT residuals) are in :mod:`ngdgfric.contact`, the traces at
-the contact Gauss points in :mod:`ngdgfric.traces`.
+the contact Gauss points in :mod:`ngdgfric.solvers.traces`.
 """
 
 import functools
@@ -11,16 +11,17 @@ from numbers import Integral, Real
 import ngsolve as ngs
 import numpy as np
 
-from .checks import check_data, check_size
-from .contact import ContactGauss, contact_measure, contact_points, multiplier_space
+from ..checks import check_data, check_size
+from ..contact import ContactGauss, contact_measure, contact_points, multiplier_space
+from ..meshes import check_mesh, curve
+from ..problem import ContactProblem
+from ..solvers.traces import ContactTraces
+from ..sparse import sparse_sum
+from ..threads import threads
 from .forms import dg_terms, edge_length, load_terms, penalty_length
 from .liftings import lifting_terms
-from .linalg import sparse_sum, threads
 from .material import Lame, Material
-from .meshes import check_mesh, curve
 from .methods import check_penalty, get_method, penalty
-from .problem import ContactProblem
-from .traces import ContactTraces
 
 __all__ = ["Discretization", "dg_space", "conforming_space", "space", "polynomial_degrees", "edge_orders",
            "contact_edges", "contact_elements", "check_order", "order_function"]
@@ -81,7 +82,7 @@ def polynomial_degrees(disc):
 
 
 def conforming_space(mesh, order, raised=()):
-    """The conforming baseline's V_h (:data:`ngdgfric.methods.METHODS` ``"cg"``): continuous vector polynomials,
+    """The conforming baseline's V_h (:data:`ngdgfric.dg.methods.METHODS` ``"cg"``): continuous vector polynomials,
     H^1 elements of degree ``order`` (p, or an integer array of p_T, one per element), each edge of the degree of
     :func:`edge_orders`.  ``raised``: edges that get the largest degree whatever their elements' (the edges on
     Gamma_C, so that the traces there are of degree p on every edge and the contact Gauss points, p per edge,
@@ -98,7 +99,7 @@ def conforming_space(mesh, order, raised=()):
 
 
 def space(problem, mesh, order, method, dgjumps=True):
-    """V_h of ``method`` (a :class:`~ngdgfric.methods.Method`): :func:`conforming_space` (its edges on Gamma_C
+    """V_h of ``method`` (a :class:`~ngdgfric.dg.methods.Method`): :func:`conforming_space` (its edges on Gamma_C
     raised) for the conforming baseline, else :func:`dg_space` (``dgjumps``: see there)."""
     if method.conforming:
         return conforming_space(mesh, order, contact_edges(problem, mesh) if np.ndim(order) else ())
@@ -142,13 +143,13 @@ class Discretization:
     Gamma_C), ``A`` (matrix of B_h),
     ``F`` (load vector of (f, v)), ``M_inv`` (inverse Gauss-rule mass matrix of Q), ``dS`` (the
     contact measure), ``h_e`` (the edge length |e|), ``h_penalty`` (the penalty's length,
-    :func:`ngdgfric.forms.penalty_length`), ``timings``; ``orders`` (p_T per element), ``order`` (the
+    :func:`ngdgfric.dg.forms.penalty_length`), ``timings``; ``orders`` (p_T per element), ``order`` (the
     largest, which sets the lifting space), ``degrees`` (the polynomial degree of u_h on every element,
     :func:`polynomial_degrees`), ``contact_order`` (the degree of the multiplier space and of the
     contact Gauss rule: ``order``, one less for the conforming baseline), ``p`` (p_T as
     a number or GridFunction, for the penalty and the estimator weights); ``material`` (the Lame
-    parameters element by element, :class:`ngdgfric.material.Material`); ``eta`` (the penalty parameter:
-    the number given or the default, an :class:`~ngdgfric.material.EdgeCoefficient` for a varying
+    parameters element by element, :class:`ngdgfric.dg.material.Material`); ``eta`` (the penalty parameter:
+    the number given or the default, an :class:`~ngdgfric.dg.material.EdgeCoefficient` for a varying
     material) and ``penalty`` (eta on every edge, an EdgeCoefficient); ``gauss`` and ``traces`` (the
     contact Gauss points and the trace matrix, built on first use).
 
@@ -256,7 +257,8 @@ class Discretization:
 
     @property
     def traces(self):
-        """The :class:`ngdgfric.traces.ContactTraces` of this discretisation and its problem (built on first use)."""
+        """The :class:`ngdgfric.solvers.traces.ContactTraces` of this discretisation and its problem
+        (built on first use)."""
         if self._traces is None:
             self._traces = ContactTraces(self, self.problem)
         return self._traces

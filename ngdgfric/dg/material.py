@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .errors import warn
-from .problem import coefficient, is_number
+from ..errors import warn
+from ..problem import coefficient, is_number
 
 __all__ = ["Material", "Lame", "EdgeCoefficient", "MaterialWarning", "element_fields", "RESOLVED"]
 

@@ -1,8 +1,8 @@
 """The contact problem condensed onto the Gauss points of Gamma_C: the laws, their residual and Jacobian.
 
 Unknowns: the contact forces f = (f_n, f_t) at the M Gauss points (f = omega x traction density,
-:mod:`ngdgfric.traces`), with the traces w(f) = w0 - W f of the displacement (W the Delassus
-operator, :mod:`ngdgfric.condensation`).  The compliance law (1.8), the friction law (1.9) and
+:mod:`ngdgfric.solvers.traces`), with the traces w(f) = w0 - W f of the displacement (W the Delassus
+operator, :mod:`ngdgfric.solvers.condensation`).  The compliance law (1.8), the friction law (1.9) and
 Lemma 3.1 hold at every point q iff G(f) = 0, where
 
     G_n = f_n - N(w_n),                N(w_n) = omega c_n (w_n - g_a)_+^{m_n},
@@ -19,8 +19,8 @@ for a point without penetration (G_n = f_n) or slipping with a fixed bound (G_t 
 e_q + N'(w_n) W_q for a penetrating point, r W_q for a sticking one (G_t = -r w_t), and
 e_q +- beta'(w_n) W_q for a slipping one with m_t > 0.  Identity rows are eliminated, so the dense
 system has one row per penetrating or sticking point.  The globalised iteration is
-:func:`ngdgfric.semismooth.solve`; for a symmetric B_h and m_t = 0 it descends the complementary
-energy of :mod:`ngdgfric.complementary_energy` over the set K of :meth:`ReducedContact.project`.
+:func:`ngdgfric.solvers.semismooth.solve`; for a symmetric B_h and m_t = 0 it descends the complementary
+energy of :mod:`ngdgfric.solvers.complementary_energy` over the set K of :meth:`ReducedContact.project`.
 
 **Stopping test** (on the KKT system, not on the change of f): W_qq |G_q| <= max(solver_tol D, W_qq e_q)
 at every point: each point's residual force measured by the displacement it causes there (at a sticking
@@ -30,14 +30,14 @@ its terms; it matters for stiff compliance, c_n -> 1e10).
 
 **Redundant points** (``redundant``: an element with two edges on Gamma_C, or p_T < p on hp
 meshes): W is singular and the forces at those points are not unique (the displacement is).  With
-energy the proximal point method of :mod:`ngdgfric.semismooth` handles them; without energy (NIPG,
+energy the proximal point method of :mod:`ngdgfric.solvers.semismooth` handles them; without energy (NIPG,
 m_t > 0) the sticking rows of J get 1e-8 on the diagonal instead (r W_qq = 1 there), which leaves the
 solutions unchanged (d = 0 iff G = 0) and picks a small step in the kernel.
 """
 
 import numpy as np
 
-from .linalg import dense_threads
+from ..threads import dense_threads
 
 __all__ = ["ReducedContact", "PointState", "dense_solve", "EPS"]
 
@@ -262,7 +262,7 @@ class ReducedContact:
         return self.w0 - self.W @ f
 
     def shift(self, mismatch):
-        """w0 += mismatch (:class:`ngdgfric.newton.NewtonState`: make w(f) the traces of the computed u)."""
+        """w0 += mismatch (:class:`ngdgfric.solvers.newton.NewtonState`: make w(f) the traces of the computed u)."""
         self.w0 = self.w0 + mismatch
 
     def multiplier(self, f):

@@ -1,6 +1,6 @@
 """The complementary energy of the condensed contact problem and its descent step (B_h symmetric, m_t = 0).
 
-For a symmetric B_h and the reduced law m_t = 0 the forces f of :class:`ngdgfric.reduced.ReducedContact`
+For a symmetric B_h and the reduced law m_t = 0 the forces f of :class:`ngdgfric.solvers.reduced.ReducedContact`
 minimise the convex complementary energy
 
     Theta(f) = 1/2 f.W f - w0.f + sum_q Phi_q*(f_n,q)   over   K = {f_n >= 0, |f_t| <= beta},
@@ -24,7 +24,7 @@ from .reduced import EPS, dense_solve
 
 __all__ = ["SIGMA", "WATCHDOG", "conjugate", "gradient", "energy_change", "energy_step", "projected_newton_step"]
 
-SIGMA = 1e-4  # sufficient-decrease fraction (also of the other globalisations, :mod:`ngdgfric.semismooth`)
+SIGMA = 1e-4  # sufficient-decrease fraction (also of the other globalisations, :mod:`ngdgfric.solvers.semismooth`)
 WATCHDOG = 1e-6  # relative KKT residual below which a rejected Newton step gets a second chance
 
 

@@ -1,7 +1,7 @@
 """The five DG methods of Section 3 and a conforming baseline as data rows, and what their penalty
 parameter eta means.
 
-All five DG methods share the volume and consistency terms of B_h (:mod:`ngdgfric.forms`) and differ in a
+All five DG methods share the volume and consistency terms of B_h (:mod:`ngdgfric.dg.forms`) and differ in a
 sign, a penalty and a lifting term:
 
     method   s    penalty on E_h^o                  global lifting   eta          default eta     stable for
@@ -23,7 +23,7 @@ for nu -> 1/2 at low p and needs data jumps on mesh edges as every method does.
 30 mu is the paper's choice (Section 6).  (*) For SIPG the default is raised to 1.5 times the
 threshold where 30 mu is not above it (nearly incompressible materials: the threshold grows like
 2 mu + lam); both examples of the paper keep 30 mu.  Where the material varies, mu and lam are those
-of each element (:mod:`ngdgfric.material`) and an edge's default eta is the harmonic mean of the two
+of each element (:mod:`ngdgfric.dg.material`) and an edge's default eta is the harmonic mean of the two
 neighbours' defaults (:func:`penalty`).  t_p is :data:`SIPG_THRESHOLD`, measured.
 Bassi et al.: eta > 3, the number of edges of a triangle (Arnold, Brezzi, Cockburn, Marini 2002,
 for liftings into a space containing eps_h(V_h)); sufficient, the measured threshold is lower.
@@ -32,10 +32,11 @@ Brezzi et al.: any eta > 0 is stable, the global lifting term adds stability.
 
 from dataclasses import dataclass
 from numbers import Real
+from types import MappingProxyType
 
 import ngsolve as ngs
 
-from .errors import warn
+from ..errors import warn
 from .material import EdgeCoefficient
 
 __all__ = ["Method", "METHODS", "DG_METHODS", "get_method", "SIPG_THRESHOLD", "PenaltyWarning", "check_penalty",
@@ -72,7 +73,7 @@ class Method:
 
     def eta_scale(self, law):
         """The unit of eta: mu for the edge penalties (eta is a stress), 1 for the liftings (``law``: anything
-        with Lame parameters ``mu``, ``lam``: a problem, or one side's :class:`~ngdgfric.material.Lame`)."""
+        with Lame parameters ``mu``, ``lam``: a problem, or one side's :class:`~ngdgfric.dg.material.Lame`)."""
         return law.mu if self.penalty == "edge" else 1.0
 
     def threshold_scale(self, law):
@@ -98,7 +99,7 @@ class Method:
 
     def jump_weight(self, material, penalty):
         """The factor of p^2 / h_e ||[u]||_e^2 that the penalty amounts to (estimator term eta_3,
-        coercivity), an :class:`~ngdgfric.material.EdgeCoefficient`: the penalty itself for the edge
+        coercivity), an :class:`~ngdgfric.dg.material.EdgeCoefficient`: the penalty itself for the edge
         penalties; (C r_e, r_e) ~ 2 mu / h_e ||[u]||^2 for the liftings, so 2 mu_e eta there (mu_e the
         harmonic mean across the edge)."""
         if self.penalty == "edge":
@@ -106,7 +107,7 @@ class Method:
         return material.harmonic(lambda law: 2 * law.mu, "2 mu").scaled(penalty.boundary, "2 mu eta")
 
 
-METHODS = {
+METHODS = MappingProxyType({
     "sipg": Method("sipg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "B_h^(1), SIPG"),
     "nipg": Method("nipg", -1, "edge", False, 30.0, (), "B_h^(2), NIPG"),
     "bassi": Method("bassi", +1, "lift", False, 6.0, (3.0,), "B_h^(3), Bassi et al."),
@@ -114,7 +115,7 @@ METHODS = {
     "ldg": Method("ldg", +1, "edge", True, 30.0, (), "B_h^(5), LDG"),
     "cg": Method("cg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "conforming H^1, Nitsche on supports",
                  conforming=True),
-}
+})
 DG_METHODS = tuple(name for name, method in METHODS.items() if not method.conforming)
 """The five DG methods of Section 3 (:data:`METHODS` without the conforming baseline)."""
 
@@ -134,7 +135,7 @@ class PenaltyWarning(UserWarning):
 def check_penalty(law, method, eta, order, action="warn"):
     """Warn (``action="warn"``), raise ValueError (``"raise"``) or do nothing (``"ignore"``) when
     eta is at or below :meth:`Method.threshold` (``law``: a problem, or Lame parameters of numbers: for a
-    varying material the largest, :meth:`ngdgfric.material.Material.largest`)."""
+    varying material the largest, :meth:`ngdgfric.dg.material.Material.largest`)."""
     if action not in ("warn", "raise", "ignore"):
         raise ValueError(f"penalty_check must be 'warn', 'raise' or 'ignore', got {action!r}")
     threshold = method.threshold(law, order)
@@ -148,7 +149,7 @@ def check_penalty(law, method, eta, order, action="warn"):
 
 
 def penalty(method, material, eta, order):
-    """eta as the :class:`~ngdgfric.material.EdgeCoefficient` of the forms: a given number (or
+    """eta as the :class:`~ngdgfric.dg.material.EdgeCoefficient` of the forms: a given number (or
     CoefficientFunction) on every edge; by default :meth:`Method.default` of each side's material, the
     harmonic mean of the two neighbours' values on interior edges (a number for a constant material)."""
     if eta is not None:

@@ -5,11 +5,11 @@ All five methods share the volume term and the consistency terms
     B_h(u, v) = (sigma_h(u), eps_h(v)) - s <[u], {sigma_h(v)}> - <[v], {sigma_h(u)}> + stabilisation,
 
 with s = +1 except NIPG (s = -1), and differ only in the stabilisation: the edge penalty
-eta p^2 / h_e [u]:[v] or the local liftings sum_e eta (C r_e[u], r_e[v]) (:mod:`ngdgfric.liftings`),
-and the global lifting (C r_0[u], r_0[v]); the rows are :data:`ngdgfric.methods.METHODS`.  The material
-enters every term from the element's own side (:class:`ngdgfric.material.Material`): the averages
+eta p^2 / h_e [u]:[v] or the local liftings sum_e eta (C r_e[u], r_e[v]) (:mod:`ngdgfric.dg.liftings`),
+and the global lifting (C r_0[u], r_0[v]); the rows are :data:`ngdgfric.dg.methods.METHODS`.  The material
+enters every term from the element's own side (:class:`ngdgfric.dg.material.Material`): the averages
 {sigma} are weighted by the stiffness of the two neighbours and the penalty is an
-:class:`~ngdgfric.material.EdgeCoefficient` (harmonic means across material jumps).
+:class:`~ngdgfric.dg.material.EdgeCoefficient` (harmonic means across material jumps).
 
 Jumps are the symmetric tensor jumps of Section 2.1, [v] = sym(v+ (x) n+ + v- (x) n-), on
 interior edges and [v] = sym((v - u_D) (x) n) on Dirichlet edges (E_h^o = E_h^i u E_h^D; the paper has
@@ -28,13 +28,13 @@ Hesthaven 2003) scales with 1 / h_T, so eta p^2 / |e| is too weak on the long ed
 (B_h loses coercivity; tests/test_forms.py).  With A, B the angles of T at the ends of e,
 2 h_T = 2 |e| / (cot A + cot B), so h_e = |e| wherever cot A + cot B <= 2: on the structured meshes of
 Section 6 (the diagonals, 2 h_T = |e|, are the edges on which the SIPG thresholds of
-:mod:`ngdgfric.methods` were measured; the legs have 2 h_T = 2 |e|) and on equilateral triangles.
+:mod:`ngdgfric.dg.methods` were measured; the legs have 2 h_T = 2 |e|) and on equilateral triangles.
 """
 
 import ngsolve as ngs
 
+from ..problem import coefficient, is_number, pattern, strain, stress
 from .material import EdgeCoefficient
-from .problem import coefficient, is_number, pattern, strain, stress
 
 __all__ = ["edge_length", "penalty_length", "element_areas", "edge_penalty", "edge_order", "dg_terms", "load_terms",
            "jump_inner", "normal_part", "has_dirichlet_data", "support_terms", "dirichlet_load_terms",
@@ -71,7 +71,7 @@ def _smaller(a, b):
 
 
 def penalty_length(mesh):
-    """The :class:`~ngdgfric.material.EdgeCoefficient` h_e = min(|e|, 2 h_T+, 2 h_T-) of the penalty (module
+    """The :class:`~ngdgfric.dg.material.EdgeCoefficient` h_e = min(|e|, 2 h_T+, 2 h_T-) of the penalty (module
     docstring); on boundary edges min(|e|, 2 h_T).  ``specialcf.mesh_size`` on a facet is the height h_T of
     the element integrated over; the neighbour's is 2 |T-| / |e|.  Compiled (``Compile()``: one fused
     expression): uncompiled, the two IfPos made SIPG's skeleton assembly twice as slow (0.21 s against
@@ -104,11 +104,11 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
 
     Returns a list of symbolic integrals (one integrator each: NGSolve assembles separate
     skeleton integrators several times faster than their sum).  Lifting terms are added by the
-    caller from :mod:`ngdgfric.liftings`.  ``u``, ``v`` are trial and test functions (or any
+    caller from :mod:`ngdgfric.dg.liftings`.  ``u``, ``v`` are trial and test functions (or any
     vector proxies) of a DG space with ``dgjumps=True`` (or of H^1 for the conforming baseline: no terms on
     interior edges); ``material``: the
-    :class:`~ngdgfric.material.Material` on the mesh; ``penalty``: eta as an
-    :class:`~ngdgfric.material.EdgeCoefficient`; ``order``: p, or the element order GridFunction of a
+    :class:`~ngdgfric.dg.material.Material` on the mesh; ``penalty``: eta as an
+    :class:`~ngdgfric.dg.material.EdgeCoefficient`; ``order``: p, or the element order GridFunction of a
     variable-order space; ``h``: the penalty length (default :func:`penalty_length`).
 
     On the symmetry sides the boundary terms act on the normal component only (Nitsche's method for
@@ -174,7 +174,7 @@ def load_terms(problem, material, mesh, v, method, penalty, order, h=None):
     """The right-hand side of (3.1): (f, v) of (1.4), the traction g on Gamma_F, and, for a prescribed
     displacement u_D on Gamma_D, the part of B_h's Dirichlet terms that u_D carries (B_h with [u] = u - u_D on
     Gamma_D): -s <u_D, sigma_h(v) n> + eta p^2 / h_e [u_D]:[v] (the lifting terms' part comes from
-    :func:`ngdgfric.liftings.lifting_terms`)."""
+    :func:`ngdgfric.dg.liftings.lifting_terms`)."""
     f, g = coefficient(problem.f), coefficient(problem.g)
     terms = [f * v * ngs.dx]
     if any(name in mesh.GetBoundaries() for name in problem.sides("traction")):

@@ -12,7 +12,7 @@ the stiffness of the body: its Lipschitz constant grows like the slope c_tau m_t
 (u_n - g_a)_+^{m_t - 1} of the bound (on Example 6.1, m_t = 1, h = 1/16: contraction factor
 about 0.25 c_tau / 450; it stalled at c_tau = 1800 and 3600, results/mt.md).  For large c_tau
 the iteration stalls, or a warm-started inner solve cycles because the frozen bound jumps
-between outer iterations; the coupled semismooth Newton (:func:`ngdgfric.newton.newton`)
+between outer iterations; the coupled semismooth Newton (:func:`ngdgfric.solvers.newton.newton`)
 converged in all these cases.  For m_t = 0 the bound does not depend on u and one inner solve
 is the answer.
 """
@@ -24,13 +24,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import frozen_bound
-from .errors import SolverError, TimeLimitError, check_deadline, deadline
+from ..contact import frozen_bound
+from ..errors import SolverError, TimeLimitError, check_deadline, deadline
+from ..problem import exponents
+from ..transfer import starting_point
 from .newton import NewtonOptions, newton
 from .nonlinear import relative_change
 from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
-from .problem import exponents
-from .transfer import starting_point
 from .uzawa import UzawaOptions, uzawa
 
 __all__ = ["fixed_point", "FixedPointOptions", "INNER"]
@@ -52,8 +52,8 @@ class FixedPointOptions(SolverOptions):
     maxit: outer iterations.
     progress: None, or callable(message) called after each outer iteration with a line such as
         "fixed point 3: relative change 1.2e-05".
-    inner: the options of the inner solver, :class:`~ngdgfric.newton.NewtonOptions` (the default) or
-        :class:`~ngdgfric.uzawa.UzawaOptions`, whose type chooses it.  As keywords (:meth:`from_keywords`):
+    inner: the options of the inner solver, :class:`~ngdgfric.solvers.newton.NewtonOptions` (the default) or
+        :class:`~ngdgfric.solvers.uzawa.UzawaOptions`, whose type chooses it.  As keywords (:meth:`from_keywords`):
         ``inner="newton"`` or ``"uzawa"`` and that solver's options other than solver_tol, maxit, progress
         and max_seconds; the inner solve gets the outer solver_tol.
     max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) after this long

@@ -18,9 +18,9 @@ matrices are B_e^T D_e V_e, so B_e = D_e^-1 V_e^-T (mass matrix)_e^T.
 import ngsolve as ngs
 import numpy as np
 
-from .contact import contact_rule, evaluate_on_contact, normal_tangent
-from .linalg import threads
-from .problem import PerSide
+from ..contact import contact_rule, evaluate_on_contact, normal_tangent
+from ..problem import PerSide
+from ..threads import threads
 
 __all__ = ["ContactTraces", "edge_jacobians"]
 
@@ -42,7 +42,7 @@ def edge_jacobians(points):
 class ContactTraces:
     """B, the weights and the data of the contact laws at the M Gauss points of Gamma_C.
 
-    ``disc``: a :class:`~ngdgfric.discretization.Discretization`; ``problem``: the problem whose contact
+    ``disc``: a :class:`~ngdgfric.dg.discretization.Discretization`; ``problem``: the problem whose contact
     law is evaluated at the points (``disc.problem``, or the problem of a fixed-point step,
     :func:`ngdgfric.contact.frozen_bound`, which differs from it in c_tau and m_t only).
     Attributes: ``rows``, ``cols``, ``values`` (B as COO triplets, shape ``(2 M, ndof)``),

@@ -1,10 +1,11 @@
-"""The globalised semismooth Newton method for the condensed contact problem G(f) = 0 of :mod:`ngdgfric.reduced`.
+"""The globalised semismooth Newton method for the condensed contact problem G(f) = 0
+(:mod:`ngdgfric.solvers.reduced`).
 
-Newton directions J d = -G (:meth:`ngdgfric.reduced.ReducedContact.newton_direction`) with one of
+Newton directions J d = -G (:meth:`ngdgfric.solvers.reduced.ReducedContact.newton_direction`) with one of
 three globalisations, and two outer loops around them:
 
 * B_h symmetric and m_t = 0: descent of the complementary energy Theta over K
-  (:mod:`ngdgfric.complementary_energy`).
+  (:mod:`ngdgfric.solvers.complementary_energy`).
 * NIPG with m_t = 0 (no energy): merit Psi(f) = 1/2 sum_q W_qq G_q^2 (energy units).  Newton steps
   with non-monotone Armijo backtracking (reference: the largest of the last five Psi; Grippo,
   Lampariello & Lucidi 1986); when that fails, a Levenberg-Marquardt step
@@ -26,7 +27,7 @@ three globalisations, and two outer loops around them:
   s = 1e-6, then s multiplied by 4 (the factor squared after a success, square-rooted after a
   failure) up to 1, so the solution branch is followed from the contractive regime of small c_tau.
 
-**Proximal point method** (redundant points with energy, :mod:`ngdgfric.reduced`).  With W singular
+**Proximal point method** (redundant points with energy, :mod:`ngdgfric.solvers.reduced`).  With W singular
 the energy method stalls: whole groups of points are degenerate (stick and slip both hold for some
 of the optimal forces) and the Newton iterates wander along the set of minimisers (captured final hp
 level of Example 6.1, M = 1926: the stick set swinging by 200 points, no convergence in 100
@@ -51,8 +52,8 @@ loosened the stopping test at sticking points.)
 
 import numpy as np
 
+from ..errors import SolverError, TimeLimitError, check_deadline
 from .complementary_energy import SIGMA, energy_step
-from .errors import SolverError, TimeLimitError, check_deadline
 
 __all__ = ["solve", "iterate", "merit", "SIGMA"]
 
@@ -68,10 +69,10 @@ INNER_BUDGET = 5
 
 
 def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None, budget=None):
-    """Globalised semismooth Newton for the :class:`~ngdgfric.reduced.ReducedContact` ``problem`` from f0
+    """Globalised semismooth Newton for the :class:`~ngdgfric.solvers.reduced.ReducedContact` ``problem`` from f0
     (default 0); returns (f, info).
 
-    Stops when :meth:`~ngdgfric.reduced.ReducedContact.converged` to ``solver_tol`` or, if ``energy_tol``
+    Stops when :meth:`~ngdgfric.solvers.reduced.ReducedContact.converged` to ``solver_tol`` or, if ``energy_tol``
     is given, as soon as the linearisation estimate eta_lin is at most ``energy_tol`` (an inexact solve).
     ``progress``: None or callable(message), called after each iteration with a line such as
     "newton 3: KKT residual 1.2e-09".
