@@ -9,20 +9,22 @@ a point where it fails (a datum invalid only at isolated points between these ca
 ``g_a = "sqrt(x - 2)"`` or ``E = "2000*(0.5 - x)"`` used to end in a no-contact answer or a complex
 energy norm.
 
-:func:`check_size` refuses a discretisation whose estimated memory is above a budget before it is
-assembled.
+:func:`check_size` refuses a discretisation whose estimated memory is above a budget (``max_bytes``, default
+:data:`MEMORY_BUDGET`) before it is assembled.
 """
 
 import ngsolve as ngs
 import numpy as np
 
+from .bounds import DATA
+from .dg.spaces import element_dofs
 from .problem import pattern
 
 __all__ = ["check_data", "check_size", "estimated_bytes", "DataError", "MEMORY_BUDGET"]
 
-# bytes; the default limit of check_size, which estimates the peak memory of a solve as the sum over
-# elements of n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the peak resident
-# memory of Example 6.1 solves: P1 with 2e5 and 8e5 DOFs, P3 with 1.6e5 and 6.6e5, P6 with 1.1e5; 3-7 %)
+# bytes; the default of check_size's max_bytes (and of solve's and adapt's), which estimates the peak memory of
+# a solve as the sum over elements of n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the
+# peak resident memory of Example 6.1 solves: P1 with 2e5 and 8e5 DOFs, P3 with 1.6e5 and 6.6e5, P6 with 1.1e5; 3-7 %)
 MEMORY_BUDGET = 8e9
 
 
@@ -47,10 +49,10 @@ def _rule(order, shape):
     return {shape: ngs.IntegrationRule(points, [0.0] * len(points))}
 
 
-# datum: (lower bound or None, whether the lower bound itself is excluded, upper bound (excluded) or None)
-VOLUME = {"E": (0.0, True, None), "nu": (-1.0, True, 0.5), "f": (None, False, None)}
-BOUNDARY = {"traction": {"g": (None, False, None)}, "dirichlet": {"u_D": (None, False, None)},
-            "contact": {"g_a": (None, False, None), "c_n": (0.0, False, None), "c_tau": (0.0, False, None)}}
+# the data checked on the volume and on each boundary part, with their bounds (ngdgfric.bounds.DATA)
+VOLUME = {name: datum for name, datum in DATA.items() if datum.part == "region"}
+BOUNDARY = {part: {name: datum for name, datum in DATA.items() if datum.part == part and datum.kind != "number"}
+            for part in ("traction", "dirichlet", "contact")}
 
 
 def check_data(problem, mesh, order):
@@ -81,30 +83,23 @@ def _varying(problem, data):
 
 
 def _check_on(problem, data, points, where):
-    for name, (low, open_bound, high) in data.items():
+    for name, datum in data.items():
         cf = _as_cf(getattr(problem, name))
         if cf is None:
             continue
         values = np.asarray(cf(points)).reshape(len(points), -1)
-        bad = ~np.isfinite(values)
-        if low is not None:
-            bad |= (values <= low) if open_bound else (values < low)
-        if high is not None:
-            bad |= values >= high
-        rows = np.flatnonzero(np.any(bad, axis=1))
+        rows = np.flatnonzero(np.any(datum.bad(values), axis=1))
         if rows.size:
             k = int(rows[0])
             x, y = float(ngs.x(points[k])), float(ngs.y(points[k]))
             shown = float(values[k, 0]) if values.shape[1] == 1 else tuple(map(float, values[k]))
-            need = "finite" if low is None else f"finite and {'>' if open_bound else '>='} {low:g}"
-            need += "" if high is None else f" and < {high:g}"
-            raise DataError(f"{name} must be {need} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
+            raise DataError(f"{name} must be {datum.requirement()} on {where}, got {shown} at ({x:.6g}, {y:.6g})")
 
 
 def _size(orders, elements):
     """(DOFs, bytes by the memory model above MEMORY_BUDGET) of elements of ``orders``, or of
     ``elements`` elements of the one order ``orders``."""
-    n = (np.asarray(orders, dtype=float) + 1) * (np.asarray(orders, dtype=float) + 2)
+    n = element_dofs(np.asarray(orders, dtype=float))
     count = 1.0 if elements is None else float(elements)
     return float(np.sum(n)) * count, float(np.sum(n * (1000 + 270 * n))) * count
 
@@ -115,15 +110,17 @@ def estimated_bytes(orders, elements=None):
     return _size(orders, elements)[1]
 
 
-def check_size(orders, max_ndof=None, elements=None):
+def check_size(orders, max_ndof=None, elements=None, max_bytes=MEMORY_BUDGET):
     """ValueError before assembly if the DOFs of elements of ``orders`` exceed ``max_ndof``, or, for
-    ``max_ndof=None``, if the estimated memory exceeds MEMORY_BUDGET.  With ``elements``,
-    ``orders`` is one order p for that many elements (an estimate before meshing)."""
+    ``max_ndof=None``, if the estimated memory exceeds ``max_bytes`` (bytes; default :data:`MEMORY_BUDGET`, 8 GB;
+    the memory model: :func:`estimated_bytes`).  With ``elements``, ``orders`` is one order p for that many
+    elements (an estimate before meshing)."""
     ndof, memory = _size(orders, elements)
     if max_ndof is None:
-        if memory > MEMORY_BUDGET:
+        if memory > max_bytes:
+            allowed = "allowed by default" if max_bytes == MEMORY_BUDGET else f"allowed by max_bytes = {max_bytes:g}"
             raise ValueError(f"{ndof:.4g} DOFs would need about {memory / 1e9:.3g} GB, more than the "
-                             f"{MEMORY_BUDGET / 1e9:g} GB allowed by default; pass max_ndof={ndof:.0f} "
+                             f"{max_bytes / 1e9:g} GB {allowed}; pass max_ndof={ndof:.0f} "
                              f"(CLI: --max-ndof) to allow it")
     elif ndof > max_ndof:
         raise ValueError(f"{ndof:.4g} DOFs (about {memory / 1e9:.3g} GB) is more than max_ndof = {max_ndof}")

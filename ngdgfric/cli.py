@@ -14,60 +14,50 @@ file and data, mesh size, output folder, outputs of an earlier run without ``--o
 solver failure with exit code 1.  Every file is written atomically, each as soon as it is
 finished, so an interrupted run keeps what it completed.
 
-This module parses the arguments and dispatches to the library; the files and plots are made by
-:mod:`ngdgfric.output` (shared with the notebooks).
+This module parses the arguments and dispatches to the commands (:mod:`ngdgfric.commands`), printing the
+library's progress lines (the logger ``"ngdgfric"``, :mod:`ngdgfric.progress`) on stdout; the files and plots are
+made by :mod:`ngdgfric.output` (shared with the notebooks).  ``--weights`` is the deprecated old name of
+``--variant`` (a warning on stderr).
 """
 
 import argparse
 import importlib.metadata
 import inspect
-import itertools
 import math
 import os
 import sys
-import time
 import warnings
 from pathlib import Path
 
-from .adaptivity import adapt
-from .checks import DataError, check_size
+from .adaptivity import LAYERS, MAX_ORDER, adapt
+from .checks import DataError
+from .commands import COMMANDS, DEFAULT_H, NOT_REACHED, NotReached, load, outputs
 from .dg.methods import METHODS
 from .errors import SolverError
-from .estimator import KINDS, estimate
-from .examples import EXAMPLES, SCENES, example
-from .files import check_writable, write_csv, write_text
-from .forces import force_balance
-from .meshes import estimated_elements, netgen_mesh, uniform_mesh
-from .output import (
-    rate_text,
-    uniform_markdown,
-    write_adaptive_png,
-    write_contact_png,
-    write_deformed_png,
-    write_vtk,
-)
-from .problem_file import in_file, load_problem
-from .reference import energy_norm
+from .estimator import KINDS, VARIANTS
+from .examples import EXAMPLES, SCENES
+from .files import check_writable
+from .problem_file import in_file
+from .progress import printed
 from .solution import SOLVERS, solve
-from .studies import uniform_study
 
 __all__ = ["main", "run", "build_parser", "load"]
 
-DEFAULT_H = 0.125
 MAX_NDOF_HELP = "refuse meshes with more DOFs (default: refuse above an estimated 8 GB of memory)"
-
-
-NOT_REACHED = 4  # the exit code of an adaptive run that stopped before --tol
-STOPS = {"max_levels": "--levels reached", "max_ndof": "the next mesh would exceed --max-ndof",
-         "memory": "the next mesh would exceed the memory budget", "max_seconds": "--max-seconds reached"}
 
 
 class UsageError(Exception):
     """Bad command-line arguments (reported in one line instead of argparse's usage + message)."""
 
 
-class NotReached(Exception):
-    """An adaptive run stopped before its --tol (its outputs are written)."""
+
+class _Deprecated(argparse.Action):
+    """An old option name: stores its value under the new one and notes the old name in ``deprecated``, which
+    :func:`run` reports as a warning."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+        namespace.deprecated = [*getattr(namespace, "deprecated", []), (option_string, self.dest)]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -201,26 +191,26 @@ def _adaptive_parser(commands):
     sub.add_argument("--rtol", type=_number(float), default=default("adapt", "rtol"),
                      help="stop when eta_h <= RTOL |||u_h|||_h (a relative tolerance: 1e-3 for 0.1 %% of the energy "
                           "norm; with --tol, whichever is reached first); exit code as for --tol")
-    weights = default("adapt", "weights")
-    sub.add_argument("--weights", choices=["energy", "paper"], default=weights,
-                     help=f"estimator (default: {weights}): 'energy' (in the units of the energy norm) or 'paper' "
-                          "(Section 4 as printed)")
+    sub.add_argument("--variant", choices=list(VARIANTS), default=default("adapt", "variant"),
+                     help=f"variant of the residual estimator (default: {VARIANTS[0]}): 'energy' (in the units of "
+                          "the energy norm) or 'paper' (Section 4 as printed); not with --estimator equilibrated")
+    sub.add_argument("--weights", choices=list(VARIANTS), dest="variant", action=_Deprecated, default=argparse.SUPPRESS,
+                     help="deprecated alias of --variant (removed in the next release)")
     kind = default("adapt", "estimator")
     sub.add_argument("--estimator", choices=list(KINDS), default=kind,
                      help=f"estimator that marks and stops (default: {kind}): 'residual' (Section 4) or "
-                          "'equilibrated' (a guaranteed upper bound of the energy error, ngdgfric.equilibration; "
-                          "--weights does not apply to it)")
+                          "'equilibrated' (a guaranteed upper bound of the energy error, ngdgfric.equilibration)")
     hp = default("adapt", "hp")
     sub.add_argument("--hp", action=argparse.BooleanOptionalAction, default=hp,
                      help=f"hp refinement (ngdgfric.hp.hp_refine), or h refinement only "
                           f"(default: {'--hp' if hp else '--no-hp'})")
     max_order = default("adapt", "max_order")
     sub.add_argument("--max-order", type=_number(int), default=max_order,
-                     help=f"largest degree with --hp (default: {max_order})")
+                     help=f"largest degree with --hp (default: {MAX_ORDER})")
     layers = default("adapt", "layers")
     sub.add_argument("--layers", type=_number(int, low=-1, what="an integer >= 0"), default=layers,
                      help=f"extra geometric layers towards corners and ends of the contact and stick zones in each "
-                          f"hp step (default: {layers})")
+                          f"hp step (default: {LAYERS})")
 
 
 def _version():
@@ -230,161 +220,11 @@ def _version():
         return "(not installed)"
 
 
-def load(spec):
-    """(problem, tag) for PROBLEM: an example or scene name or the path of a TOML problem file."""
-    if spec in EXAMPLES or spec in SCENES:
-        return example(spec), spec.replace(".", "_")
-    path = Path(spec)
-    if not path.is_file():
-        raise FileNotFoundError(f"no problem file {spec!r} (PROBLEM is 6.1, 6.2, a shipped scene "
-                                f"({', '.join(SCENES)}) or a TOML file)")
-    return load_problem(path), path.stem
-
-
-def _mesh(problem, h, maxh, default, order, max_ndof):
-    """(mesh, description) from --h / --maxh; the size is checked before meshing (``max_ndof``)."""
-    rectangle = problem.geometry.is_rectangle
-    if maxh is None and h is None:
-        if default is None:
-            return None, "h = 1/2" if rectangle else "Netgen maxh = 1/2"
-        h, maxh = (default, None) if rectangle else (None, default)
-    try:
-        check_size(order, max_ndof, elements=estimated_elements(problem, h=h, maxh=maxh))
-    except ValueError as exc:
-        raise ValueError(f"{'--maxh' if maxh is not None else '--h'} {maxh or h:g}: {exc}") from None
-    if maxh is not None:
-        return netgen_mesh(problem, maxh, max_elements=None), f"Netgen maxh = {maxh:g}"
-    return uniform_mesh(problem, h, max_elements=None), f"uniform h = {h:g}"
-
-
-def say(message):
-    print(message, flush=True)
-
-
-def _uzawa_progress():
-    """Every tenth progress line of Uzawa (one per 1000 iterations, the command line's rate), indented."""
-    calls = itertools.count(1)
-
-    def show(message):
-        if next(calls) % 10 == 0:
-            say(f"  {message}")
-
-    return show
-
-
-def cmd_solve(args, problem, tag):
-    mesh, described = _mesh(problem, args.h, args.maxh, DEFAULT_H, args.order, args.max_ndof)
-    say(f"{problem.name}: {described}, {mesh.ne} elements; {args.method} P{args.order}, {args.solver}")
-    start = time.perf_counter()
-    sol = solve(problem, mesh, method=args.method, order=args.order, eta=args.eta, solver=args.solver,
-                solver_tol=args.solver_tol, max_ndof=args.max_ndof,
-                progress=_uzawa_progress() if args.solver == "uzawa" else None)
-    solved = time.perf_counter()
-    est = estimate(sol)
-    estimated = time.perf_counter()
-    record = dict(problem=problem.name, mesh=described, elements=mesh.ne, method=sol.method, order=sol.order,
-                  penalty=sol.eta, solver=sol.solver, ndof=sol.ndof, iterations=sol.iterations,
-                  energy_norm=energy_norm(sol), eta_h=est.eta_h,
-                  **{k: math.sqrt(v) for k, v in est.terms_squared.items()},
-                  solve_seconds=solved - start, estimate_seconds=estimated - solved)
-    say(f"  DOFs             {record['ndof']}")
-    say(f"  iterations       {record['iterations']}")
-    say(f"  |||u_h|||_h      {record['energy_norm']:.10e}")
-    say(f"  eta_h            {record['eta_h']:.10e}")
-    say(f"  time             {record['solve_seconds']:.2f} s solve, {record['estimate_seconds']:.2f} s estimate")
-    csv_path, vtu_path, png_path, forces_path, contact_path = outputs(args, tag)
-    write_csv(csv_path, [record])
-    write_vtk(vtu_path, sol)
-    balance = report_forces(sol)
-    write_deformed_png(png_path, sol, args.scale, balance.contact)
-    write_forces(forces_path, contact_path, sol, balance)
-    say(f"wrote {csv_path}, {vtu_path}, {png_path}, {forces_path}, {contact_path}")
-    return [record]
-
-
-def report_forces(sol, heading="forces on the body"):
-    """Print the forces on the body of ``sol`` (:func:`ngdgfric.forces.force_balance`) under ``heading``;
-    returns them."""
-    balance = force_balance(sol)
-    say(f"{heading} as (x, y); contact: normal = integral of the pressure, tangential = friction along t:")
-    for line in balance.summary():
-        say(f"  {line}")
-    return balance
-
-
-def write_forces(csv_path, png_path, sol, balance):
-    """The forces CSV (:meth:`ngdgfric.forces.ForceBalance.rows`) and the contact zones PNG of ``sol``."""
-    write_csv(csv_path, balance.rows())
-    write_contact_png(png_path, sol, balance.contact)
-
-
-def outputs(args, tag):
-    """The files a command writes (checked before computing: see :func:`run`)."""
-    if args.command == "solve":
-        stem = args.out / f"{tag}_{args.method}_p{args.order}"
-        return [Path(f"{stem}{suffix}") for suffix in (".csv", ".vtu", ".png", "_forces.csv", "_contact.png")]
-    if args.command == "uniform":
-        return [args.out / f"{tag}_uniform.{suffix}" for suffix in ("csv", "md")]
-    stem = args.out / f"{tag}_adaptive_{args.method or 'auto'}_p{args.order}{'_hp' if args.hp else ''}"
-    return [Path(f"{stem}{suffix}") for suffix in (".csv", ".png", "_forces.csv", "_contact.png")]
-
-
-def cmd_uniform(args, problem, tag):
-    levels = tuple(range(1, args.levels + 1))
-    try:  # before any output (uniform_study checks it again)
-        check_size(args.order, args.max_ndof, elements=estimated_elements(problem, h=2.0**-levels[-1]))
-    except ValueError as exc:
-        raise ValueError(f"--levels {args.levels}: {exc}") from None
-    csv_path, md_path = outputs(args, tag)
-    rows = []
-    for method in args.method:
-        say(f"{problem.name}: {method} P{args.order}, {args.solver}, uniform h = 2^-1 ... 2^-{levels[-1]}")
-        study, solutions = uniform_study(problem, method, args.order, levels, solver=args.solver, eta=args.eta,
-                                         progress=say, solver_tol=args.solver_tol, max_ndof=args.max_ndof)
-        for row, sol in zip(study, solutions, strict=False):
-            row = dict(method=method, order=args.order, **row, eta_h=estimate(sol).eta_h)
-            say(f"  h = 2^-{row['k']}: |||u_h - u_h/2|||_h = {row['energy']:.4e}, rate {rate_text(row['rate'])}, "
-                f"eta_h = {row['eta_h']:.4e}")
-            rows.append(row)
-        write_csv(csv_path, rows)  # each finished study at once: an interrupted run keeps it
-        write_text(md_path, uniform_markdown(f"{problem.name}: uniform meshes, P{args.order}, {args.solver}", rows))
-        say(f"wrote {csv_path}, {md_path}")
-    return rows
-
-
-def cmd_adaptive(args, problem, tag):
-    mesh, described = _mesh(problem, args.h, args.maxh, None, args.order, args.max_ndof)
-    kind = "hp" if args.hp else "h"
-    say(f"{problem.name}: P{args.order}, {kind}-adaptive from {described}, theta = {args.theta:g}")
-    csv_path, png_path, forces_path, contact_path = outputs(args, tag)
-    adaptation = adapt(problem, mesh, method=args.method, order=args.order, theta=args.theta,
-                       max_levels=args.levels, max_ndof=args.max_ndof, tol=args.tol, rtol=args.rtol, solver=args.solver,
-                       eta=args.eta,
-                       solver_tol=args.solver_tol, max_seconds=args.max_seconds,
-                       csv_path=csv_path, progress=say, hp=args.hp, max_order=args.max_order, weights=args.weights,
-                       layers=args.layers, estimator=args.estimator)
-    records = adaptation.levels
-    slope = (records, args.order) if not args.hp and len(records) > 1 else None
-    write_adaptive_png(png_path, f"{problem.name}: theta = {args.theta:g}", f"{adaptation.method} {kind}-adaptive",
-                       records, adaptation.solution.mesh, slope)
-    balance = report_forces(adaptation.solution, f"final solution ({records[-1]['ndof']} DOFs): forces on the body")
-    write_forces(forces_path, contact_path, adaptation.solution, balance)
-    say(f"wrote {csv_path}, {png_path}, {forces_path}, {contact_path}")
-    if (args.tol is not None or args.rtol is not None) and adaptation.stopped != "tol":
-        asked = " or ".join(f"--{name} {value:g}" for name, value in (("tol", args.tol), ("rtol", args.rtol))
-                            if value is not None)
-        raise NotReached(f"stopped before {asked} ({STOPS[adaptation.stopped]}): eta_h = "
-                         f"{records[-1]['eta_h']:.4e} (target {records[-1]['target']:.4e}) after {len(records)} "
-                         f"levels, {records[-1]['ndof']} DOFs")
-    return records
-
-
-COMMANDS = {"solve": cmd_solve, "uniform": cmd_uniform, "adaptive": cmd_adaptive}
-
-
 def run(argv=None):
     """Run a command; returns its records (raises on bad input, see :func:`main`)."""
     args = build_parser().parse_args(argv)
+    for old, new in getattr(args, "deprecated", []):
+        _warn(f"{old} is deprecated and will be removed in the next release: use --{new}")
     problem, tag = load(args.problem)
     if getattr(args, "h", None) is not None and not problem.geometry.is_rectangle:
         raise ValueError("--h needs a rectangle geometry; use --maxh for a general polygon")
@@ -395,8 +235,8 @@ def run(argv=None):
         if path.exists() and not args.overwrite:
             raise ValueError(f"{path} exists (an earlier run's output); pass --overwrite to replace it, or choose "
                              f"another --out")
-    with warnings.catch_warnings():
-        warnings.showwarning = lambda message, *_, **__: print(f"ngdgfric: warning: {message}", file=sys.stderr)
+    with warnings.catch_warnings(), printed():  # the library's progress lines (logger "ngdgfric") on stdout
+        warnings.showwarning = lambda message, *_, **__: _warn(message)
         try:
             return COMMANDS[args.command](args, problem, tag)
         except DataError as exc:  # found on the mesh: name the key of the problem file
@@ -433,6 +273,10 @@ def main(argv=None):
         return _fail(f"internal error: {type(exc).__name__}: {exc} (NGDGFRIC_TRACEBACK=1 shows the traceback; "
                      f"please report it)", 3)
     return 0
+
+
+def _warn(message):
+    print(f"ngdgfric: warning: {message}", file=sys.stderr)
 
 
 def _fail(message, code):

@@ -29,7 +29,8 @@ from .threads import threads
 
 __all__ = ["contact_rule", "contact_measure", "normal_tangent", "penetration", "positive_power", "compliance",
            "friction_bound", "project_unit", "compliance_form", "friction_matrix",
-           "frozen_bound", "residual", "residual_terms", "multiplier_space", "contact_points", "evaluate_on_contact",
+           "frozen_bound", "residual", "residual_terms", "multiplier_space", "contact_points", "contact_boundary",
+           "evaluate_on_contact",
            "ContactGauss",
            "GaussValues", "contact_state", "transitions", "kkt_residuals", "rounding_residual"]
 
@@ -156,6 +157,13 @@ def contact_points(problem, mesh, order):
     return mesh.MapToAllElements(contact_rule(order), mesh.Boundaries(problem.where("contact")))
 
 
+def contact_boundary(problem, mesh):
+    """The edges of Gamma_C in the order of :func:`contact_points` (edge k holds the Gauss points k q ... (k + 1) q
+    - 1): a list of (boundary element, the element of the mesh whose edge it is)."""
+    sides = set(problem.sides("contact"))
+    return [(el, mesh[el.edges[0]].elements[0]) for el in mesh.Elements(ngs.BND) if el.mat in sides]
+
+
 def evaluate_on_contact(cf, points, volume=True):
     """Values of ``cf`` at contact Gauss points; ``volume`` for volume (element) functions."""
     values = (ngs.BoundaryFromVolumeCF(cf) if volume else cf)(points)
@@ -175,12 +183,10 @@ class ContactGauss:
         self.q = order + 1
         self.xy = np.column_stack([np.asarray(ngs.x(self.points)).ravel(),
                                    np.asarray(ngs.y(self.points)).ravel()]).reshape(-1, self.q, 2)
-        ends, dofs, self.sides = [], [], []
-        for el in mesh.Elements(ngs.BND):
-            if el.mat in problem.sides("contact"):
-                ends.append([mesh[v].point for v in el.vertices])
-                dofs.append(list(Q.GetDofNrs(el)))
-                self.sides.append(el.mat)
+        edges = [el for el, _ in contact_boundary(problem, mesh)]
+        ends = [[mesh[v].point for v in el.vertices] for el in edges]
+        dofs = [list(Q.GetDofNrs(el)) for el in edges]
+        self.sides = [el.mat for el in edges]
         self.ends = np.asarray(ends, dtype=float).reshape(-1, 2, 2)
         self.dofs = np.asarray(dofs, dtype=np.int64).reshape(-1, self.q)
         self.Q = Q
@@ -294,7 +300,7 @@ def kkt_residuals(sol):
     """Violations of the discrete KKT system (3.3)-(3.4) of a Solution at the Gauss points of Gamma_C.
 
     lam_excess: max(|lam_tau| - 1, 0);  complementarity: max |lam_tau u_tau - |u_tau|| / max(|u|);
-    equilibrium: ||:func:`residual`||_2 relative to the largest of its terms B_h(u_h, .), j_n, g and (f, .)
+    equilibrium: || :func:`residual` ||_2 relative to the largest of its terms B_h(u_h, .), j_n, g and (f, .)
     (round-off level at a solution), the friction term with the bound at u_h.
     """
     state = contact_state(sol)

@@ -11,13 +11,10 @@ polygon, a half-disk, a block with a hole, two materials side by side):
   curved sides equal to the domain's area;
 * ``area``, ``perimeter``, ``bounds``, :meth:`Geometry.outline` (for plots).
 
-A :class:`Loop` is a closed counter-clockwise chain of sides, side k from ``vertices[k]`` to
-``vertices[k+1]`` (cyclic), each straight or a circular arc given by one more point it passes through.
-A :class:`Domain` is a set of named regions (each bounded by a loop; loops of two regions may share
-sides, which become interfaces, or one region's loop may lie inside another's, an inclusion) and holes
-(loops inside a region).  Netgen gets every arc as spline segments of at most 90 degrees with the
-control point at the intersection of the end tangents: its rational quadratic segments are exact
-circles then (boundary points of refined meshes lie on the circle to round-off).
+A :class:`Domain` is a set of named regions (each bounded by a :class:`~ngdgfric.loops.Loop` of straight
+sides and circular arcs, :mod:`ngdgfric.loops`; loops of two regions may share sides, which become interfaces,
+or one region's loop may lie inside another's, an inclusion) and holes (loops inside a region).  Boundary points
+of refined meshes lie on the circles to round-off (:meth:`ngdgfric.loops.Arc.pieces`).
 """
 
 import functools
@@ -26,13 +23,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import RESOLUTION, check_polygon, crossings, distances_to_sides
+from .geometry import RESOLUTION, crossings, distances_to_sides
+from .loops import Arc, Loop, end_tangents, inside, interior_point, length_of, overlap, side_key
 
 __all__ = ["Geometry", "Loop", "Domain", "Arc", "INTERFACE", "NAME", "check_name"]
 
 INTERFACE = "interface"  # the boundary name Netgen gives to sides between two regions (no condition)
 NAME = "a name of letters, digits and underscores, starting with a letter"
-ARC_SAMPLES = 64  # points per full turn when an arc is drawn or checked as a polyline
 
 
 def check_name(kind, name, interface=False):
@@ -45,221 +42,6 @@ def check_name(kind, name, interface=False):
     if name == INTERFACE:
         raise ValueError(f"{kind} {name!r} is reserved for the sides between two regions")
     return name
-
-
-@dataclass(frozen=True)
-class Arc:
-    """The circular arc from ``a`` to ``b`` through ``through``: centre, radius, start angle and signed sweep
-    (positive counter-clockwise around the centre)."""
-
-    a: tuple
-    b: tuple
-    through: tuple
-
-    def __post_init__(self):
-        (ax, ay), (bx, by), (px, py) = self.a, self.b, self.through
-        d = 2 * ((ax - px) * (by - py) - (ay - py) * (bx - px))
-        size = max(math.dist(self.a, self.b), math.dist(self.a, self.through), math.dist(self.b, self.through))
-        if abs(d) <= 1e-9 * size**2:
-            raise ValueError(f"the arc from {self.a} to {self.b} through {self.through}: the three points are on "
-                             f"a line (make it a straight side)")
-
-    @property
-    def centre(self):
-        (ax, ay), (bx, by), (px, py) = self.a, self.b, self.through
-        a2, b2, p2 = ax * ax + ay * ay, bx * bx + by * by, px * px + py * py
-        d = 2 * (ax * (by - py) + bx * (py - ay) + px * (ay - by))
-        return ((a2 * (by - py) + b2 * (py - ay) + p2 * (ay - by)) / d,
-                (a2 * (px - bx) + b2 * (ax - px) + p2 * (bx - ax)) / d)
-
-    @property
-    def radius(self):
-        return math.dist(self.centre, self.a)
-
-    def _angle(self, point):
-        cx, cy = self.centre
-        return math.atan2(point[1] - cy, point[0] - cx)
-
-    @property
-    def start(self):
-        return self._angle(self.a)
-
-    @property
-    def sweep(self):
-        """Signed angle from a to b along the arc (through ``through``)."""
-        full = 2 * math.pi
-        to_b = (self._angle(self.b) - self.start) % full
-        to_p = (self._angle(self.through) - self.start) % full
-        return to_b if to_p < to_b else to_b - full
-
-    def points(self, count):
-        """``count`` + 1 points from a to b along the arc (a and b exactly)."""
-        cx, cy, r = *self.centre, self.radius
-        angles = self.start + self.sweep * np.linspace(0.0, 1.0, count + 1)
-        xy = np.column_stack([cx + r * np.cos(angles), cy + r * np.sin(angles)])
-        xy[0], xy[-1] = self.a, self.b
-        return xy
-
-    def pieces(self):
-        """The arc as Netgen ``spline3`` pieces (start, control point, end) of at most 90 degrees each."""
-        count = max(1, math.ceil(abs(self.sweep) / (math.pi / 2) - 1e-9))
-        ends = self.points(count)
-        half = self.sweep / count / 2
-        cx, cy, r = *self.centre, self.radius
-        pieces = []
-        for k in range(count):
-            middle = self.start + self.sweep * (k + 0.5) / count
-            control = (cx + r / math.cos(half) * math.cos(middle), cy + r / math.cos(half) * math.sin(middle))
-            pieces.append((tuple(ends[k]), control, tuple(ends[k + 1])))
-        return pieces
-
-    def distance(self, xy):
-        """Distances of points xy (m, 2) to the arc."""
-        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-        cx, cy = self.centre
-        angle = (np.arctan2(xy[:, 1] - cy, xy[:, 0] - cx) - self.start) % (2 * math.pi)
-        inside = angle <= self.sweep if self.sweep > 0 else angle >= 2 * math.pi + self.sweep
-        radial = np.abs(np.hypot(xy[:, 0] - cx, xy[:, 1] - cy) - self.radius)
-        ends = np.minimum(np.linalg.norm(xy - self.a, axis=1), np.linalg.norm(xy - self.b, axis=1))
-        return np.where(inside | (self.sweep == 0), radial, ends)
-
-    def segment_area(self):
-        """Signed area between the chord a-b and the arc: positive where the arc lies to the right of the
-        chord (outside a counter-clockwise loop: the arc adds this area to the loop's polygon)."""
-        r, angle = self.radius, abs(self.sweep)
-        return math.copysign(0.5 * r * r * (angle - math.sin(angle)), self.sweep)
-
-    @property
-    def length(self):
-        return self.radius * abs(self.sweep)
-
-
-def _pair(where, value):
-    try:
-        x, y = value
-        x, y = float(x), float(y)
-    except (TypeError, ValueError, OverflowError):
-        raise ValueError(f"{where} must be a pair of numbers (x, y), got {value!r}") from None
-    if not (math.isfinite(x) and math.isfinite(y)):
-        raise ValueError(f"{where} must be finite, got {value!r}")
-    return x, y
-
-
-@dataclass(frozen=True)
-class Loop:
-    """A closed chain of sides, counter-clockwise: side k from ``vertices[k]`` to ``vertices[k+1]`` (cyclic),
-    named ``labels[k]``; ``arcs`` maps a side number k to a point the side passes through (a circular arc),
-    other sides are straight.  Checked: at least 2 vertices (3 if all sides are straight), a simple
-    counter-clockwise chain (:func:`ngdgfric.geometry.check_polygon` on the arcs drawn as polylines)."""
-
-    vertices: tuple
-    labels: tuple
-    arcs: tuple = ()
-
-    def __post_init__(self):
-        if isinstance(self.vertices, (str, bytes)) or not hasattr(self.vertices, "__len__"):
-            raise ValueError(f"vertices must be a list of points (x, y), got {self.vertices!r}")
-        vertices = tuple(_pair(f"vertices[{k}]", v) for k, v in enumerate(self.vertices))
-        if isinstance(self.labels, (str, bytes)) or not hasattr(self.labels, "__len__"):
-            raise ValueError(f"labels must be a list of side names, got {self.labels!r}")
-        labels = tuple(self.labels)
-        if len(labels) != len(vertices):
-            raise ValueError(f"a loop needs one label per side: {len(vertices)} sides, {len(labels)} labels")
-        arcs = dict(self.arcs)
-        for k, point in arcs.items():
-            if not isinstance(k, int) or isinstance(k, bool) or not 0 <= k < len(vertices):
-                raise ValueError(f"arcs: side {k!r} is not a side number 0 ... {len(vertices) - 1}")
-            arcs[k] = _pair(f"arcs[{k}]", point)
-        object.__setattr__(self, "vertices", vertices)
-        object.__setattr__(self, "labels", labels)
-        object.__setattr__(self, "arcs", tuple(sorted(arcs.items())))
-        if len(vertices) < (2 if arcs else 3):
-            raise ValueError(f"a loop needs at least {2 if arcs else 3} vertices, got {len(vertices)}")
-        for k in arcs:
-            self.side(k)  # a degenerate arc is refused here
-        polyline = self.polyline()
-        try:
-            check_polygon(polyline)
-        except ValueError as exc:
-            if not arcs:
-                raise
-            raise ValueError(f"the loop crosses or touches itself (checked with its arcs drawn as polylines of "
-                             f"{ARC_SAMPLES} points per turn: {exc})") from None
-        if _signed_area(polyline) <= 0:
-            raise ValueError("a loop's vertices must be counter-clockwise and enclose a positive area")
-
-    @classmethod
-    def circle(cls, centre, radius, label):
-        """A full circle as four quarter arcs, all sides named ``label``."""
-        cx, cy = _pair("centre", centre)
-        if not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
-            raise ValueError(f"radius must be a positive number, got {radius!r}")
-        at = [(cx + radius * math.cos(a), cy + radius * math.sin(a)) for a in np.arange(4) * math.pi / 2]
-        middle = [(cx + radius * math.cos(a), cy + radius * math.sin(a)) for a in (np.arange(4) + 0.5) * math.pi / 2]
-        return cls(at, (label,) * 4, tuple(enumerate(middle)))
-
-    def side(self, k):
-        """Side k: an :class:`Arc`, or the pair of its end points."""
-        a, b = self.vertices[k], self.vertices[(k + 1) % len(self.vertices)]
-        through = dict(self.arcs).get(k)
-        return (a, b) if through is None else Arc(a, b, through)
-
-    def sides(self):
-        return [self.side(k) for k in range(len(self.vertices))]
-
-    def polyline(self):
-        """The loop drawn with every arc as a polyline (ARC_SAMPLES points per turn, at least 4 per arc)."""
-        points = []
-        for side in self.sides():
-            if isinstance(side, Arc):
-                count = max(4, math.ceil(ARC_SAMPLES * abs(side.sweep) / (2 * math.pi)))
-                points.extend(map(tuple, side.points(count)[:-1]))
-            else:
-                points.append(side[0])
-        return np.asarray(points)
-
-    @property
-    def area(self):
-        """The enclosed area (exact for arcs)."""
-        return _signed_area(np.asarray(self.vertices)) + sum(
-            side.segment_area() for side in self.sides() if isinstance(side, Arc))
-
-
-def _signed_area(v):
-    v = np.asarray(v, dtype=float)
-    x0, y0 = v[0]
-    return 0.5 * float(np.sum((np.roll(v, 1, axis=0)[:, 0] - x0) * (v[:, 1] - y0)
-                              - (v[:, 0] - x0) * (np.roll(v, 1, axis=0)[:, 1] - y0)))
-
-
-def _end_tangents(side):
-    """The unit tangents of a side (a pair of points or an :class:`Arc`) at its two ends (direction ignored)."""
-    if not isinstance(side, Arc):
-        direction = np.subtract(side[1], side[0], dtype=float)
-        direction /= np.linalg.norm(direction)
-        return direction, direction
-    radii = [np.subtract(end, side.centre, dtype=float) / side.radius for end in (side.a, side.b)]
-    return tuple(np.array([-r[1], r[0]]) for r in radii)
-
-
-def _key(side):
-    """Identifies a side independently of its direction (shared sides of two regions): its end points and, for
-    an arc, its midpoint (the two halves of a circle have the same ends and centre)."""
-    if isinstance(side, Arc):
-        ends = tuple(sorted([side.a, side.b]))
-        return ends + (tuple(np.round(side.points(2)[1], 12)),)
-    return tuple(sorted(side))
-
-
-def _inside(point, loop):
-    """Whether ``point`` lies inside the loop (ray casting on its polyline)."""
-    v = loop.polyline()
-    x, y = point
-    a, b = v, np.roll(v, -1, axis=0)
-    crossing = (a[:, 1] > y) != (b[:, 1] > y)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        at = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
-    return bool(np.count_nonzero(crossing & (x < at)) % 2)
 
 
 class Geometry:
@@ -280,11 +62,11 @@ class Geometry:
         owner = {}
         for i, loop in enumerate(loops):
             for k, side in enumerate(loop.sides()):
-                owner.setdefault(_key(side), []).append((i, k))
+                owner.setdefault(side_key(side), []).append((i, k))
         segments = []
         for i, loop in enumerate(loops):
             for k, side in enumerate(loop.sides()):
-                users = owner[_key(side)]
+                users = owner[side_key(side)]
                 if len(users) > 2:
                     raise ValueError(f"a side of region {self.region_loops[i][0]!r} is shared by more than two regions")
                 if len(users) == 2:
@@ -307,13 +89,13 @@ class Geometry:
 
     def _parent(self, loop, own):
         """The innermost region whose loop contains ``loop`` (not sharing sides with it), or None."""
-        keys = {_key(side) for side in loop.sides()}
-        probe = _interior_point(loop)
+        keys = {side_key(side) for side in loop.sides()}
+        probe = interior_point(loop)
         best = None
         for j, (_, other) in enumerate(self.region_loops):
-            if j == own or keys & {_key(side) for side in other.sides()}:
+            if j == own or keys & {side_key(side) for side in other.sides()}:
                 continue
-            if _inside(probe, other) and all(_inside(v, other) for v in loop.vertices):
+            if inside(probe, other) and all(inside(v, other) for v in loop.vertices):
                 if best is None or other.area < self.region_loops[best][1].area:
                     best = j
         return best
@@ -326,7 +108,7 @@ class Geometry:
         meeting = {}
         for side, label, left, right in self.segments:
             ends = (side.a, side.b) if isinstance(side, Arc) else side
-            for end, tangent in zip(ends, _end_tangents(side), strict=True):
+            for end, tangent in zip(ends, end_tangents(side), strict=True):
                 meeting.setdefault(tuple(np.round(end, 12)), []).append((label, left, right, tangent))
         points = []
         for point, sides in meeting.items():
@@ -363,7 +145,7 @@ class Geometry:
 
     @property
     def perimeter(self):
-        return sum(_length(side) for side, label, _, _ in self.segments if label != INTERFACE)
+        return sum(length_of(side) for side, label, _, _ in self.segments if label != INTERFACE)
 
     @property
     def bounds(self):
@@ -415,7 +197,7 @@ class Geometry:
         return distance
 
     def side_length(self, label):
-        return sum(_length(side) for side, name, _, _ in self.segments if name == label)
+        return sum(length_of(side) for side, name, _, _ in self.segments if name == label)
 
     def chord_correction(self, label, ends):
         """Sum over boundary edges (ends (m, 2, 2), oriented with the domain on their left) named ``label`` of
@@ -436,44 +218,6 @@ class Geometry:
     def diameter(self):
         x0, y0, x1, y1 = self.bounds
         return max(x1 - x0, y1 - y0)
-
-
-def _overlap(a, b):
-    """The length along which sides a and b run together (on one line or one circle), 0 otherwise."""
-    if isinstance(a, Arc) != isinstance(b, Arc):
-        return 0.0
-    if isinstance(a, Arc):
-        scale = max(a.radius, b.radius)
-        if math.dist(a.centre, b.centre) > 1e-9 * scale or abs(a.radius - b.radius) > 1e-9 * scale:
-            return 0.0
-        on = b.distance(a.points(64)) <= 1e-9 * scale  # a's points on b: the overlap to 1/64 of a
-        return float(np.count_nonzero(on[:-1] & on[1:]) * a.length / 64)
-    (p, q), (r, s) = a, b
-    d = np.subtract(q, p)
-    length = float(np.hypot(*d))
-    normal = np.array([-d[1], d[0]]) / length
-    if max(abs(np.dot(np.subtract(r, p), normal)), abs(np.dot(np.subtract(s, p), normal))) > 1e-9 * length:
-        return 0.0
-    t = sorted(np.dot(np.subtract(x, p), d) / length for x in (r, s))
-    return max(0.0, min(length, t[1]) - max(0.0, t[0]))
-
-
-def _length(side):
-    return side.length if isinstance(side, Arc) else math.dist(*side)
-
-
-def _interior_point(loop):
-    """A point inside the loop: the centroid of its polyline if inside, else the midpoint of a short chord
-    across a convex vertex."""
-    v = loop.polyline()
-    centre = v.mean(axis=0)
-    if _inside(centre, loop):
-        return centre
-    for k in range(len(v)):
-        candidate = (v[k - 1] + v[(k + 1) % len(v)] + v[k]) / 3
-        if _inside(candidate, loop):
-            return candidate
-    return centre
 
 
 @dataclass(frozen=True)
@@ -539,12 +283,12 @@ class Domain(Geometry):
                 for a, b in ((loop, other), (other, loop)):
                     for side in a.sides():
                         for other_side in b.sides():
-                            if _key(side) != _key(other_side) and _overlap(side, other_side) > gap:
+                            if side_key(side) != side_key(other_side) and overlap(side, other_side) > gap:
                                 raise ValueError(f"a side of {name} runs along part of a side of {other_name}: "
                                                  f"shared sides must have the same end points (split the longer)")
         for k, hole in enumerate(self.holes):
             for name, loop in loops:
-                if loop is not hole and all(_inside(point, hole) for point in loop.polyline()):
+                if loop is not hole and all(inside(point, hole) for point in loop.polyline()):
                     raise ValueError(f"{name} lies inside holes[{k}]")
 
     @property

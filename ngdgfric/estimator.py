@@ -9,7 +9,7 @@
 
 with [u_h] = u_h - u_D on Gamma_D (a prescribed displacement) and, on symmetry sides, the jump of the
 normal part (u_h . n) n in eta_3 and the tangential traction sigma_h(u_h) n . t (which must vanish there) in
-eta_5.  These are the terms of ``estimate(sol, weights="paper")``; the default (``weights="energy"``) divides
+eta_5.  These are the terms of ``estimate(sol, variant="paper")``; the default (``variant="energy"``) divides
 the residual terms by 2 mu and replaces the pressure part of sigma_h(u_h) by a continuous average
 (below), so that eta_h estimates |||u - u_h|||_h in its units.
 
@@ -25,7 +25,7 @@ half-half by the two neighbours; boundary edges go to their element.  The elemen
 those of ``Integrate(..., element_wise=True)``, computed for all six terms in one assembly
 (:func:`element_integrals`).
 
-``weights="energy"`` (default): an estimate of |||u - u_h|||_h in its own units, robust in the
+``variant="energy"`` (default): an estimate of |||u - u_h|||_h in its own units, robust in the
 scale of E and, for the methods that do not lock, in nu -> 1/2.  Write the discrete stress as
 sigma_h = 2 mu eps_h(u_h) + p_h I with p_h = lam div_h u_h, let p~_h be the continuous average of
 p_h (:func:`averaged_pressure`) and sigma~_h = 2 mu eps_h(u_h) + p~_h I.  For v in H^1 vanishing on
@@ -67,6 +67,7 @@ follows the material's jumps, the error of the element means where a jump cuts e
     already in energy units).
 """
 
+import warnings
 from dataclasses import dataclass
 
 import ngsolve as ngs
@@ -80,7 +81,7 @@ from .meshes import element_diameters, facet_indicator
 from .problem import PARTS, coefficient, strain, stress
 from .threads import limited_blas, threads
 
-__all__ = ["Estimate", "estimate", "div_stress", "KINDS"]
+__all__ = ["Estimate", "estimate", "residual_parts", "div_stress", "KINDS", "VARIANTS"]
 
 
 @dataclass
@@ -148,7 +149,7 @@ def element_integrals(mesh, integrands, degrees, extra=2):
     return {name: values[k].copy() for k, name in enumerate(names)}
 
 
-WEIGHTS = ("energy", "paper")
+VARIANTS = ("energy", "paper")  # the variants of the residual estimator (:func:`estimate`)
 KINDS = ("residual", "equilibrated")  # the estimators of :func:`estimate`
 
 
@@ -165,35 +166,63 @@ def averaged_pressure(material, u, order):
     return pressure
 
 
+def deprecated_weights(variant, weights, where):
+    """``variant``, or the value of the old keyword ``weights`` of ``where`` (:func:`estimate`, :func:`ngdgfric.adapt`)
+    with a DeprecationWarning: it selects a variant of the estimator, it weights nothing."""
+    if weights is None:
+        return variant
+    warnings.warn(f"{where}(weights=...) is deprecated and will be removed in the next release: use "
+                  f"variant={weights!r} (it selects the estimator's variant)", DeprecationWarning,
+                  stacklevel=5)  # deprecated_weights, estimate or adapt, call_limited, limited_blas's wrapper
+    if variant is not None and variant != weights:
+        raise ValueError(f"{where}: variant={variant!r} and its old name weights={weights!r} disagree; give variant "
+                         f"only")
+    return weights
+
+
 @limited_blas
-def estimate(sol, weights="energy", kind="residual"):
+def estimate(sol, variant=None, kind="residual", weights=None):
     """Element indicators eta_T^2 and the six terms of eta_h for a Solution (module docstring).
 
-    ``weights="paper"``: the terms of Section 4 as printed; ``weights="energy"`` (default): the
-    estimate of |||u - u_h|||_h in its own units described in the module docstring.
-    ``kind="equilibrated"``: instead, the guaranteed upper bound of |||u - u_h|||_h from an equilibrated
-    stress (:func:`ngdgfric.equilibration.equilibrate`; ``weights`` does not apply).
+    ``kind="residual"`` (default): the estimator of Section 4 in its ``variant``: "energy" (None, the default; the
+    estimate of |||u - u_h|||_h in its own units described in the module docstring) or "paper" (the terms of
+    Section 4 as printed).  ``kind="equilibrated"``: instead, the guaranteed upper bound of |||u - u_h|||_h from an
+    equilibrated stress (:func:`ngdgfric.equilibration.equilibrate`), which has no variants (a ``variant`` is refused).
+    ``weights``: the old name of ``variant`` (DeprecationWarning; it selects a variant, it weights nothing).
     """
+    variant = deprecated_weights(variant, weights, "estimate")
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
-    if weights not in WEIGHTS:
-        raise ValueError(f"weights must be one of {WEIGHTS}, got {weights!r}")
+    if variant not in (None, *VARIANTS):
+        raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
     if kind == "equilibrated":
+        if variant is not None:
+            raise ValueError(f"variant={variant!r} is a variant of the residual estimator; kind='equilibrated' has "
+                             f"none and would ignore it")
         from .equilibration import equilibrate
 
         bound = equilibrate(sol)
         return Estimate(eta_T_squared=bound.eta_T_squared, terms_squared=bound.terms_squared, eta_h=bound.eta_h,
                         kind=kind, guaranteed=bound.guaranteed, reason=bound.reason)
+    variant = variant or "energy"
+    parts = residual_parts(sol, variant)
+    if variant == "energy":
+        parts = _in_energy_units(sol, parts)
+    element = sum(parts.values())
+    return Estimate(eta_T_squared=element, terms_squared={k: float(v.sum()) for k, v in parts.items()},
+                    eta_h=float(np.sqrt(element.sum())))
+
+
+def residual_parts(sol, variant):
+    """{"eta1": eta_1^2 per element, ..., "eta6": ...} of Section 4 (numpy arrays), with the stress of ``variant``
+    (:func:`_stress_and_volume_term`) and before the energy units' weights (:func:`_in_energy_units`)."""
     disc = sol.discretization
     problem, mesh, u, p = disc.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
     h_e, h_penalty = disc.h_e, disc.h_penalty
     weight = disc.method.jump_weight(disc.material, disc.penalty)
-    # quadrature order 2p + 2 (exact for the polynomial parts; Integrate's default 5 is too low for p >= 3):
-    # element_integrals per element's degree, the jump terms (Integrate: 5 + bonus) with the largest
-    q = 2 * disc.order + 2
     on = {part: facet_indicator(mesh, problem.where(part)) for part in PARTS}
-    sigma, neighbour, volume = _stress_and_volume_term(sol, weights)
+    sigma, neighbour, volume = _stress_and_volume_term(sol, variant)
     sigma_n = sigma * n
     traction_residual, bound = sigma_n - coefficient(problem.g), friction_bound(problem, u)
     off, normal = u - coefficient(problem.u_D), normal_part(u, n)
@@ -209,25 +238,29 @@ def estimate(sol, weights="energy", kind="residual"):
     }, _degrees(disc))
     # the jump terms need the neighbour (Other()), which only Integrate provides on element boundaries
     # (on boundary edges u - u.Other() evaluates to zero, so these terms cover interior edges only)
-    # (the conforming baseline's u_h has no jumps: its eta_3 lives on the supports only)
+    # (the conforming baseline's u_h has no jumps: its eta_3 lives on the supports only); quadrature order 2p + 2
+    # (exact for the polynomial parts; Integrate's default 5 is too low for p >= 3) with the largest p
     jump_sigma, jump_u = sigma_n - neighbour * n, u - u.Other()
-    jump_measure = ngs.dx(element_boundary=True, bonus_intorder=max(q - 5, 0))
+    jump_measure = ngs.dx(element_boundary=True, bonus_intorder=max(2 * disc.order + 2 - 5, 0))
     jumps = [("eta2", 0.5 * h_e / p * jump_sigma * jump_sigma)]
     if not disc.method.conforming:
         jumps.append(("eta3", 0.5 * edge_penalty(weight.interior, edge_order(p), h_penalty.interior)
                       * jump_inner(jump_u, jump_u, n)))
     for name, integrand in jumps:
         parts[name] = parts.get(name, 0) + ngs.Integrate(integrand * jump_measure, mesh, element_wise=True).NumPy()
-    parts = {name: parts[name] for name in sorted(parts)}
-    if weights == "energy":
-        calibration = 1.0 / np.asarray(disc.orders, dtype=float)  # (p_T^(-1/2))^2, see the module docstring
-        residual_weight = calibration * _inverse_stiffness(disc.material, mesh)
-        parts = {name: value * (calibration if name == "eta3" else residual_weight) for name, value in parts.items()}
-        if not disc.material.constant:
-            parts["eta1"] = parts["eta1"] + _material_oscillation(sol, q + BONUS)
-    element = sum(parts.values())
-    return Estimate(eta_T_squared=element, terms_squared={k: float(v.sum()) for k, v in parts.items()},
-                    eta_h=float(np.sqrt(element.sum())))
+    return {name: parts[name] for name in sorted(parts)}
+
+
+def _in_energy_units(sol, parts):
+    """The terms of :func:`residual_parts` (variant "energy") in the units of the energy norm: the residual terms
+    divided by 2 mu, all calibrated by p_T^(-1/2), and eta_1 with the material's oscillation (module docstring)."""
+    disc = sol.discretization
+    calibration = 1.0 / np.asarray(disc.orders, dtype=float)  # (p_T^(-1/2))^2, see the module docstring
+    residual_weight = calibration * _inverse_stiffness(disc.material, sol.mesh)
+    parts = {name: value * (calibration if name == "eta3" else residual_weight) for name, value in parts.items()}
+    if not disc.material.constant:
+        parts["eta1"] = parts["eta1"] + _material_oscillation(sol, 2 * disc.order + 2 + BONUS)
+    return parts
 
 
 def _degrees(disc):
@@ -238,8 +271,8 @@ def _degrees(disc):
     return degrees
 
 
-def _stress_and_volume_term(sol, weights):
-    """(sigma, the neighbour's sigma, the integrand of eta_1^2) for the ``weights`` of :func:`estimate`:
+def _stress_and_volume_term(sol, variant):
+    """(sigma, the neighbour's sigma, the integrand of eta_1^2) for the ``variant`` of :func:`estimate`:
     sigma_h(u_h) for "paper", sigma~_h = 2 mu eps_h(u_h) + p~_h I for "energy" (mu, lam each element's own),
     but sigma_h(u_h) where the material jumps: the pressure lam div u jumps there too, and a continuous
     p~_h would leave ||p_h - p~_h|| = O(1) along the interface (eta_h falling like N^(-1/2), seen on a
@@ -250,7 +283,7 @@ def _stress_and_volume_term(sol, weights):
     h_T.vec.FV().NumPy()[:] = element_diameters(sol.mesh)
     zero = ngs.CF((0, 0))
     varying = disc.order > 1 or not material.constant  # div sigma_h(u_h) = 0 for P1 and a constant material
-    if weights == "paper" or material.jumps:
+    if variant == "paper" or material.jumps:
         residual = coefficient(problem.f) + (div_stress(material, u) if varying else zero)
         volume = (h_T / disc.p) ** 2 * residual * residual
         sigma = stress(material.own, strain(u))

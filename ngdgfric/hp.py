@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .dg.spaces import dg_ndof
 from .meshes import refine, triangle_corners
 
 __all__ = ["HPState", "smooth", "refinement_parents", "hp_refine", "containing"]
@@ -49,7 +50,7 @@ class HPState:
     @property
     def ndof(self):
         """dim V_h = sum_T (p_T + 1)(p_T + 2) (two components)."""
-        return int(np.sum((self.orders + 1) * (self.orders + 2)))
+        return dg_ndof(self.orders)
 
 
 def smooth(indicators, predicted):

@@ -11,12 +11,13 @@ import netgen.meshing as nm
 import ngsolve as ngs
 import numpy as np
 
+from .dg.spaces import element_dofs
 from .domain import INTERFACE
 from .mesher import default_timeout, generate, triangles_of
 
-__all__ = ["uniform_mesh", "netgen_mesh", "refine", "refined", "mesh_from_arrays", "mesh_arrays", "check_mesh",
-           "facet_indicator", "element_diameters", "smallest_angles", "triangle_corners", "estimated_elements",
-           "snapshot", "same_mesh", "curve", "MAX_ELEMENTS"]
+__all__ = ["uniform_mesh", "netgen_mesh", "refine", "refined", "grid_arrays", "mesh_from_arrays", "mesh_arrays",
+           "check_mesh", "facet_indicator", "element_diameters", "smallest_angles", "minimum_angle", "triangle_corners",
+           "estimated_elements", "snapshot", "same_mesh", "curve", "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 MAX_ELEMENTS = 10**6
@@ -44,9 +45,9 @@ def _check_elements(problem, max_elements, **size):
     (name, value), = size.items()
     estimate = estimated_elements(problem, **size)
     if max_elements is not None and estimate > max_elements:
-        raise ValueError(f"{name} = {value:g} would make about {estimate:.3g} elements ({6 * estimate:.3g} DOFs "
-                         f"at P1), more than max_elements = {max_elements:.3g}; pass a larger max_elements "
-                         f"to allow it")
+        raise ValueError(f"{name} = {value:g} would make about {estimate:.3g} elements "
+                         f"({element_dofs(1) * estimate:.3g} DOFs at P1), more than max_elements = {max_elements:.3g}; "
+                         f"pass a larger max_elements to allow it")
 
 
 def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
@@ -76,7 +77,16 @@ def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
             raise ValueError(f"h = {h} does not divide the side length {length} of the rectangle")
         counts.append(int(round(n)))
     nx, ny = counts
+    points, triangles, segments, sides = grid_arrays(geometry.bounds, nx, ny, diagonal)
+    return mesh_from_arrays(problem, points, triangles, segments, np.asarray(geometry.labels)[sides])
 
+
+def grid_arrays(bounds, nx, ny, diagonal="sw-ne"):
+    """(points, triangles, segments, sides) of the rectangle ``bounds`` = (x0, y0, x1, y1) cut into nx x ny
+    rectangles, each cut by one diagonal (``"sw-ne"`` or ``"nw-se"``), for :func:`mesh_from_arrays`: the segments
+    oriented with the rectangle on their left, ``sides`` the number of the side each lies on (0 bottom, 1 right,
+    2 top, 3 left: the order of :meth:`ngdgfric.problem.Polygon.rectangle`'s labels)."""
+    x0, y0, x1, y1 = bounds
     xs, ys = np.meshgrid(np.linspace(x0, x1, nx + 1), np.linspace(y0, y1, ny + 1))
     j, i = np.meshgrid(np.arange(nx), np.arange(ny))
     sw = (i * (nx + 1) + j).ravel()
@@ -86,20 +96,14 @@ def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
         triangles = np.concatenate([np.column_stack([sw, se, ne]), np.column_stack([sw, ne, nw])])
     else:
         triangles = np.concatenate([np.column_stack([sw, se, nw]), np.column_stack([se, ne, nw])])
-
     bottom = np.arange(nx)
     right = np.arange(ny) * (nx + 1) + nx
     top = ny * (nx + 1) + np.arange(nx, 0, -1)
     left = np.arange(ny, 0, -1) * (nx + 1)
-    sides = [  # segments oriented with Omega on their left
-        np.column_stack([bottom, bottom + 1]),
-        np.column_stack([right, right + nx + 1]),
-        np.column_stack([top, top - 1]),
-        np.column_stack([left, left - (nx + 1)]),
-    ]
-    labels = np.concatenate([np.full(len(side), k) for k, side in enumerate(sides)])
-    return mesh_from_arrays(problem, np.column_stack([xs.ravel(), ys.ravel()]), triangles, np.concatenate(sides),
-                            np.asarray(geometry.labels)[labels])
+    segments = [np.column_stack([bottom, bottom + 1]), np.column_stack([right, right + nx + 1]),
+                np.column_stack([top, top - 1]), np.column_stack([left, left - (nx + 1)])]
+    sides = np.concatenate([np.full(len(side), k) for k, side in enumerate(segments)])
+    return np.column_stack([xs.ravel(), ys.ravel()]), triangles, np.concatenate(segments), sides
 
 
 def mesh_from_arrays(problem, points, triangles, segments, labels):
@@ -261,6 +265,11 @@ def smallest_angles(mesh):
         cos = np.sum(a * b, axis=1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
         smallest = np.minimum(smallest, np.arccos(np.clip(cos, -1.0, 1.0)))
     return smallest
+
+
+def minimum_angle(mesh):
+    """The smallest interior angle of the mesh's triangles, in degrees."""
+    return float(np.degrees(smallest_angles(mesh).min()))
 
 
 def element_diameters(mesh):

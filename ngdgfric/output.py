@@ -54,7 +54,7 @@ def write_vtk(path, sol):
     with atomic_path(path) as temporary:  # VTKOutput appends .vtu to the name it is given
         ngs.VTKOutput(sol.mesh, coefs=[sol.u, von_mises(sol.discretization.material, sol.u)],
                       names=["displacement", "von_mises"], filename=str(temporary.with_suffix("")),
-                      subdivision=max(sol.order - 1, 0)).Do()
+                      subdivision=max(sol.max_order - 1, 0)).Do()
 
 
 def markdown_table(header, rows):
@@ -125,7 +125,7 @@ def plot_deformed(ax, sol, scale=None, sides=None):
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.figure.colorbar(cells, ax=ax, label="von Mises stress")
-    ax.set_title(f"{problem.name}: {sol.method} P{sol.order}, {sol.ndof} DOFs, displacement x {scale:.3g}",
+    ax.set_title(f"{problem.name}: {sol.method} P{sol.max_order}, {sol.ndof} DOFs, displacement x {scale:.3g}",
                  fontsize=9)
     ax.legend(fontsize=8, loc="upper right")
     return scale
@@ -278,5 +278,5 @@ def write_contact_png(path, sol, sides=None):
     fig = figure(7, 0.6 + 2.6 * len(sides))
     for ax, side in zip(fig.subplots(len(sides), 1, squeeze=False)[:, 0], sides, strict=True):
         plot_zones(ax, sol, side, sides)
-    fig.suptitle(f"{sol.problem.name}: {sol.method} P{sol.order}, contact zones", fontsize=10)
+    fig.suptitle(f"{sol.problem.name}: {sol.method} P{sol.max_order}, contact zones", fontsize=10)
     write_png(fig, path, dpi=110)

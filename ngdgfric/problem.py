@@ -11,85 +11,17 @@ Validation runs in ``__post_init__``, so ``dataclasses.replace`` checks the new 
 """
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
-from numbers import Real
 
 import ngsolve as ngs
 import numpy as np
 
+from .bounds import DATA, check_datum, coefficient, is_number
 from .domain import Geometry, Loop
 from .geometry import check_polygon
 
 __all__ = ["ContactProblem", "Polygon", "PerSide", "exponents", "pattern", "PARTS", "strain", "strain_of", "stress",
            "von_mises", "coefficient", "is_number"]
-
-
-def coefficient(value):
-    """A datum of the problem as a CoefficientFunction: a number, a pair (f_x, f_y) of data or a
-    CoefficientFunction (returned as is)."""
-    if isinstance(value, ngs.CoefficientFunction):
-        return value
-    return ngs.CF(tuple(value)) if isinstance(value, (tuple, list)) else ngs.CF(value)
-
-
-def is_number(value):
-    """Whether a datum is a (real, non-boolean) number rather than a CoefficientFunction or anything else."""
-    return isinstance(value, Real) and not isinstance(value, bool)
-
-
-def _finite(name, value):
-    """``value`` as a float, ValueError unless it is a finite real number."""
-    try:
-        number = float(value)
-    except OverflowError:
-        number = float("inf")
-    if not math.isfinite(number):
-        shown = repr(value) if len(repr(value)) <= 40 else f"{repr(value)[:20]}... ({len(repr(value))} digits)"
-        raise ValueError(f"{name} must be a finite number, got {shown}")
-    return number
-
-
-def _check_scalar(name, value):
-    """A datum is a finite real number or a scalar CoefficientFunction (checked pointwise by
-    :func:`ngdgfric.checks.check_data` on a mesh)."""
-    if is_number(value):
-        _finite(name, value)
-        return
-    if isinstance(value, ngs.CoefficientFunction):
-        if value.dim == 1 and not value.is_complex:
-            return
-        value = f"a {'complex ' * value.is_complex}CoefficientFunction of dimension {value.dim}"
-    else:
-        value = repr(value)
-    raise ValueError(f"{name} must be a real number or a real scalar CoefficientFunction, got {value}")
-
-
-def _check_vector(name, value):
-    """A vector datum is a pair of scalar data or a CoefficientFunction of dimension 2."""
-    if isinstance(value, ngs.CoefficientFunction):
-        if value.dim != 2 or value.is_complex:
-            raise ValueError(f"{name} must have 2 real components, got a {'complex ' * value.is_complex}"
-                             f"CoefficientFunction of dimension {value.dim}")
-        return
-    if isinstance(value, (tuple, list)) and len(value) == 2:
-        for i, component in enumerate(value):
-            _check_scalar(f"{name}[{i}]", component)
-        return
-    raise ValueError(f"{name} must be a pair (f_x, f_y) or a 2-vector CoefficientFunction, got {value!r}")
-
-
-def _check_number(name, value, low=None, high=None, low_open=False, high_open=True):
-    """A finite number in [low, high) (or with the given open/closed ends); CFs are checked later, pointwise."""
-    if not is_number(value):
-        return
-    _finite(name, value)
-    if low is not None and (value < low or (low_open and value == low)):
-        bound = f"> {low}" if low_open else f">= {low}"
-        raise ValueError(f"{name} must be {bound}, got {value!r}")
-    if high is not None and (value > high or (high_open and value == high)):
-        bound = f"< {high}" if high_open else f"<= {high}"
-        raise ValueError(f"{name} must be {bound}, got {value!r}")
 
 
 def _point(k, vertex):
@@ -165,15 +97,6 @@ class Polygon(Geometry):
         return min(xs), min(ys), max(xs), max(ys)
 
 
-# the data of ContactProblem in the order they are checked: (kind, low, low_open, high, part); kind "scalar"
-# (a number or a scalar CoefficientFunction), "number" (a number only) or "vector"; a number must lie
-# in [low, high) ((low, high) if low_open; None: no bound), a CoefficientFunction is checked pointwise later;
-# part: what a dict of values is keyed by (regions, or the sides of a boundary part), None: one value only
-_DATA = {"E": ("scalar", 0, True, None, "region"), "nu": ("scalar", -1, True, 0.5, "region"),
-         "f": ("vector", None, False, None, "region"), "g": ("vector", None, False, None, "traction"),
-         "u_D": ("vector", None, False, None, "dirichlet"), "c_n": ("scalar", 0, False, None, "contact"),
-         "m_n": ("number", 1, False, None, "contact"), "g_a": ("scalar", None, False, None, "contact"),
-         "c_tau": ("scalar", 0, False, None, "contact"), "m_t": ("number", 0, False, None, "contact")}
 # boundary parts: where a dict may leave a side out, its value there (zero traction, zero displacement)
 PARTS = ("dirichlet", "traction", "contact", "symmetry")
 _OPTIONAL = {"traction": (0.0, 0.0), "dirichlet": (0.0, 0.0)}
@@ -226,19 +149,6 @@ def exponents(value):
     return list(value.values()) if isinstance(value, dict) else [value]
 
 
-def _check_datum(name, kind, low, low_open, high, value):
-    if kind == "vector":
-        _check_vector(name, value)
-        return
-    if kind == "scalar":
-        _check_scalar(name, value)
-    elif isinstance(value, PerSide):
-        return
-    elif not is_number(value):
-        raise ValueError(f"{name} must be a number, got {value!r}")
-    _check_number(name, value, low=low, low_open=low_open, high=high)
-
-
 @dataclass(frozen=True)
 class ContactProblem:
     """Data of problem (1.4): the reduced law (1.10) for m_t = 0 (Section 1).
@@ -253,17 +163,26 @@ class ContactProblem:
 
     E, nu:     Young's modulus and Poisson ratio (Lame parameters ``mu``, ``lam`` by Section 6); where they
                vary, the forms take them element by element (:mod:`ngdgfric.dg.material`).
+
     f:         body force in Omega (1.5).
+
     g:         traction on Gamma_F (1.7).
+
     c_n, m_n:  normal compliance sigma_n = -c_n (u_n - g_a)_+^{m_n} on Gamma_C (1.8), m_n >= 1.
+
     g_a:       initial gap on Gamma_C.
+
     c_tau:     friction coefficient on Gamma_C: the friction bound of (1.9) is c_tau (u_n - g_a)_+^{m_t}.
+
     m_t:       exponent of the friction bound, m_t >= 0; m_t = 0 is the reduced law (1.10) of the paper,
                m_t > 0 makes (1.4) a quasi-variational inequality (bound 0 where there is no contact).
+
     geometry:  a :class:`Polygon` or :class:`ngdgfric.domain.Domain` whose sides carry the names below.
+
     dirichlet, traction, contact, symmetry: the side names (one name or a list) of Gamma_D (u = u_D, (1.6)),
                Gamma_F (sigma n = g, (1.7)), Gamma_C (1.8)-(1.9, several sides allowed) and the symmetry
                (roller) sides, u . n = 0 and (sigma n) . t = 0.  Every side of the geometry has one of them.
+
     u_D:       the prescribed displacement on Gamma_D (the paper: 0).
     """
 
@@ -306,14 +225,14 @@ class ContactProblem:
             if not present:
                 raise ValueError(f"geometry has no side labelled {' or '.join(map(repr, self.sides(part)))} "
                                  f"({part} boundary)")
-        for name, (kind, low, low_open, high, part) in _DATA.items():
+        for name, datum in DATA.items():  # the bounds of the data: ngdgfric.bounds
             value = getattr(self, name)
             if isinstance(value, dict):
-                self._check_parts(name, part, value)
+                self._check_parts(name, datum.part, value)
                 for key, item in value.items():
-                    _check_datum(f"{name}[{key!r}]", kind, low, low_open, high, item)
-            else:
-                _check_datum(name, kind, low, low_open, high, value)
+                    check_datum(f"{name}[{key!r}]", datum, item)
+            elif not isinstance(value, PerSide):  # made by on() from checked numbers
+                check_datum(name, datum, value)
 
     def _group(self, part):
         """The names of a boundary part as given: one name stays a str (the paper's problems), a list a tuple."""
@@ -347,7 +266,7 @@ class ContactProblem:
     @property
     def per_part(self):
         """Whether some datum is given per region or per side (a dict): then :meth:`on` resolves it on a mesh."""
-        return any(isinstance(getattr(self, name), dict) for name in _DATA)
+        return any(isinstance(getattr(self, name), dict) for name in DATA)
 
     def on(self, mesh):
         """This problem with every dict datum made a CoefficientFunction on ``mesh``: per region a
@@ -359,8 +278,8 @@ class ContactProblem:
         from .meshes import facet_indicator  # meshes imports this module
 
         changes = {}
-        for name, (kind, _, _, _, part) in _DATA.items():
-            values = getattr(self, name)
+        for name, datum in DATA.items():
+            values, kind, part = getattr(self, name), datum.kind, datum.part
             if not isinstance(values, dict):
                 continue
             if kind == "number":

@@ -11,8 +11,8 @@ of another solution u_h (on any mesh of the same domain) is
 the volume part by a Gauss rule of degree 2 p + 4 on u_h's elements, with u_ref evaluated at
 those points by point search in its mesh; the jump part is exact for the exact solution u (it
 is continuous and zero on Gamma_D, so [u - u_h] = -[u_h]) and so uses u_h alone.  The DG energy
-norm |||.|||_h of Section 3 itself (:func:`energy_norm`) measures errors against exact solutions
-given as CoefficientFunctions (manufactured solutions).
+norm |||.|||_h of Section 3 itself (:func:`energy_norm`, :mod:`ngdgfric.energy`) measures errors against exact
+solutions given as CoefficientFunctions (manufactured solutions).
 """
 
 import zipfile
@@ -24,13 +24,15 @@ import ngsolve as ngs
 import numpy as np
 
 from .dg.discretization import dg_space
-from .dg.forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
+from .dg.forms import has_dirichlet_data
+from .energy import EXACT_ORDER, difference, energy_matrix, energy_norm, energy_norm_squared_parts, problem_of
 from .files import atomic_path
-from .meshes import facet_indicator, mesh_arrays, mesh_from_arrays
-from .problem import Polygon, coefficient, is_number, strain, strain_of, stress
+from .meshes import mesh_arrays, mesh_from_arrays
+from .problem import Polygon, coefficient, is_number, strain
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
-           "energy_norm", "energy_norm_squared_parts", "difference", "gridfunction_errors"]
+           "energy_norm", "energy_norm_squared_parts", "energy_matrix", "difference", "gridfunction_errors",
+           "EXACT_ORDER"]
 
 
 @dataclass
@@ -143,7 +145,6 @@ def load_reference(path, problem):
     return Reference(problem, mesh, u, data["orders"], float(data["eta_h"]), str(data["description"]))
 
 
-EXACT_ORDER = 16  # the least quadrature degree of errors against an exact solution (energy_norm)
 
 KEYS = ("points", "triangles", "segments", "labels", "orders", "u", "eta_h", "description", "fp_vertices", "fp_labels",
         "fp_names", "fp_numbers", "fp_points", "fp_data")
@@ -240,7 +241,7 @@ def reference_errors(sol, reference):
     2 p + 4; exact when u_ref is a polynomial of degree <= p + 3 there, else a quadrature of a
     function as smooth as u_ref is on u_h's elements).
     """
-    mesh, problem = sol.mesh, _problem_of(sol)
+    mesh, problem = sol.mesh, problem_of(sol)
     rule = ngs.IntegrationRule(ngs.TRIG, 2 * sol.u.space.globalorder + 4)
     points = mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL)
     xy = np.asarray(ngs.CF((ngs.x, ngs.y))(points)).reshape(-1, 2)
@@ -267,94 +268,6 @@ def reference_errors(sol, reference):
                 relative=energy / float(np.sqrt(np.sum(weights * energy_density(strain_ref)))),
                 h1=float(np.sqrt(np.sum(weights * np.sum(gradient**2, axis=1)))),
                 l2=float(np.sqrt(np.sum(weights * np.sum(displacement**2, axis=1)))))
-
-
-def energy_norm_squared_parts(problem, mesh, w, element_wise=False):
-    """(sum_T |w|_T^2, sum_{e in E_h^o} h_e^-1 ||[w]||_e^2) for a DG function ``w`` (Section 3).
-
-    With ``element_wise`` both are numpy arrays over elements (edge terms of interior edges split
-    half-half between the two neighbours, Dirichlet edges to their element).
-    """
-    bonus = max(2 * _order(w.space) + 2 - 5, 0)  # quadrature order 2p + 2 (Integrate's default is 5)
-    volume = ngs.Integrate(ngs.InnerProduct(stress(problem, strain(w)), strain(w)) * ngs.dx(bonus_intorder=bonus),
-                           mesh, element_wise=element_wise)
-    jumps = _jump_part(problem, mesh, w, element_wise)
-    return (volume.NumPy().copy(), jumps) if element_wise else (volume, jumps)
-
-
-def _jump_part(problem, mesh, w, element_wise=False, dirichlet_value=None):
-    """sum_{e in E_h^o} h_e^-1 ||[w]||_e^2 for a DG function ``w``, with [w] = w - ``dirichlet_value`` on the
-    Dirichlet edges (a 2-vector CoefficientFunction; None: the jump [w] = w of Section 3) and the jump of the normal
-    part (w . n) n on symmetry sides; a numpy array over elements with ``element_wise`` (interior edges split
-    half-half, boundary edges to their element)."""
-    n = ngs.specialcf.normal(2)
-    h_e = edge_length(mesh)
-    jw, off = w - w.Other(), w if dirichlet_value is None else w - dirichlet_value
-    boundary = ngs.dx(element_boundary=True, bonus_intorder=max(2 * _order(w.space) + 2 - 5, 0))
-    interior = ngs.Integrate(0.5 * jump_inner(jw, jw, n) / h_e * boundary, mesh, element_wise=element_wise)
-    normal = normal_part(off, n)
-    supported = facet_indicator(mesh, problem.where("dirichlet")) * jump_inner(off, off, n) + \
-        SYMMETRY_WEIGHT * facet_indicator(mesh, problem.where("symmetry")) * jump_inner(normal, normal, n)
-    dirichlet = ngs.Integrate(supported / h_e * boundary, mesh, element_wise=element_wise)
-    return interior.NumPy() + dirichlet.NumPy() if element_wise else interior + dirichlet
-
-
-def difference(u, w, extra_order=2):
-    """u - w as a GridFunction on u's mesh.
-
-    ``w``: a GridFunction on the same mesh (the difference lives in the larger of the two DG
-    spaces, exactly) or a CoefficientFunction (interpolated elementwise in degree p + extra_order).
-    """
-    space_u = u.space
-    if isinstance(w, ngs.GridFunction):
-        target = w.space if _order(w.space) >= _order(space_u) else space_u
-    else:
-        target = ngs.L2(u.space.mesh, order=_order(space_u) + extra_order) ** 2
-    e = ngs.GridFunction(target)
-    e.Set(u)
-    other = ngs.GridFunction(target)
-    other.Set(w)
-    e.vec.data -= other.vec
-    return e
-
-
-def _order(space):
-    return space.globalorder
-
-
-def _problem_of(sol):
-    """The problem with its data on the mesh: a Solution's discretisation's (data per part resolved), a
-    :class:`Reference`'s own."""
-    disc = getattr(sol, "discretization", None)
-    return sol.problem if disc is None else disc.problem
-
-
-def energy_norm(sol, w=None):
-    """|||u_h|||_h of a Solution, or |||u_h - w|||_h (Section 3):
-
-    |||v|||_h^2 = sum_T int_T C eps(v):eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2.
-
-    ``w``: a GridFunction (see :func:`difference`), or a continuous CoefficientFunction of x, y (an exact
-    solution): then eps(w) is its own derivative (:func:`ngdgfric.problem.strain_of`), C is the problem's
-    (the true material, also where a jump cuts elements), the volume integral uses a Gauss rule of degree
-    max(2 p + 4, :data:`EXACT_ORDER`) (a kink of w inside an element is integrated, not interpolated), and
-    [u_h - w] = [u_h] on interior edges.  With a prescribed displacement u_D != 0, |||u_h|||_h takes
-    [u_h] = u_h - u_D on Gamma_D (the jump the solution has there; u_h itself would add h^-1 ||u_D||^2).
-    """
-    problem = _problem_of(sol)
-    if w is None and has_dirichlet_data(problem):  # [u_h] = u_h - u_D on Gamma_D: the jump the exact u has not
-        volume, _ = energy_norm_squared_parts(problem, sol.mesh, sol.u)
-        return (volume + _jump_part(problem, sol.mesh, sol.u, dirichlet_value=coefficient(problem.u_D))) ** 0.5
-    if w is None or isinstance(w, ngs.GridFunction):
-        v = sol.u if w is None else difference(sol.u, w)
-        volume, jumps = energy_norm_squared_parts(problem, sol.mesh, v)
-        return (volume + jumps) ** 0.5
-    problem, mesh, u = problem, sol.mesh, sol.u
-    e = strain(u) - strain_of(w)
-    order = max(2 * _order(u.space) + 4, EXACT_ORDER)
-    volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)
-    return (volume + _jump_part(problem, mesh, u, dirichlet_value=w)) ** 0.5
-
 
 @dataclass(frozen=True)
 class _Approximation:

@@ -13,6 +13,7 @@ import numpy as np
 
 from .contact import GaussValues
 from .dg.discretization import dg_space
+from .dg.spaces import element_dofs
 from .meshes import same_mesh
 
 __all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders", "discontinuous"]
@@ -38,10 +39,9 @@ def copy_orders(source, source_orders, target, target_orders):
     """
     source_orders = np.asarray(source_orders, dtype=np.int64)
     target_orders = np.asarray(target_orders, dtype=np.int64)
-    sizes = lambda p: (p + 1) * (p + 2) // 2  # noqa: E731
     blocks = []
     for orders, gf in ((source_orders, source), (target_orders, target)):
-        first = np.concatenate([[0], np.cumsum(sizes(orders))])
+        first = np.concatenate([[0], np.cumsum(element_dofs(orders) // 2)])  # one component
         if 2 * first[-1] != len(gf.vec):
             raise ValueError(f"a space with {len(gf.vec)} DOFs does not have the orders given ({2 * first[-1]} DOFs)")
         blocks.append(first)

@@ -1,5 +1,6 @@
 import csv
 import dataclasses
+import logging
 import subprocess
 import sys
 import time
@@ -10,7 +11,8 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.adaptivity import _out_of_time, choose_method, minimum_angle
+from ngdgfric.adaptivity import choose_method, minimum_angle
+from ngdgfric.levels import out_of_time
 from ngdgfric.meshes import refine
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -87,6 +89,7 @@ def test_adapt_returns_the_final_solution_on_its_own_mesh():
     assert run.stopped == "max_levels"
 
 
+@pytest.mark.slow
 def test_adapt_tol_bounds_the_true_energy_error():
     # eta_h <= tol in energy units: the true error of the returned solution is below tol, and not far below
     from ngdgfric.studies.manufactured import incompressible_contact_manufactured
@@ -99,25 +102,24 @@ def test_adapt_tol_bounds_the_true_energy_error():
 
 
 def test_adapt_rejects_bad_budgets():
-    for bad in (dict(max_levels=0), dict(max_ndof=-1), dict(weights="none")):
+    for bad in (dict(max_levels=0), dict(max_ndof=-1), dict(variant="none"), dict(max_bytes=0)):
         with pytest.raises(ValueError, match=next(iter(bad))):
             ndf.adapt(ndf.example_6_2(), progress=None, **bad)
 
 
 def test_adapt_stops_before_a_mesh_above_the_memory_budget(monkeypatch):
     # hp with the default max_ndof = 1e6 reached meshes whose solve check_size refuses (P8: 25 GB)
-    from ngdgfric import adaptivity, checks
+    from ngdgfric import checks
 
     problem = ndf.example_6_2()
     first = ndf.adapt(problem, order=2, max_levels=3, progress=None)
     budget = checks.estimated_bytes(first.solution.discretization.orders) * 1.01  # the last level's mesh just fits
-    monkeypatch.setattr(adaptivity, "MEMORY_BUDGET", budget)
-    monkeypatch.setattr(checks, "MEMORY_BUDGET", budget)
-    run = ndf.adapt(problem, order=2, max_levels=10, progress=None)
+    run = ndf.adapt(problem, order=2, max_levels=10, progress=None, max_bytes=budget)
     assert run.stopped == "memory" and len(run.levels) == 3
     assert [r["ndof"] for r in run.levels] == [r["ndof"] for r in first.levels]
 
 
+@pytest.mark.slow
 def test_inexact_levels_solve_the_returned_level_fully():
     """gamma_lin: every level's eta_lin <= gamma_lin eta_h; the returned solution meets the solver's tolerance
     (KKT conditions at round-off) and equals a full solve on its mesh (u; the multiplier is not unique on
@@ -140,14 +142,16 @@ def test_inexact_levels_solve_the_returned_level_fully():
 def test_solver_tol_reaches_every_solve_and_finish(monkeypatch):
     """adapt(solver_tol=...) is the tolerance of the solves and of the finishing of inexact levels."""
     seen = []
+    from ngdgfric import levels
+
     for name in ("solve", "finish"):
-        original = getattr(ndf.adaptivity, name)
+        original = getattr(levels, name)
 
         def spy(*args, original=original, name=name, **kwargs):
             seen.append((name, kwargs.get("solver_tol")))
             return original(*args, **kwargs)
 
-        monkeypatch.setattr(ndf.adaptivity, name, spy)
+        monkeypatch.setattr(levels, name, spy)
     ndf.adapt(ndf.example_6_2(), max_levels=3, gamma_lin=0.1, solver_tol=1e-12, progress=None)
     assert {name for name, _ in seen} == {"solve", "finish"} and {tol for _, tol in seen} == {1e-12}
 
@@ -167,10 +171,10 @@ def test_the_hand_written_loop_of_the_readme_runs_and_equals_adapt(capsys):
     printed = [line.split() for line in capsys.readouterr().out.splitlines()]
     sol, mesh = namespace["sol"], namespace["mesh"]
     assert len(printed) == 8 and mesh.ne > sol.mesh.ne  # refined after the last solve; sol has its own mesh
-    again = ndf.estimate(sol, weights="paper")
+    again = ndf.estimate(sol, variant="paper")
     assert again.eta_h == pytest.approx(float(printed[-1][2]), rel=1e-12)
     assert ndf.kkt_residuals(sol)["equilibrium"] < 1e-10
-    run = ndf.adapt(ndf.example_6_1(), method="sipg", order=1, hp=False, theta=0.3, weights="paper", max_levels=8,
+    run = ndf.adapt(ndf.example_6_1(), method="sipg", order=1, hp=False, theta=0.3, variant="paper", max_levels=8,
                     progress=None)
     assert [r["ndof"] for r in run.levels] == [int(row[1]) for row in printed]
     assert [r["eta_h"] for r in run.levels] == pytest.approx([float(row[2]) for row in printed], rel=1e-8)
@@ -213,7 +217,40 @@ def test_the_time_limit_predicts_the_next_level_from_the_growth_in_dofs():
     start = time.perf_counter()
     records = [dict(ndof=1000)]
     # 1 s so far (this level included), this level took 2 s and tripled the DOFs: the next would end at 1 + 6 s
-    assert _out_of_time(records, Sol, dict(solve=1.5, estimate=0.5), start - 1.0, 6.5)
-    assert not _out_of_time(records, Sol, dict(solve=1.5, estimate=0.5), start - 1.0, 7.5)
-    assert _out_of_time([], Sol, dict(solve=1.0), start, 1.5)  # first level: growth 2 assumed, ends near 2 s
-    assert not _out_of_time(records, Sol, dict(solve=1.0), start, None)
+    assert out_of_time(records, Sol, dict(solve=1.5, estimate=0.5), start - 1.0, 6.5)
+    assert not out_of_time(records, Sol, dict(solve=1.5, estimate=0.5), start - 1.0, 7.5)
+    assert out_of_time([], Sol, dict(solve=1.0), start, 1.5)  # first level: growth 2 assumed, ends near 2 s
+    assert not out_of_time(records, Sol, dict(solve=1.0), start, None)
+
+
+def test_options_that_the_chosen_solver_estimator_or_refinement_would_ignore_are_refused():
+    problem = ndf.example_6_2()
+    cases = [(dict(solver="uzawa", gamma_lin=0.1), r"gamma_lin=0.1 needs solver='newton'.*solver='uzawa' would ignore"),
+             (dict(solver="fixed_point", gamma_lin=0.1), "solver='fixed_point' would ignore it"),
+             (dict(estimator="equilibrated", variant="paper"), "estimator='equilibrated' has none and would ignore"),
+             (dict(hp=False, max_order=5), "max_order=5 acts in hp refinement only; hp=False would ignore it"),
+             (dict(hp=False, layers=2), "layers=2 acts in hp refinement only")]
+    for options, message in cases:
+        with pytest.raises(ValueError, match=message):
+            ndf.adapt(problem, progress=None, **options)
+
+
+def test_the_old_keyword_weights_still_selects_the_variant_with_a_deprecation_warning():
+    paper = ndf.adapt(ndf.example_6_2(), method="sipg", order=1, hp=False, max_levels=1, variant="paper")
+    with pytest.warns(DeprecationWarning, match=r"adapt\(weights=...\) is deprecated.*use variant='paper'"):
+        old = ndf.adapt(ndf.example_6_2(), method="sipg", order=1, hp=False, max_levels=1, weights="paper")
+    assert old.levels[0]["eta_h"] == paper.levels[0]["eta_h"]
+
+
+def test_progress_goes_to_the_ngdgfric_logger_or_to_a_callable(caplog, capsys):
+    options = dict(method="sipg", order=1, hp=False, theta=0.3, max_levels=2)
+    ndf.adapt(ndf.example_6_2(), **options)
+    assert capsys.readouterr().out == ""  # silent unless logging is configured
+    with caplog.at_level(logging.INFO, logger="ngdgfric"):
+        ndf.adapt(ndf.example_6_2(), **options)
+    logged = [record.getMessage() for record in caplog.records if record.name == "ngdgfric"]
+    seen = []
+    ndf.adapt(ndf.example_6_2(), progress=seen.append, **options)
+    assert len(logged) == len(seen) == 3 and logged[0] == seen[0] == "method sipg: given"
+    assert [line.split(",")[:2] for line in logged] == [line.split(",")[:2] for line in seen]  # times differ
+    assert seen[1].startswith("level   0: ") and "eta_h = " in seen[1]

@@ -49,6 +49,9 @@ def test_size_limit_counts_dofs_and_memory():
     with pytest.raises(ValueError, match="pass max_ndof=15000000"):
         check_size(1, elements=2.5e6)
     check_size(1, max_ndof=2e7, elements=2.5e6)  # the user may raise the limit
+    check_size(1, elements=2.5e6, max_bytes=1e12)  # or the memory budget (a parameter, default MEMORY_BUDGET)
+    with pytest.raises(ValueError, match="more than the 1e-06 GB allowed by max_bytes = 1000"):
+        check_size(1, elements=1, max_bytes=1e3)
 
 
 def test_data_invalid_only_at_a_contact_gauss_point_are_found():

@@ -49,6 +49,7 @@ def printed_numbers(output):
     return {label: value for label, value in pairs if label != "time"}
 
 
+@pytest.mark.slow
 def test_solve_command_matches_the_api(tmp_path, capsys):
     sol = solve(ndf.example_6_1())
     expected = dict(ndof=sol.ndof, iterations=sol.iterations, energy_norm=ndf.energy_norm(sol),
@@ -112,7 +113,7 @@ def test_the_command_line_has_the_libraries_defaults():
     # one source: every option of `adaptive` and `solve` defaults to the keyword of ndf.adapt / ndf.solve
     adaptive = build_parser().parse_args(["adaptive", "6.1"])
     options = dict(method="method", order="order", theta="theta", levels="max_levels", max_ndof="max_ndof",
-                   tol="tol", hp="hp", max_order="max_order", weights="weights", solver="solver",
+                   tol="tol", hp="hp", max_order="max_order", variant="variant", solver="solver",
                    max_seconds="max_seconds", eta="eta", solver_tol="solver_tol", layers="layers")
     signature = inspect.signature(ndf.adapt).parameters
     assert {name: getattr(adaptive, name) for name in options} == {
@@ -125,6 +126,7 @@ def test_the_command_line_has_the_libraries_defaults():
     assert (solve.method, solve.order, solve.solver) == tuple(signature[k].default for k in keywords)
 
 
+@pytest.mark.slow
 def test_an_adaptive_run_that_stops_before_its_tolerance_exits_with_4(tmp_path, capsys):
     assert main(["adaptive", "6.2", "--levels", "2", "--tol", "1e-9", "--out", str(tmp_path)]) == 4
     err = capsys.readouterr().err
@@ -136,6 +138,7 @@ def test_an_adaptive_run_that_stops_before_its_tolerance_exits_with_4(tmp_path, 
     assert "(--max-seconds reached)" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_uniform_and_adaptive_commands(tmp_path, capsys):
     assert main(["uniform", "6.2", "--levels", "2", "--method", "sipg", "nipg", "--out", str(tmp_path)]) == 0
     with open(tmp_path / "6_2_uniform.csv") as handle:
@@ -157,15 +160,23 @@ def test_uniform_and_adaptive_commands(tmp_path, capsys):
     assert (tmp_path / "6_1_adaptive_auto_p4_hp_contact.png").stat().st_size > 0
     # a re-run with other options does not touch an earlier run's output unless asked to
     before = (tmp_path / "6_1_adaptive_auto_p4_hp.csv").read_bytes()
-    assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path)]) == 2
+    assert main(["adaptive", "6.1", "--levels", "1", "--variant", "paper", "--out", str(tmp_path)]) == 2
     assert "--overwrite" in capsys.readouterr().err
     assert (tmp_path / "6_1_adaptive_auto_p4_hp.csv").read_bytes() == before
-    # --weights paper: the same loop with the estimator of Section 4 as printed (larger: E = 2000)
-    assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path),
+    # --variant paper: the same loop with the estimator of Section 4 as printed (larger: E = 2000)
+    assert main(["adaptive", "6.1", "--levels", "1", "--variant", "paper", "--out", str(tmp_path),
                  "--overwrite"]) == 0
     with open(tmp_path / "6_1_adaptive_auto_p4_hp.csv") as handle:
         paper = list(csv.DictReader(handle))
     assert float(paper[0]["eta_h"]) > 20 * float(levels[0]["eta_h"])
+    # its old name --weights still works, with a warning (for one release)
+    capsys.readouterr()
+    assert main(["adaptive", "6.1", "--levels", "1", "--weights", "paper", "--out", str(tmp_path),
+                 "--overwrite"]) == 0
+    assert "ngdgfric: warning: --weights is deprecated and will be removed in the next release: use --variant" in \
+        capsys.readouterr().err
+    with open(tmp_path / "6_1_adaptive_auto_p4_hp.csv") as handle:
+        assert list(csv.DictReader(handle))[0]["eta_h"] == paper[0]["eta_h"]
 
 
 L_SHAPE = """
@@ -267,9 +278,9 @@ def test_version(capsys):
 def test_unwritable_output_folder_is_refused_before_computing(command, tmp_path, capsys, monkeypatch):
     blocker = tmp_path / "file"
     blocker.write_text("")
-    monkeypatch.setattr("ngdgfric.cli.solve", None)  # nothing may be computed
-    monkeypatch.setattr("ngdgfric.cli.uniform_study", None)
-    monkeypatch.setattr("ngdgfric.cli.adapt", None)
+    monkeypatch.setattr("ngdgfric.commands.solve", None)  # nothing may be computed
+    monkeypatch.setattr("ngdgfric.commands.uniform_study", None)
+    monkeypatch.setattr("ngdgfric.commands.adapt", None)
     check_one_line_error(main([command, "6.2", "--out", str(blocker / "out")]), capsys, "cannot write to the output")
 
 
@@ -281,9 +292,9 @@ def test_unwritable_output_file_is_an_error(tmp_path, capsys):
 
 
 def test_interrupted_uniform_run_keeps_its_finished_studies(tmp_path, capsys, monkeypatch):
-    from ngdgfric import cli
+    from ngdgfric import commands
 
-    original, calls = cli.uniform_study, []
+    original, calls = commands.uniform_study, []
 
     def study_then_interrupt(*args, **kwargs):  # Ctrl-C during the second study
         calls.append(args[1])
@@ -291,7 +302,7 @@ def test_interrupted_uniform_run_keeps_its_finished_studies(tmp_path, capsys, mo
             raise KeyboardInterrupt
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(cli, "uniform_study", study_then_interrupt)
+    monkeypatch.setattr(commands, "uniform_study", study_then_interrupt)
     assert main(["uniform", "6.2", "--levels", "2", "--method", "sipg", "nipg", "--out", str(tmp_path)]) == 130
     with open(tmp_path / "6_2_uniform.csv") as handle:
         assert {r["method"] for r in csv.DictReader(handle)} == {"sipg"}
@@ -315,6 +326,6 @@ def test_adaptive_passes_the_solver_tolerance(tmp_path, monkeypatch):
         seen.update(kwargs)
         raise Stop
 
-    monkeypatch.setattr("ngdgfric.cli.adapt", fake_adapt)
+    monkeypatch.setattr("ngdgfric.commands.adapt", fake_adapt)
     main(["adaptive", "6.2", "--solver-tol", "1e-10", "--tol", "0.5", "--out", str(tmp_path)])  # stopped in adapt
     assert seen["solver_tol"] == 1e-10 and seen["tol"] == 0.5

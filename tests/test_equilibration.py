@@ -99,6 +99,7 @@ def test_inf_sup_bounds():
     assert inf_sup_lower_bounds(mesh) == pytest.approx([np.sin(np.pi / 12)])
 
 
+@pytest.mark.slow
 def test_adapt_stops_on_the_bound(example_6_2):
     problem, reference = example_6_2
     adaptation = ndf.adapt(problem, tol=0.05, estimator="equilibrated", progress=None)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric import cli
+from ngdgfric import cli, commands
 from ngdgfric.contact import contact_state
 from ngdgfric.domain import Arc, Domain
 from ngdgfric.examples import SCENES, example
@@ -28,7 +28,7 @@ def solve_by_command_line(path, tmp_path, monkeypatch, *options):
         solutions.append(ndf.solve(*args, **kwargs))
         return solutions[-1]
 
-    monkeypatch.setattr(cli, "solve", keep)
+    monkeypatch.setattr(commands, "solve", keep)
     (record,) = cli.run(["solve", str(path), "--maxh", str(MAXH), "--out", str(tmp_path), *options])
     (sol,) = solutions
     return record, sol
@@ -58,6 +58,7 @@ def test_every_shipped_file_solves_through_the_command_line(name, tmp_path, monk
         assert (tmp_path / f"{path.stem}_{record['method']}_p1.{suffix}").stat().st_size > 0
 
 
+@pytest.mark.slow  # a fresh process
 def test_a_scene_file_in_a_fresh_process(tmp_path):
     done = subprocess.run([sys.executable, "-m", "ngdgfric", "solve", str(example_file("half_disk")), "--maxh", "0.5",
                            "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)

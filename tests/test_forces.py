@@ -12,8 +12,9 @@ from mirror import mirrored
 
 import ngdgfric as ndf
 from ngdgfric.contact import normal_tangent, residual_terms
+from ngdgfric.contact_forces import constant_vectors
 from ngdgfric.domain import Domain, Loop
-from ngdgfric.forces import _constants, force_balance
+from ngdgfric.forces import force_balance
 
 METHODS = list(ndf.METHODS)  # the five DG methods and the conforming baseline
 COMMON = dict(E=1.0, nu=0.3, c_n=1e2, m_n=1)
@@ -49,7 +50,7 @@ def test_global_equilibrium_to_round_off(meshes, scene, method, order):
     assert balance.relative_residual < 1e-11
     # and it is minus the residual of (3.3) at v = e_x, e_y: the forces are the terms of the discrete problem
     terms = [term.FV().NumPy() for term in residual_terms(sol.discretization, sol.u, sol.lam_tau)]
-    residual = _constants(sol.discretization.V) @ np.sum(terms, axis=0)
+    residual = constant_vectors(sol.discretization.V) @ np.sum(terms, axis=0)
     assert np.linalg.norm(balance.residual + residual) < 1e-11 * balance.scale
     # friction active: both zones present, and every force nonzero
     assert sum(c.stick.length for c in balance.contact.values()) > 0.1

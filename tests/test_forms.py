@@ -6,7 +6,7 @@ import ngdgfric as ndf
 from ngdgfric.adaptivity import minimum_angle
 from ngdgfric.dg.forms import dg_terms, edge_length, jump_inner, penalty_length
 from ngdgfric.dg.material import EdgeCoefficient
-from ngdgfric.meshes import mesh_from_arrays
+from ngdgfric.meshes import grid_arrays, mesh_from_arrays
 from ngdgfric.reference import difference
 from ngdgfric.studies import rates
 from ngdgfric.studies.cases import coercivity, energy_gram
@@ -63,20 +63,11 @@ def test_unknown_method_and_bad_order_and_eta_raise():
 def thin_mesh(problem, nx, ny):
     """The unit square cut into nx x ny rectangles, each cut by its diagonal: triangles with an angle of
     atan(nx / ny) (2.9 degrees for 2 x 40)."""
-    xs, ys = np.meshgrid(np.linspace(0, 1, nx + 1), np.linspace(0, 1, ny + 1))
-    j, i = np.meshgrid(np.arange(nx), np.arange(ny))
-    sw = (i * (nx + 1) + j).ravel()
-    se, nw = sw + 1, sw + nx + 1
-    triangles = np.concatenate([np.column_stack([sw, se, nw + 1]), np.column_stack([sw, nw + 1, nw])])
-    bottom, right = np.arange(nx), np.arange(ny) * (nx + 1) + nx
-    top, left = ny * (nx + 1) + np.arange(nx, 0, -1), np.arange(ny, 0, -1) * (nx + 1)
-    sides = [np.column_stack([bottom, bottom + 1]), np.column_stack([right, right + nx + 1]),
-             np.column_stack([top, top - 1]), np.column_stack([left, left - (nx + 1)])]
-    labels = np.concatenate([np.full(len(side), k) for k, side in enumerate(sides)])
-    return mesh_from_arrays(problem, np.column_stack([xs.ravel(), ys.ravel()]), triangles, np.concatenate(sides),
-                            np.asarray(problem.geometry.labels)[labels])
+    points, triangles, segments, sides = grid_arrays((0.0, 0.0, 1.0, 1.0), nx, ny)
+    return mesh_from_arrays(problem, points, triangles, segments, np.asarray(problem.geometry.labels)[sides])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("order", [1, 2])
 def test_the_default_sipg_penalty_stays_coercive_on_thin_triangles(order):
     # B_h(v, v) / |||v|||_h^2 > 0 for all v in V_h with the default eta = 30 mu on triangles with a 2.9 degree

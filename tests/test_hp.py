@@ -21,6 +21,7 @@ def energy_errors(problem, u_exact, method, levels, draw_orders):
     return np.array(errors)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", sorted(ndf.METHODS))
 def test_mixed_orders_converge_at_the_rate_of_the_lowest_order(elasticity, method):
     """Random p_T in {2, 3}: rate 2; random p_T in {1, 2, 3}: rate >= 1 and below the P1 error."""
@@ -95,6 +96,7 @@ def test_smoothness_rates_a_polynomial_smooth_and_a_corner_singularity_not(order
             assert not verdict[at_corner].any() and verdict[(parent == corner) & ~at_corner].all()
 
 
+@pytest.mark.slow
 def test_hp_adapt_raises_orders_where_smooth_and_bisects_the_corners(tmp_path):
     problem = ndf.example_6_1()
     records = ndf.adapt(problem, order=2, hp=True, max_order=5, max_levels=14, progress=None,

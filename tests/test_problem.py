@@ -74,6 +74,7 @@ FIELDS = {"E": (0, None, True), "nu": (-1, 0.5, True), "c_n": (0, None, False), 
           "g_a": (None, None, False), "c_tau": (0, None, False), "m_t": (0, None, False)}
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None)
 @given(st.sampled_from(sorted(FIELDS)),
        st.floats() | st.integers(-10**400, 10**400) | st.booleans() | st.text(max_size=3) | st.none())

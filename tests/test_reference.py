@@ -136,3 +136,19 @@ def test_data_given_as_functions_work_in_the_true_error_tools(tmp_path):
                         (dataclasses.replace(problem, nu=0.3 + 0.06 * ngs.y), "nu = ")):
         with pytest.raises(ValueError, match=name):
             ndf.load_reference(tmp_path / "varying.npz", other)
+
+
+def test_the_energy_norm_and_its_gram_matrix_are_one_definition():
+    # |||w|||_h^2 by the integrals of energy_norm_squared_parts and by the matrix of energy_matrix (the one that
+    # studies.cases.energy_gram uses for coercivity constants), on a scene with symmetry and Dirichlet sides
+    from ngdgfric.dg.discretization import dg_space
+    from ngdgfric.energy import energy_matrix
+
+    problem = ndf.example("two_materials_symmetric")
+    mesh = ndf.netgen_mesh(problem, 0.4)
+    V = dg_space(mesh, 2)
+    w = ngs.GridFunction(V)
+    w.vec.FV().NumPy()[:] = np.random.default_rng(1).standard_normal(V.ndof)
+    volume, jumps = energy_norm_squared_parts(problem.on(mesh), mesh, w)
+    x = w.vec.FV().NumPy()
+    assert x @ (energy_matrix(problem, mesh, V).ToDense().NumPy() @ x) == pytest.approx(volume + jumps, rel=1e-10)

@@ -14,6 +14,7 @@ def test_case_key_depends_on_the_case_and_the_function_only():
         run_cases(rho_case, [], workers=0)
 
 
+@pytest.mark.slow  # a dask cluster
 def test_runner_caches_results_and_uzawa_divergence_names_rho(tmp_path):
     cases = [dict(example="6.1", factor=f, h=0.25, maxit=400) for f in (1.0, 4.0)]
     first = run_cases(rho_case, cases, cache=tmp_path, workers=2, progress=None)

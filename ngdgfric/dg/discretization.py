@@ -11,8 +11,8 @@ from numbers import Integral, Real
 import ngsolve as ngs
 import numpy as np
 
-from ..checks import check_data, check_size
-from ..contact import ContactGauss, contact_measure, contact_points, multiplier_space
+from ..checks import MEMORY_BUDGET, check_data, check_size
+from ..contact import ContactGauss, contact_boundary, contact_measure, contact_points, multiplier_space
 from ..meshes import check_mesh, curve
 from ..problem import ContactProblem
 from ..solvers.traces import ContactTraces
@@ -62,13 +62,12 @@ def edge_orders(mesh, orders, raised=()):
 
 def contact_edges(problem, mesh):
     """The numbers of the edges on Gamma_C."""
-    sides = set(problem.sides("contact"))
-    return [element.edges[0].nr for element in mesh.Elements(ngs.BND) if element.mat in sides]
+    return [el.edges[0].nr for el, _ in contact_boundary(problem, mesh)]
 
 
 def contact_elements(problem, mesh):
     """The numbers of the elements with an edge on Gamma_C."""
-    return np.unique([mesh[ngs.NodeId(ngs.EDGE, nr)].elements[0].nr for nr in contact_edges(problem, mesh)])
+    return np.unique([element.nr for _, element in contact_boundary(problem, mesh)])
 
 
 def polynomial_degrees(disc):
@@ -154,13 +153,15 @@ class Discretization:
     contact Gauss points and the trace matrix, built on first use).
 
     Before assembly: the mesh must fit the problem (:func:`ngdgfric.meshes.check_mesh`), the DOFs
-    the size limit ``max_ndof`` and the data be valid pointwise (:mod:`ngdgfric.checks`).  On a domain with
+    the size limit ``max_ndof`` (None: the memory limit ``max_bytes``, :func:`ngdgfric.checks.check_size`) and the
+    data be valid pointwise (:mod:`ngdgfric.checks`).  On a domain with
     curved sides the mesh is curved to the largest order (:func:`ngdgfric.meshes.curve`; the solution's own
     copy of the mesh, :func:`ngdgfric.solve`).  ``problem`` is the given problem with its data per region
     and per side made CoefficientFunctions on the mesh (:meth:`~ngdgfric.problem.ContactProblem.on`).
     """
 
-    def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn", max_ndof=None):
+    def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn", max_ndof=None,
+                 max_bytes=MEMORY_BUDGET):
         if not isinstance(problem, ContactProblem):
             raise ValueError(f"problem must be a ContactProblem, got {problem!r}")
         check_mesh(problem, mesh)
@@ -170,7 +171,7 @@ class Discretization:
         self.problem, self.mesh = problem.on(mesh), mesh
         problem = self.problem
         self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
-        check_size(self.orders, max_ndof)
+        check_size(self.orders, max_ndof, max_bytes=max_bytes)
         check_data(problem, mesh, int(self.orders.max()))
         self.order = int(self.orders.max())
         # the contact rule has contact_order + 1 points per edge (:func:`ngdgfric.contact.contact_rule`): p + 1
@@ -269,9 +270,4 @@ class Discretization:
 
     def contact_groups(self):
         """For each edge on Gamma_C, the V-dofs of its element."""
-        groups = []
-        for el in self.mesh.Elements(ngs.BND):
-            if el.mat in self.problem.sides("contact"):
-                volume = self.mesh[el.edges[0]].elements[0]
-                groups.append(list(self.V.GetDofNrs(volume)))
-        return groups
+        return [list(self.V.GetDofNrs(element)) for _, element in contact_boundary(self.problem, self.mesh)]

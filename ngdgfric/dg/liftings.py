@@ -186,57 +186,72 @@ def lifting_matrices(problem, material, mesh, V, order, local=True, total=False)
     """
     S = lifting_space(mesh, order)
     cells = lifting_space(mesh, order, dgjumps=False)  # block-diagonal patterns for M and K
-    u = V.TrialFunction()
-    tau = S.TestFunction()
-    sigma_T, tau_T = cells.TnT()
-    n = ngs.specialcf.normal(2)
-    dirichlet = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("dirichlet")))
-    symmetry = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("symmetry"))) \
-        if any(name in mesh.GetBoundaries() for name in problem.sides("symmetry")) else None
-    jump = u - u.Other()
     with threads(V.ndof):
-        mass = ngs.BilinearForm(cells)
-        mass += ngs.InnerProduct(sigma_T, tau_T) * ngs.dx
-        mass.Assemble()
-        stiffness = ngs.BilinearForm(cells)
-        stiffness += ngs.InnerProduct(stress(material.own, sigma_T), tau_T) * ngs.dx
-        stiffness.Assemble()
-        m_inv = _block_inverse(mass.mat)
-        P = m_inv @ stiffness.mat.DeleteZeroElements(0.0) @ m_inv  # C couples not every pair
-
-        def assemble(facets, indicator):
-            # the skeleton loop visits only the colour's facets (2.6 times faster than multiplying
-            # by the indicator on all of them, at 49k DOFs)
-            form = ngs.BilinearForm(trialspace=V, testspace=S)
-            form += -jump * (material.average(tau, tau.Other()) * n) * ngs.dx(skeleton=True,
-                                                                                 definedonelements=facets)
-            form += -indicator * u * (tau * n) * dirichlet
-            if symmetry is not None:
-                form += -indicator * normal_part(u, n) * (tau * n) * symmetry
-            form.Assemble()
-            return form.mat.DeleteZeroElements(0.0)  # the pattern holds all facet couplings
-
+        P = _lifted_stiffness(material, cells)
         trace = _dirichlet_trace(problem, mesh, order)
-
-        def boundary_data(indicator):
-            if trace is None:
-                return None
-            form = ngs.BilinearForm(trialspace=trace.space, testspace=cells)  # test space S crashed NGSolve
-            form += -indicator * trace.space.TrialFunction() * (tau_T * n) * dirichlet
-            form.Assemble()
-            lifted = form.mat.CreateColVector()
-            lifted.data = form.mat * trace.vec
-            return lifted
-
         colours = edge_colours(problem, mesh) if local else []
-        R = [assemble(*colour) for colour in colours]
-        r = [boundary_data(colour.indicator) for colour in colours]
+        R = [_lifting_matrix(problem, material, mesh, V, S, *colour) for colour in colours]
+        r = [_lifted_data(problem, mesh, cells, trace, colour.indicator) for colour in colours]
         if total:
             everywhere = ngs.BitArray(mesh.nfacet)
             everywhere.Set()
-            R.append(assemble(everywhere, ngs.CF(1.0)))
-            r.append(boundary_data(ngs.CF(1.0)))
+            R.append(_lifting_matrix(problem, material, mesh, V, S, everywhere, ngs.CF(1.0)))
+            r.append(_lifted_data(problem, mesh, cells, trace, ngs.CF(1.0)))
     return R, P, r
+
+
+def _lifted_stiffness(material, cells):
+    """P = M^-1 K M^-1 on Sigma_h (M the mass matrix, K that of (C sigma, tau), both block diagonal; ``cells``:
+    Sigma_h without facet couplings)."""
+    sigma, tau = cells.TnT()
+    mass = ngs.BilinearForm(cells)
+    mass += ngs.InnerProduct(sigma, tau) * ngs.dx
+    mass.Assemble()
+    stiffness = ngs.BilinearForm(cells)
+    stiffness += ngs.InnerProduct(stress(material.own, sigma), tau) * ngs.dx
+    stiffness.Assemble()
+    m_inv = _block_inverse(mass.mat)
+    return m_inv @ stiffness.mat.DeleteZeroElements(0.0) @ m_inv  # C couples not every pair
+
+
+def _supports(problem, mesh):
+    """The measures of Gamma_D and of the symmetry sides (None if the mesh has none) for the lifting forms."""
+    dirichlet = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("dirichlet")))
+    symmetry = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("symmetry"))) \
+        if any(name in mesh.GetBoundaries() for name in problem.sides("symmetry")) else None
+    return dirichlet, symmetry
+
+
+def _lifting_matrix(problem, material, mesh, V, S, facets, indicator):
+    """R_c: V_h -> Sigma_h of the edges ``facets`` (a BitArray) and the boundary edges where ``indicator`` is 1."""
+    u, tau = V.TrialFunction(), S.TestFunction()
+    n = ngs.specialcf.normal(2)
+    dirichlet, symmetry = _supports(problem, mesh)
+    # the skeleton loop visits only the colour's facets (2.6 times faster than multiplying by the indicator on all
+    # of them, at 49k DOFs)
+    form = ngs.BilinearForm(trialspace=V, testspace=S)
+    form += -(u - u.Other()) * (material.average(tau, tau.Other()) * n) * ngs.dx(skeleton=True,
+                                                                                 definedonelements=facets)
+    form += -indicator * u * (tau * n) * dirichlet
+    if symmetry is not None:
+        form += -indicator * normal_part(u, n) * (tau * n) * symmetry
+    form.Assemble()
+    return form.mat.DeleteZeroElements(0.0)  # the pattern holds all facet couplings
+
+
+def _lifted_data(problem, mesh, cells, trace, indicator):
+    """r_c: the lifting of u_D (``trace``, :func:`_dirichlet_trace`) on the Dirichlet edges where ``indicator`` is
+    1, a vector on Sigma_h; None if u_D = 0."""
+    if trace is None:
+        return None
+    tau = cells.TestFunction()
+    dirichlet, _ = _supports(problem, mesh)
+    form = ngs.BilinearForm(trialspace=trace.space, testspace=cells)  # test space S crashed NGSolve
+    form += -indicator * trace.space.TrialFunction() * (tau * ngs.specialcf.normal(2)) * dirichlet
+    form.Assemble()
+    lifted = form.mat.CreateColVector()
+    lifted.data = form.mat * trace.vec
+    return lifted
 
 
 def _dirichlet_trace(problem, mesh, order):

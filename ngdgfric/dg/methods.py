@@ -116,6 +116,7 @@ METHODS = MappingProxyType({
     "cg": Method("cg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "conforming H^1, Nitsche on supports",
                  conforming=True),
 })
+"""Every method by name (read-only): the five DG methods of Section 3 and the conforming baseline ``cg``."""
 DG_METHODS = tuple(name for name, method in METHODS.items() if not method.conforming)
 """The five DG methods of Section 3 (:data:`METHODS` without the conforming baseline)."""
 

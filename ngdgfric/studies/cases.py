@@ -12,8 +12,9 @@ import numpy as np
 
 from .. import contact_state, kkt_residuals
 from ..contact import normal_tangent
-from ..dg.discretization import Discretization
+from ..dg.discretization import Discretization, dg_space
 from ..dg.methods import get_method
+from ..energy import energy_matrix
 from ..errors import SolverError
 from ..estimator import estimate
 from ..examples import example
@@ -41,14 +42,10 @@ def _dense(problem, mesh, method, order, eta):
 
 
 def energy_gram(problem, mesh, order):
-    """The matrix of the inner product of |||.|||_h (Section 3, :func:`ngdgfric.reference.energy_norm`) on V_h.
-
-    It is the symmetric part of NIPG's B_h^(2) with eta p^2 = 1: the consistency terms of NIPG,
-    <[u], {sigma_h(v)}> - <[v], {sigma_h(u)}>, are antisymmetric, which leaves (sigma_h(u), eps_h(v)) +
-    sum_{e in E_h^o} h_e^-1 <[u], [v]>_e.
-    """
-    nipg = _dense(problem, mesh, "nipg", order, 1.0 / order**2)
-    return 0.5 * (nipg + nipg.T)
+    """The matrix of the inner product of |||.|||_h (Section 3) on V_h of degree ``order``, dense: the Gram matrix
+    of :func:`ngdgfric.energy.energy_matrix`, the norm of :func:`ngdgfric.energy_norm` (h_e = |e|, the problem's
+    C pointwise)."""
+    return energy_matrix(problem, mesh, dg_space(mesh, order)).ToDense().NumPy()
 
 
 def coercivity(problem, mesh, method, order, eta, gram=None):
@@ -122,7 +119,7 @@ def compliance_case(case):
     condition = float(np.linalg.cond(disc.A.ToDense().NumPy() + stiff.mat.ToDense().NumPy()))
     out = dict(case, status=status, seconds=seconds, condition=condition)
     if sol is not None:
-        out.update(iterations=sol.iterations, eta_h=estimate(sol, weights="paper").eta_h, **_contact_summary(sol))
+        out.update(iterations=sol.iterations, eta_h=estimate(sol, variant="paper").eta_h, **_contact_summary(sol))
     return out
 
 
@@ -160,7 +157,7 @@ def precision_case(case):
     try:
         records = strategy_run(problem, case["strategy"], method=case["method"], order=case["order"],
                                solver=case["solver"], reference=reference, max_ndof=case["max_ndof"],
-                               max_order=case.get("max_order", 8), weights="paper")
+                               max_order=case.get("max_order", 8), variant="paper")
         status = "converged"
     except SolverError as error:
         records, status = [], _failed(error)

@@ -14,6 +14,7 @@ import os
 import time
 from pathlib import Path
 
+from ..progress import log, reporter
 from ..threads import call_limited
 
 __all__ = ["case_key", "run_cases"]
@@ -35,12 +36,13 @@ def _client(scheduler, workers):
     return Client(cluster), cluster
 
 
-def run_cases(function, cases, cache=None, scheduler=None, workers=None, progress=print):
+def run_cases(function, cases, cache=None, scheduler=None, workers=None, progress=log):
     """Results of ``function(case)`` for every case, in the order of ``cases``.
 
     ``cache``: folder of finished cases (None: no cache); ``workers``: number of local worker
-    processes (default: the machine's cores; ignored with ``scheduler``).  ``progress``:
-    callable(str), one line per finished case.
+    processes (default: the machine's cores; ignored with ``scheduler``).  ``progress``: callable(str)
+    receiving one line per finished case (default :func:`ngdgfric.progress.log`: the logger "ngdgfric" at INFO,
+    silent unless logging is configured; None: no lines).
     """
     if workers is not None and workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers!r}")
@@ -69,8 +71,7 @@ def run_cases(function, cases, cache=None, scheduler=None, workers=None, progres
                     temporary = path.with_suffix(".tmp")
                     temporary.write_text(json.dumps(results[index]))
                     temporary.replace(path)
-                if progress is not None:
-                    progress(f"  [{done}/{len(todo)}, {time.perf_counter() - start:.0f} s] {case}")
+                reporter(progress)(f"  [{done}/{len(todo)}, {time.perf_counter() - start:.0f} s] {case}")
         finally:
             client.close()
             if cluster is not None:

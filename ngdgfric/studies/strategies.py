@@ -4,8 +4,10 @@
 import time
 
 from ..adaptivity import adapt
+from ..dg.spaces import dg_ndof
 from ..estimator import estimate
 from ..meshes import uniform_mesh
+from ..progress import log, reporter
 from ..reference import energy_error
 from ..solution import solve
 
@@ -15,7 +17,7 @@ STRATEGIES = ("uniform", "h", "hp")
 
 
 def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", reference=None, max_ndof=10**5,
-                 max_levels=60, max_order=6, progress=None, keep=None, weights="energy", **options):
+                 max_levels=60, max_order=6, progress=log, keep=None, variant=None, **options):
     """Records (ndof, eta_h, error, seconds, iterations per level) of one refinement strategy.
 
     ``strategy``: "uniform" (uniform meshes h = 2^-1, 2^-2, ... up to ``max_ndof``; ``seconds`` is
@@ -24,7 +26,9 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
     up to ``max_order``); for both adaptive strategies ``seconds`` is the cumulative time of
     solve + estimate + mark + refine up to that level.  ``error``: |||u_ref - u_h|||_h against a
     :class:`ngdgfric.Reference` (None without one); its evaluation is not timed.  ``keep``: as in
-    :func:`ngdgfric.adapt` (adaptive strategies); ``weights``: the estimator's (:func:`ngdgfric.estimate`).
+    :func:`ngdgfric.adapt` (adaptive strategies); ``variant``: the estimator's (:func:`ngdgfric.estimate`);
+    ``progress``: callable(str) receiving one line per level (default :func:`ngdgfric.progress.log`: the logger
+    "ngdgfric" at INFO; None: none).
     """
     if strategy not in STRATEGIES:
         raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
@@ -38,12 +42,12 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
         k = 1
         while len(records) < max_levels:
             mesh = uniform_mesh(problem, 2.0**-k)
-            if mesh.ne * (order + 1) * (order + 2) > max_ndof and records:
+            if dg_ndof(order, mesh.ne) > max_ndof and records:
                 break
             start = time.perf_counter()
             sol = solve(problem, mesh, method=method, order=order, solver=solver, **options)
             seconds = time.perf_counter() - start
-            records.append(dict(level=k, seconds=seconds, **measure(sol, estimate(sol, weights))))
+            records.append(dict(level=k, seconds=seconds, **measure(sol, estimate(sol, variant))))
             _say(progress, strategy, records[-1])
             k += 1
         return records
@@ -55,8 +59,8 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
             keep(level, sol, est)
 
     levels = adapt(problem, method=method, order=order, solver=solver, max_levels=max_levels, max_ndof=max_ndof,
-                   hp=strategy == "hp", max_order=max_order, progress=progress, keep=measure_and_keep,
-                   weights=weights, **options).levels
+                   hp=strategy == "hp", max_order=max_order if strategy == "hp" else None, progress=progress,
+                   keep=measure_and_keep, variant=variant, **options).levels
     elapsed = 0.0
     for record in levels:
         elapsed += record["solve_seconds"] + record["estimate_seconds"] + record["mark_refine_seconds"]
@@ -66,7 +70,6 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
 
 
 def _say(progress, strategy, record):
-    if progress is not None:
-        error = "" if record["error"] is None else f", error {record['error']:.4e}"
-        progress(f"  {strategy} level {record['level']}: {record['ndof']} dofs, eta_h {record['eta_h']:.4e}{error}, "
-                 f"{record['seconds']:.2f} s")
+    error = "" if record["error"] is None else f", error {record['error']:.4e}"
+    reporter(progress)(f"  {strategy} level {record['level']}: {record['ndof']} dofs, eta_h {record['eta_h']:.4e}"
+                       f"{error}, {record['seconds']:.2f} s")

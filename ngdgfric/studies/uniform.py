@@ -8,6 +8,7 @@ import ngsolve as ngs
 
 from ..checks import check_size
 from ..meshes import estimated_elements, uniform_mesh
+from ..progress import log, reporter
 from ..reference import energy_norm, energy_norm_squared_parts
 from ..solution import solve
 from .measures import rates
@@ -42,17 +43,18 @@ def consecutive_differences(solutions):
 
 
 def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), solver="newton",
-                  diagonal="sw-ne", eta=None, progress=None, **options):
+                  diagonal="sw-ne", eta=None, progress=log, **options):
     """Solve on uniform meshes h = 2^-k, k in ``levels``, and compare consecutive solutions.
 
     Returns (rows, solutions): one row per level but the last, with h, ndof, iterations,
     seconds, the norms of :func:`consecutive_differences` and the observed ``rate`` of the
-    energy error.  ``progress``: callable(str) for one line per solved level.  The finest mesh's
-    size is checked before the first solve (:func:`ngdgfric.checks.check_size`, ``max_ndof`` in
+    energy error.  ``progress``: callable(str) receiving one line per solved level (default
+    :func:`ngdgfric.progress.log`: the logger "ngdgfric" at INFO, silent unless logging is configured; None: none).
+    The finest mesh's size is checked before the first solve (:func:`ngdgfric.checks.check_size`, ``max_ndof`` in
     ``options``).
     """
     check_size(order, options.get("max_ndof"), elements=estimated_elements(problem, h=2.0**-max(levels)))
-    solutions, seconds = [], []
+    solutions, seconds, say = [], [], reporter(progress)
     for k in levels:
         h = 2.0**-k
         mesh = uniform_mesh(problem, h, diagonal=diagonal, max_elements=None)
@@ -60,8 +62,7 @@ def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), so
         sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, **options)
         seconds.append(time.perf_counter() - start)
         solutions.append(sol)
-        if progress is not None:
-            progress(f"  h = 2^-{k}: {sol.ndof} dofs, {solver} {sol.iterations} iterations, {seconds[-1]:.2f} s")
+        say(f"  h = 2^-{k}: {sol.ndof} dofs, {solver} {sol.iterations} iterations, {seconds[-1]:.2f} s")
     diffs = consecutive_differences(solutions)
     hs = [2.0**-k for k in levels]
     observed = rates([d["energy"] for d in diffs], hs[:-1])

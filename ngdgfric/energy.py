@@ -1,0 +1,132 @@
+"""The DG energy norm of Section 3, the norm every error of the package is measured in:
+
+    |||v|||_h^2 = sum_T int_T C eps(v) : eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2,
+
+h_e = |e|, [v] the symmetric tensor jump (:func:`ngdgfric.dg.forms.jump_inner`), on Gamma_D the jump v (or
+v - u_D for the solution itself), on symmetry sides that of the normal part (v . n) n.  :func:`energy_norm`
+evaluates it for a solution (against a GridFunction or an exact solution), :func:`energy_norm_squared_parts` its
+two parts, :func:`energy_matrix` its Gram matrix on a DG space (v^T G v = |||v|||_h^2), all from the same
+densities (:func:`_strain_energy`, :func:`_support_jumps`).
+"""
+
+import ngsolve as ngs
+
+from .dg.forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
+from .meshes import facet_indicator
+from .problem import coefficient, strain, strain_of, stress
+
+__all__ = ["energy_norm", "energy_norm_squared_parts", "energy_matrix", "difference", "problem_of", "EXACT_ORDER"]
+
+EXACT_ORDER = 16  # the least quadrature degree of errors against an exact solution (energy_norm)
+
+
+def _strain_energy(problem, a, b):
+    """C eps(a) : eps(b), the volume density of the inner product of |||.|||_h."""
+    return ngs.InnerProduct(stress(problem, strain(a)), strain(b))
+
+
+def _support_jumps(problem, mesh, a, b, n):
+    """[a] : [b] on the supported boundary edges: the jumps a, b on Gamma_D, their normal parts on symmetry sides
+    (weight :data:`~ngdgfric.dg.forms.SYMMETRY_WEIGHT`), zero elsewhere."""
+    return facet_indicator(mesh, problem.where("dirichlet")) * jump_inner(a, b, n) + SYMMETRY_WEIGHT * \
+        facet_indicator(mesh, problem.where("symmetry")) * jump_inner(normal_part(a, n), normal_part(b, n), n)
+
+
+def energy_matrix(problem, mesh, V):
+    """The Gram matrix G of |||.|||_h on the DG space ``V`` (an NGSolve sparse matrix; v^T G v = |||v|||_h^2 for
+    the coefficients v of a function of V with the jump v on Gamma_D, as :func:`energy_norm_squared_parts`)."""
+    problem = problem.on(mesh)
+    u, v = V.TnT()
+    n, h_e = ngs.specialcf.normal(2), edge_length(mesh)
+    bonus = max(2 * _order(V) + 2 - 5, 0)
+    form = ngs.BilinearForm(V)
+    form += _strain_energy(problem, u, v) * ngs.dx(bonus_intorder=bonus)
+    form += jump_inner(u - u.Other(), v - v.Other(), n) / h_e * ngs.dx(skeleton=True, bonus_intorder=bonus)
+    form += _support_jumps(problem, mesh, u, v, n) / h_e * ngs.ds(skeleton=True, bonus_intorder=bonus)
+    form.Assemble()
+    return form.mat
+
+
+def energy_norm_squared_parts(problem, mesh, w, element_wise=False):
+    """(sum_T |w|_T^2, sum_{e in E_h^o} h_e^-1 ||[w]||_e^2) for a DG function ``w`` (Section 3).
+
+    With ``element_wise`` both are numpy arrays over elements (edge terms of interior edges split
+    half-half between the two neighbours, Dirichlet edges to their element).
+    """
+    bonus = max(2 * _order(w.space) + 2 - 5, 0)  # quadrature order 2p + 2 (Integrate's default is 5)
+    volume = ngs.Integrate(_strain_energy(problem, w, w) * ngs.dx(bonus_intorder=bonus), mesh,
+                           element_wise=element_wise)
+    jumps = _jump_part(problem, mesh, w, element_wise)
+    return (volume.NumPy().copy(), jumps) if element_wise else (volume, jumps)
+
+
+def _jump_part(problem, mesh, w, element_wise=False, dirichlet_value=None):
+    """sum_{e in E_h^o} h_e^-1 ||[w]||_e^2 for a DG function ``w``, with [w] = w - ``dirichlet_value`` on the
+    Dirichlet edges (a 2-vector CoefficientFunction; None: the jump [w] = w of Section 3) and the jump of the normal
+    part (w . n) n on symmetry sides; a numpy array over elements with ``element_wise`` (interior edges split
+    half-half, boundary edges to their element)."""
+    n = ngs.specialcf.normal(2)
+    h_e = edge_length(mesh)
+    jw, off = w - w.Other(), w if dirichlet_value is None else w - dirichlet_value
+    boundary = ngs.dx(element_boundary=True, bonus_intorder=max(2 * _order(w.space) + 2 - 5, 0))
+    interior = ngs.Integrate(0.5 * jump_inner(jw, jw, n) / h_e * boundary, mesh, element_wise=element_wise)
+    dirichlet = ngs.Integrate(_support_jumps(problem, mesh, off, off, n) / h_e * boundary, mesh,
+                              element_wise=element_wise)
+    return interior.NumPy() + dirichlet.NumPy() if element_wise else interior + dirichlet
+
+
+def difference(u, w, extra_order=2):
+    """u - w as a GridFunction on u's mesh.
+
+    ``w``: a GridFunction on the same mesh (the difference lives in the larger of the two DG
+    spaces, exactly) or a CoefficientFunction (interpolated elementwise in degree p + extra_order).
+    """
+    space_u = u.space
+    if isinstance(w, ngs.GridFunction):
+        target = w.space if _order(w.space) >= _order(space_u) else space_u
+    else:
+        target = ngs.L2(u.space.mesh, order=_order(space_u) + extra_order) ** 2
+    e = ngs.GridFunction(target)
+    e.Set(u)
+    other = ngs.GridFunction(target)
+    other.Set(w)
+    e.vec.data -= other.vec
+    return e
+
+
+def _order(space):
+    return space.globalorder
+
+
+def problem_of(sol):
+    """The problem with its data on the mesh: a Solution's discretisation's (data per part resolved), a
+    :class:`Reference`'s own."""
+    disc = getattr(sol, "discretization", None)
+    return sol.problem if disc is None else disc.problem
+
+
+def energy_norm(sol, w=None):
+    """|||u_h|||_h of a Solution, or |||u_h - w|||_h (Section 3):
+
+    |||v|||_h^2 = sum_T int_T C eps(v):eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2.
+
+    ``w``: a GridFunction (see :func:`difference`), or a continuous CoefficientFunction of x, y (an exact
+    solution): then eps(w) is its own derivative (:func:`ngdgfric.problem.strain_of`), C is the problem's
+    (the true material, also where a jump cuts elements), the volume integral uses a Gauss rule of degree
+    max(2 p + 4, :data:`EXACT_ORDER`) (a kink of w inside an element is integrated, not interpolated), and
+    [u_h - w] = [u_h] on interior edges.  With a prescribed displacement u_D != 0, |||u_h|||_h takes
+    [u_h] = u_h - u_D on Gamma_D (the jump the solution has there; u_h itself would add h^-1 ||u_D||^2).
+    """
+    problem = problem_of(sol)
+    if w is None and has_dirichlet_data(problem):  # [u_h] = u_h - u_D on Gamma_D: the jump the exact u has not
+        volume, _ = energy_norm_squared_parts(problem, sol.mesh, sol.u)
+        return (volume + _jump_part(problem, sol.mesh, sol.u, dirichlet_value=coefficient(problem.u_D))) ** 0.5
+    if w is None or isinstance(w, ngs.GridFunction):
+        v = sol.u if w is None else difference(sol.u, w)
+        volume, jumps = energy_norm_squared_parts(problem, sol.mesh, v)
+        return (volume + jumps) ** 0.5
+    problem, mesh, u = problem, sol.mesh, sol.u
+    e = strain(u) - strain_of(w)
+    order = max(2 * _order(u.space) + 4, EXACT_ORDER)
+    volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)
+    return (volume + _jump_part(problem, mesh, u, dirichlet_value=w)) ** 0.5

@@ -1,0 +1,48 @@
+"""MARK (Section 6): Doerfler's bulk criterion, and its parameter near the tolerance.
+
+:func:`dorfler_mark` takes the smallest set M of elements with sum_M eta_T^2 >= theta sum_T eta_T^2; the paper uses
+theta = 0.3, :func:`ngdgfric.adapt` 0.8 (why: :mod:`ngdgfric.adaptivity`) and, on the level before the tolerance,
+:func:`landing_theta`.
+"""
+
+import numpy as np
+
+__all__ = ["dorfler_mark", "landing_theta", "LANDING"]
+
+
+def dorfler_mark(element_indicators, theta=0.3):
+    """The smallest set M with sum_M eta_T^2 >= theta sum_T eta_T^2 (boolean mask).
+
+    ``element_indicators``: the squared indicators eta_T^2.  Largest indicators are taken first;
+    ties at the threshold are broken by element number.
+    """
+    if not (isinstance(theta, (int, float)) and 0 < theta <= 1):
+        raise ValueError(f"theta must be in (0, 1], got {theta!r}")
+    values = np.asarray(element_indicators, dtype=float)
+    if values.ndim != 1 or np.any(values < 0) or not np.all(np.isfinite(values)):
+        raise ValueError("element indicators must be a 1-d array of finite nonnegative numbers")
+    marked = np.zeros(values.size, dtype=bool)
+    total = values.sum()
+    if total == 0:
+        return marked
+    order = np.argsort(-values, kind="stable")
+    cumulative = np.cumsum(values[order])
+    count = int(np.searchsorted(cumulative, theta * total * (1 - 1e-14))) + 1
+    marked[order[:min(count, values.size)]] = True
+    return marked
+
+
+
+LANDING = 0.7
+"""The fraction of the tolerance :func:`landing_theta` aims the last level at."""
+
+
+def landing_theta(theta, eta_h, tol):
+    """The Doerfler parameter of a level with estimate ``eta_h`` that has not reached ``tol``: ``theta``, but near the
+    tolerance no more than the share of eta_h^2 that must go for the rest to be (LANDING tol)^2, at least 0.3 (the
+    paper's): with theta = 0.8 and big hp steps (eta_h falling 3-8 times per level) the last level would
+    otherwise overshoot to errors of tol/20 at the cost of the largest solve of the loop."""
+    if tol is None:
+        return theta
+    return min(theta, max(0.3, 1.0 - (LANDING * tol / eta_h) ** 2))
+
