@@ -22,7 +22,7 @@ from .dg.material import MaterialWarning
 from .dg.methods import DG_METHODS, METHODS, Method, PenaltyWarning
 from .domain import Domain, Loop
 from .equilibration import Equilibration, equilibrate
-from .errors import SolverError, TimeLimitError
+from .errors import SolverError, SolverWarning, TimeLimitError
 from .estimator import Estimate, estimate
 from .examples import example, example_6_1, example_6_2
 from .forces import ForceBalance, force_balance
@@ -56,7 +56,7 @@ __all__ = [
     "Method", "METHODS", "DG_METHODS", "Discretization", "MaterialWarning", "PenaltyWarning",
     # solving
     "solve", "finish", "Solution", "WarmStart", "SolverOptions", "NewtonOptions", "UzawaOptions",
-    "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError",
+    "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError", "SolverWarning",
     # outputs
     "contact_state", "kkt_residuals", "force_balance", "ForceBalance",
     # estimators and adaptivity

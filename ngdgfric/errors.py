@@ -5,7 +5,7 @@ import time
 import warnings
 from pathlib import Path
 
-__all__ = ["SolverError", "TimeLimitError", "deadline", "check_deadline", "warn"]
+__all__ = ["SolverError", "TimeLimitError", "SolverWarning", "deadline", "check_deadline", "warn"]
 
 PACKAGE = str(Path(__file__).resolve().parent)
 
@@ -21,6 +21,12 @@ class SolverError(RuntimeError):
 
 class TimeLimitError(SolverError):
     """A solver reached its time limit (option ``max_seconds``) before its tolerance."""
+
+
+class SolverWarning(RuntimeWarning):
+    """A solver took a fallback that its result survived but that you should know about: a singular Newton
+    system solved by least squares, or a Delassus diagonal entry raised to a floor (``info`` of the solve
+    counts them: ``least_squares_solves``, ``clamped_points``)."""
 
 
 def deadline(max_seconds):

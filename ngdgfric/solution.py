@@ -4,6 +4,9 @@ import time
 import warnings
 from dataclasses import dataclass, field
 
+import numpy as np
+
+from .checks import MEMORY_BUDGET
 from .dg.discretization import Discretization
 from .meshes import snapshot
 from .solvers.fixed_point import FixedPointOptions, fixed_point
@@ -30,12 +33,15 @@ class Solution:
     ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics; ``state``: for an
     inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
     :class:`~ngdgfric.solvers.newton.NewtonState` that :func:`finish` continues; None otherwise.
+    ``max_order``: the largest polynomial degree p_T (p on a mesh of one degree); ``orders``: the degree of every
+    element.  ``order`` is a deprecated alias of ``max_order``: on hp meshes it read as "the" order, but it was
+    only the largest (DeprecationWarning).
     """
 
     problem: object
     mesh: object
     method: str
-    order: int
+    max_order: int
     eta: object
     solver: str
     u: object
@@ -48,6 +54,18 @@ class Solution:
     state: object = field(default=None, repr=False)
 
     @property
+    def orders(self):
+        """The polynomial degree p_T of every element (an integer array in the mesh's element order; a copy)."""
+        return np.array(self.discretization.orders, dtype=np.int64)
+
+    @property
+    def order(self):
+        """Deprecated: the largest degree, :attr:`max_order` (see :attr:`orders` for the degree per element)."""
+        warnings.warn("Solution.order is deprecated: it is the largest degree, Solution.max_order (the degree of "
+                      "every element: Solution.orders)", DeprecationWarning, stacklevel=2)
+        return self.max_order
+
+    @property
     def ndof(self):
         """Number of degrees of freedom of u_h."""
         return self.u.space.ndof
@@ -55,7 +73,7 @@ class Solution:
 
 @limited_blas
 def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solver_tol=None, initial=None,
-          penalty_check="warn", max_ndof=None, **options):
+          penalty_check="warn", max_ndof=None, max_bytes=MEMORY_BUDGET, **options):
     """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
     problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.  The
@@ -78,8 +96,8 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     initial: a Solution (or a :class:`~ngdgfric.transfer.WarmStart`) to start from, on this mesh or on
     another, e.g. coarser, mesh of the same domain (:func:`ngdgfric.transfer.initial_guess`).
     max_ndof: refuse (ValueError, before assembly) above this many DOFs; None: above an estimated
-    8 GB (:func:`ngdgfric.checks.check_size`).  Data given as CoefficientFunctions are checked
-    pointwise first (:func:`ngdgfric.checks.check_data`).
+    ``max_bytes`` bytes of memory (default 8 GB, :func:`ngdgfric.checks.check_size`).  Data given as
+    CoefficientFunctions are checked pointwise first (:func:`ngdgfric.checks.check_data`).
     options: the solver's options (:class:`~ngdgfric.solvers.newton.NewtonOptions`,
     :class:`~ngdgfric.solvers.uzawa.UzawaOptions`, :class:`~ngdgfric.solvers.fixed_point.FixedPointOptions`), e.g.
     ``maxit``, ``progress`` (callable(message)); unknown names and bad values raise ValueError before
@@ -91,7 +109,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     settings = options_class.from_keywords(solver_tol=_solver_tol(solver_tol, options), **options)
     start_from = None if initial is None else _warm_start(initial)
     start = time.perf_counter()
-    disc = Discretization(problem, snapshot(mesh), method, order, eta, penalty_check, max_ndof)
+    disc = Discretization(problem, snapshot(mesh), method, order, eta, penalty_check, max_ndof, max_bytes)
     u, lam_tau, info = function(disc, settings, None if start_from is None else initial_guess(start_from, disc))
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
@@ -134,6 +152,6 @@ def finish(sol, solver_tol=None, energy_tol=None, maxit=100):
     u, lam_tau, info = sol.state.run(options)
     seconds = time.perf_counter() - start
     timings = dict(sol.timings, solve=sol.timings["solve"] + seconds, total=sol.timings["total"] + seconds)
-    return Solution(sol.problem, sol.mesh, sol.method, sol.order, sol.eta, sol.solver, u, lam_tau,
+    return Solution(sol.problem, sol.mesh, sol.method, sol.max_order, sol.eta, sol.solver, u, lam_tau,
                     sol.iterations + info["iterations"], sol.history + info["history"], timings,
                     sol.discretization, info, info.pop("state", None))

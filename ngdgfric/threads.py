@@ -2,7 +2,12 @@
 
 On a machine with few cores, idle OpenBLAS threads busy-wait and take the cores from NGSolve's
 TaskManager; small sparse work gains nothing from threads.  Everything here is scoped to a call
-(a context manager or a decorator); importing changes nothing.
+(a context manager or a decorator); importing changes nothing and nothing is cached: the environment
+variable ``NGDGFRIC_BLAS_THREADS`` is read, and the loaded OpenBLAS libraries are found, each time a limit
+is set (:func:`blas_threads`), so a change of either takes effect at the next call.  Finding them costs
+0.3 ms (``threadpoolctl.ThreadpoolController().select(internal_api="openblas")``, best of 3 x 50 calls,
+2026-11), against the solve, estimate or adapt call, or the dense solve of 1000 or more rows (tens of
+milliseconds and up), that each limit wraps.
 """
 
 import contextlib
@@ -12,7 +17,7 @@ import os
 import ngsolve as ngs
 import threadpoolctl
 
-__all__ = ["blas_threads", "limited_blas", "call_limited", "dense_threads", "threads"]
+__all__ = ["blas_threads", "default_blas_threads", "limited_blas", "call_limited", "dense_threads", "threads"]
 
 
 PARALLEL_FROM = 20000
@@ -28,21 +33,35 @@ def threads(size):
     return ngs.TaskManager() if size >= PARALLEL_FROM else contextlib.nullcontext()
 
 
-BLAS_THREADS = int(os.environ.get("NGDGFRIC_BLAS_THREADS", "1"))
-"""OpenBLAS threads inside :func:`blas_threads` (environment variable NGDGFRIC_BLAS_THREADS, default 1)."""
+BLAS_THREADS_VARIABLE = "NGDGFRIC_BLAS_THREADS"
 DENSE_PARALLEL_FROM = 1000
 
 
-@functools.cache
+def default_blas_threads():
+    """OpenBLAS threads inside :func:`blas_threads` by default: the environment variable NGDGFRIC_BLAS_THREADS
+    (an integer >= 1) when it is set, else 1; read at each call.  ValueError naming the variable if it is not
+    such an integer."""
+    value = os.environ.get(BLAS_THREADS_VARIABLE, "1")
+    try:
+        count = int(value)
+    except ValueError:
+        count = 0
+    if count < 1:
+        raise ValueError(f"the environment variable {BLAS_THREADS_VARIABLE} must be an integer >= 1, got {value!r}")
+    return count
+
+
 def _openblas():
-    """The OpenBLAS libraries loaded in this process (numpy's, NGSolve's), found by threadpoolctl."""
+    """The OpenBLAS libraries loaded in this process now (numpy's, NGSolve's, and any loaded since the last
+    call), found by threadpoolctl (0.3 ms: module docstring)."""
     return threadpoolctl.ThreadpoolController().select(internal_api="openblas")
 
 
 @contextlib.contextmanager
 def blas_threads(count=None):
-    """Limit every OpenBLAS of the process to ``count`` threads (default :data:`BLAS_THREADS`) inside
-    the block; the previous limits come back at its end.
+    """Limit every OpenBLAS of the process to ``count`` threads (default :func:`default_blas_threads`: the
+    environment variable NGDGFRIC_BLAS_THREADS, else 1) inside the block; the previous limits come back at
+    its end.
 
     Idle OpenBLAS threads busy-wait for a while after each call; on two cores they took the cores
     from NGSolve's TaskManager, and inside Newton each sparse back-substitution took 30-40 ms
@@ -50,7 +69,7 @@ def blas_threads(count=None):
     Vandermonde solves) gains nothing from BLAS threads; large dense solves get all cores back in
     :func:`dense_threads`.  MKL (PARDISO's) is left alone.
     """
-    with _openblas().limit(limits=BLAS_THREADS if count is None else count):
+    with _openblas().limit(limits=default_blas_threads() if count is None else count):
         yield
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
+import ngdgfric.threads
 from ngdgfric.sparse import BlockSum, diagonal, sparse_sum
 from ngdgfric.threads import blas_threads, dense_threads, limited_blas
 
@@ -76,6 +77,35 @@ def test_blas_threads_limits_inside_the_block_only():
 def test_limited_blas_runs_the_function_under_the_limit():
     seen = limited_blas(openblas_threads)()
     assert set(seen) == {int(os.environ.get("NGDGFRIC_BLAS_THREADS", "1"))}
+
+
+def test_the_environment_variable_is_read_when_the_limit_is_set(monkeypatch):
+    """NGDGFRIC_BLAS_THREADS changed after import takes effect at the next call; a bad value is named."""
+    for count in (2, 1):
+        monkeypatch.setenv("NGDGFRIC_BLAS_THREADS", str(count))
+        assert set(limited_blas(openblas_threads)()) == {count}
+    for bad in ("0", "two"):
+        monkeypatch.setenv("NGDGFRIC_BLAS_THREADS", bad)
+        with pytest.raises(ValueError, match=f"NGDGFRIC_BLAS_THREADS must be an integer >= 1, got '{bad}'"):
+            limited_blas(openblas_threads)()
+
+
+def test_the_openblas_libraries_are_found_at_each_limit(monkeypatch):
+    """No selection cached for the life of the process: a library loaded later is limited too (finding them
+    costs 0.3 ms, see ngdgfric.threads)."""
+    made = []
+    controller = ngdgfric.threads.threadpoolctl.ThreadpoolController
+    select = controller.select
+
+    def counting(self, **kwargs):
+        made.append(kwargs)
+        return select(self, **kwargs)
+
+    monkeypatch.setattr(controller, "select", counting)
+    for _ in range(2):
+        with blas_threads(1):
+            assert set(openblas_threads()) == {1}
+    assert len(made) == 2
 
 
 def test_dense_threads_gives_all_cores_to_large_dense_solves_and_restores_the_limit():

@@ -22,6 +22,7 @@ def assert_kkt_at_roundoff(sol):
     assert kkt["equilibrium"] <= 10 * max(rounding_residual(sol), 1e-14)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("example", [ndf.example_6_1, ndf.example_6_2])
 def test_newton_agrees_with_uzawa_at_h_1_16(example):
     p = example()
@@ -33,7 +34,7 @@ def test_newton_agrees_with_uzawa_at_h_1_16(example):
     assert_kkt_at_roundoff(newton)
 
 
-@pytest.mark.parametrize("method", ["sipg", "nipg", "bassi", "brezzi", "ldg"])
+@pytest.mark.parametrize("method", ndf.DG_METHODS)
 @pytest.mark.parametrize("order", [1, 2])
 def test_newton_solution_satisfies_kkt(method, order):
     p = ndf.example_6_1()
@@ -50,6 +51,7 @@ def test_nearly_incompressible_material(nu):
         assert_kkt_at_roundoff(ndf.solve(p, ndf.uniform_mesh(p, h)))
 
 
+@pytest.mark.slow
 def test_nearly_incompressible_material_agrees_with_uzawa():
     p = dataclasses.replace(ndf.example_6_1(), nu=0.499)
     mesh = ndf.uniform_mesh(p, 1 / 8)
@@ -93,6 +95,7 @@ def test_compliance_extremes_with_initial_penetration(m_n, c_n):
     assert_kkt_at_roundoff(sol)
 
 
+@pytest.mark.slow
 def test_element_with_two_contact_edges():
     """W is singular (dependent traces at the corner): forces not unique, u is."""
     corner = ndf.Polygon.rectangle(0, 0, 1, 1, bottom="contact", right="contact", top="dirichlet", left="traction")
@@ -134,6 +137,7 @@ def test_non_convergence_raises_with_history():
     assert err.value.solver == "newton"
 
 
+@pytest.mark.slow
 def test_spatially_varying_young_modulus_newton_agrees_with_uzawa():
     problem = dataclasses.replace(ndf.example_6_1(), E=2000 + 500 * ngs.x)
     mesh = ndf.uniform_mesh(problem, 1 / 8)
@@ -191,6 +195,7 @@ def test_energy_tol_is_checked():
         ndf.solve(p, mesh, solver="uzawa", energy_tol=1.0)
 
 
+@pytest.mark.slow
 def test_hp_mesh_with_redundant_contact_points_is_solved_by_the_proximal_point_method():
     """Contact elements of degree 1 on a mesh of degree 4: five Gauss points per contact edge carry traces of
     degree 1, W is singular and the forces are not unique (u is); the proximal point method of

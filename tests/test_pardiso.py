@@ -1,8 +1,12 @@
 """MKL PARDISO's Schur complement and partial solves against dense linear algebra."""
 
+import ctypes
+
 import numpy as np
 import pytest
 
+from ngdgfric.cli import main
+from ngdgfric.errors import SolverError
 from ngdgfric.solvers import pardiso
 
 pytestmark = pytest.mark.skipif(not pardiso.available(), reason="MKL PARDISO not installed (pip install mkl)")
@@ -38,3 +42,37 @@ def test_schur_complement_and_partial_solves(symmetric):
 def test_bad_schur_size_is_rejected():
     with pytest.raises(ValueError, match="n_schur"):
         pardiso.SchurFactorization(*csr_of(np.eye(3), True), 3, True)
+
+
+class FailingPardiso:
+    """MKL's library with one phase failing: PARDISO's own call, then ``code`` written into its error argument."""
+
+    def __init__(self, real, phase, code):
+        self.real, self.phase, self.code = real, phase, code
+        self.pardisoinit = real.pardisoinit
+
+    def pardiso(self, *args):
+        self.real.pardiso(*args)
+        if ctypes.cast(args[4], ctypes.POINTER(ctypes.c_int32))[0] == self.phase:  # the phase argument
+            ctypes.cast(args[-1], ctypes.POINTER(ctypes.c_int32))[0] = self.code
+
+
+def test_a_failure_in_a_solve_phase_is_a_solver_error_naming_phase_and_code(monkeypatch):
+    real = pardiso._library()
+    monkeypatch.setattr(pardiso, "_library", lambda: FailingPardiso(real, 331, -4))
+    K = np.array([[4.0, 1.0, 1.0], [1.0, 3.0, 0.0], [1.0, 0.0, 0.0]])
+    factorization = pardiso.SchurFactorization(*csr_of(K, True), 1, True)
+    with pytest.raises(SolverError, match=r"phase 331 \(forward substitution\) with error -4 \(zero pivot\)") as caught:
+        factorization.solve_eliminated(np.ones(2), np.zeros(1))
+    assert isinstance(caught.value, pardiso.PardisoError) and (caught.value.phase, caught.value.code) == (331, -4)
+
+
+@pytest.mark.parametrize("phase", [12, 333])
+def test_the_command_line_reports_a_pardiso_failure_as_a_solver_failure(monkeypatch, capsys, tmp_path, phase):
+    """Exit code 1 (the solver failed), not 3 (an internal error), with the phase and PARDISO's code."""
+    real = pardiso._library()
+    monkeypatch.setattr(pardiso, "_library", lambda: FailingPardiso(real, phase, -2))
+    assert main(["solve", "6.1", "--h", "0.5", "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert f"MKL PARDISO failed in phase {phase}" in err and "error -2 (not enough memory)" in err
+    assert "internal error" not in err

@@ -80,6 +80,7 @@ def test_random_problems_are_solved(seed, symmetric, c_n, c_tau, m_n, m_t, gap):
     assert excess <= 1e-12
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("E, nu, h, method", [(1e3, 0.49, 1 / 8, "brezzi"), (1e3, 0.3, 1 / 16, "sipg"),
                                                (1e6, 0.3, 1 / 16, "brezzi")])
 def test_degenerate_stick_slip_transitions_converge(E, nu, h, method):

@@ -43,10 +43,24 @@ def test_record_and_progress_lines(example):
     lines = []
     sol = ndf.solve(p, mesh, solver="uzawa", progress=lines.append)
     assert sol.ndof == sol.discretization.V.ndof == sol.u.space.ndof
-    assert (sol.method, sol.order, sol.solver, sol.state) == ("sipg", 1, "uzawa", None)
+    assert (sol.method, sol.max_order, sol.solver, sol.state) == ("sipg", 1, "uzawa", None)
     assert len(lines) == sol.iterations // 100 and all(line.startswith("uzawa ") for line in lines)
     assert sol.timings["total"] >= max(sol.timings["solve"], sol.timings["assemble"]) > 0
     assert finish(sol) is sol  # nothing to continue
+
+
+def test_an_hp_solution_names_its_largest_degree_and_keeps_every_elements():
+    """Solution.max_order is the largest p_T, Solution.orders the degree per element; the old name order (which
+    read as "the" degree) still answers max_order with a DeprecationWarning."""
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 4)
+    orders = 1 + np.arange(mesh.ne) % 3
+    sol = ndf.solve(p, mesh, order=orders)
+    assert sol.max_order == 3 and np.array_equal(sol.orders, orders) and sol.orders.dtype == np.int64
+    sol.orders[:] = 7  # a copy
+    assert np.array_equal(sol.orders, orders)
+    with pytest.warns(DeprecationWarning, match="Solution.max_order"):
+        assert sol.order == 3
 
 
 def test_unknown_solver_is_refused_before_assembly():

@@ -130,7 +130,7 @@ def projected_newton_step(problem, s, grad, scaling, projected_gradient):
         hessian = problem.W[np.ix_(free, free)]
         on_diagonal = np.arange(free.size)
         hessian[on_diagonal, on_diagonal] += curvature[free] + problem.regularization * problem.diagonal[free]
-        direction[free] = dense_solve(hessian, -grad[free])
+        direction[free] = dense_solve(hessian, -grad[free], problem.diagnostics)
     free_decrease = float(-grad[free] @ direction[free])
     t = 1.0
     for _ in range(50):

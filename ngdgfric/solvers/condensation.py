@@ -107,6 +107,8 @@ class Condensation:
             try:
                 self._factorization = pardiso.SchurFactorization(indptr, cols, values, 2 * traces.M, symmetric)
             except pardiso.PardisoError as error:
+                if error.code not in (-4, -7):  # not a zero pivot or a singular diagonal: PARDISO's message says it
+                    raise
                 raise SolverError(f"{error}: the linear part A cannot be factorised (is B_h coercive? check the "
                                   "penalty eta)", solver="newton") from error
             self.W = -self._factorization.schur

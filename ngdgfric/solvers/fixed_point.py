@@ -40,8 +40,8 @@ OUTER = ("solver_tol", "maxit", "progress", "max_seconds")
 
 
 def _inner_options(value, name):
-    if not isinstance(value, (NewtonOptions, UzawaOptions)):
-        raise ValueError(f"{name} must be NewtonOptions or UzawaOptions, got {value!r}")
+    if value is not None and not isinstance(value, (NewtonOptions, UzawaOptions)):
+        raise ValueError(f"{name} must be None, NewtonOptions or UzawaOptions, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -49,15 +49,20 @@ class FixedPointOptions(SolverOptions):
     """The options of :func:`fixed_point` (the keywords of ``solve(solver="fixed_point")``).
 
     solver_tol: the relative max-norm change of u at which the outer iteration stops.
+
     maxit: outer iterations.
+
     progress: None, or callable(message) called after each outer iteration with a line such as
         "fixed point 3: relative change 1.2e-05".
-    inner: the options of the inner solver, :class:`~ngdgfric.solvers.newton.NewtonOptions` (the default) or
-        :class:`~ngdgfric.solvers.uzawa.UzawaOptions`, whose type chooses it.  As keywords (:meth:`from_keywords`):
-        ``inner="newton"`` or ``"uzawa"`` and that solver's options other than solver_tol, maxit, progress
-        and max_seconds; the inner solve gets the outer solver_tol.
+
+    inner: the options of the inner solver, :class:`~ngdgfric.solvers.newton.NewtonOptions` or
+        :class:`~ngdgfric.solvers.uzawa.UzawaOptions`, whose type chooses it, used as given (their own
+        solver_tol, maxit, progress, max_seconds); None (the default): Newton with the outer solver_tol
+        (:attr:`inner_options`).  As keywords (:meth:`from_keywords`): ``inner="newton"`` or ``"uzawa"`` and
+        that solver's options other than solver_tol, maxit, progress and max_seconds, with the outer solver_tol.
+
     max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) after this long
-        (each inner solve gets the time that is left).
+        (each inner solve stops at its own max_seconds or at the time that is left, whichever comes first).
     """
 
     solver = "fixed_point"
@@ -67,14 +72,19 @@ class FixedPointOptions(SolverOptions):
     solver_tol: float = 1e-8
     maxit: int = 100
     progress: Callable[[str], None] | None = None
-    inner: NewtonOptions | UzawaOptions = NewtonOptions(solver_tol=1e-8)
+    inner: NewtonOptions | UzawaOptions | None = None
     max_seconds: float | None = None
+
+    @property
+    def inner_options(self):
+        """The options of the inner solves: ``inner``, or for None Newton's defaults with the outer solver_tol."""
+        return NewtonOptions(solver_tol=self.solver_tol) if self.inner is None else self.inner
 
     @classmethod
     def from_keywords(cls, **options):
         """The options from the keywords of ``solve(solver="fixed_point", ...)`` (None means the default):
         ``solver_tol``, ``maxit``, ``progress``, ``inner`` ("newton" or "uzawa") and the inner solver's
-        options, which must be its own (ValueError naming any other)."""
+        options, which must be its own (ValueError naming any other); the inner solve gets the outer solver_tol."""
         outer = {name: options.pop(name, None) for name in OUTER}
         outer = {name: value for name, value in outer.items() if value is not None}
         inner = options.pop("inner", None)
@@ -84,7 +94,18 @@ class FixedPointOptions(SolverOptions):
         positive_number(solver_tol, "solver_tol")
         inner_options = INNER[inner][1].from_keywords(f"fixed_point with inner={inner!r}", solver_tol=solver_tol,
                                                       **options)
+        if inner_options == cls(**outer).inner_options:
+            inner_options = None  # what None means: FixedPointOptions.from_keywords() == FixedPointOptions()
         return cls(**outer, inner=inner_options)
+
+
+def _time_limited(options, until):
+    """The inner solver's ``options`` with max_seconds at most the time left before ``until`` (None: no limit)."""
+    if until is None:
+        return options
+    left = max(until - time.perf_counter(), 1e-9)
+    return dataclasses.replace(options, max_seconds=left if options.max_seconds is None else
+                               min(options.max_seconds, left))
 
 
 def fixed_point(disc, options=None, initial=None):
@@ -97,8 +118,8 @@ def fixed_point(disc, options=None, initial=None):
     Raises :class:`SolverError` (with the history) if it diverges or does not converge in maxit.
     """
     options = FixedPointOptions() if options is None else options
-    inner_solver, inner = INNER[options.inner.solver][0], options.inner.solver
-    inner_options = dataclasses.replace(options.inner, solver_tol=options.solver_tol)  # the outer tolerance
+    inner_options = options.inner_options
+    inner_solver, inner = INNER[inner_options.solver][0], inner_options.solver
     start = time.perf_counter()
     until = deadline(options.max_seconds)
     u, lam_tau = starting_point(disc, initial)
@@ -106,11 +127,9 @@ def fixed_point(disc, options=None, initial=None):
     history, inner_iterations, factorizations = [], [], 0
     for k in range(1, options.maxit + 1):
         check_deadline(until, "fixed point", history, f"after {k - 1} iterations")
-        if until is not None:
-            inner_options = dataclasses.replace(inner_options, max_seconds=max(until - time.perf_counter(), 1e-9))
         try:
-            u_new, lam_tau_new, info = inner_solver(disc, inner_options, initial=(u, lam_tau),
-                                                problem=frozen_bound(disc.problem, u))
+            u_new, lam_tau_new, info = inner_solver(disc, _time_limited(inner_options, until), initial=(u, lam_tau),
+                                                    problem=frozen_bound(disc.problem, u))
         except TimeLimitError:
             raise
         except SolverError as error:

@@ -35,7 +35,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..errors import deadline
+from ..errors import SolverWarning, deadline, warn
 from ..transfer import starting_point
 from . import semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
@@ -54,13 +54,18 @@ class NewtonOptions(SolverOptions):
 
     solver_tol: the relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points at which
         the iteration stops (:mod:`ngdgfric.solvers.reduced`; round-off sets its floor).
+
     maxit: Newton iterations.
+
     progress: None, or callable(message) called after each iteration with a line such as
         "newton 3: KKT residual 1.2e-09".
+
     linear_solver: "auto" (MKL PARDISO if installed, else NGSolve), "pardiso" or "ngsolve"
         (:class:`ngdgfric.solvers.condensation.Condensation`).
+
     energy_tol: None, or also stop once the linearisation estimate eta_lin <= energy_tol (module
         docstring); then ``info["state"]`` can continue the solve (:class:`NewtonState`).
+
     max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) once the solve has
         run this long (checked between iterations; the factorisation itself is not interrupted).
     """
@@ -89,9 +94,7 @@ class NewtonState:
         start = time.perf_counter()
         self.disc, self.traces = disc, traces
         self.condensation = Condensation(disc.A, disc.F, traces, disc.symmetric, linear_solver)
-        self.reduced = ReducedContact(self.condensation.W, self.condensation.w0, traces.omega, traces.g_a,
-                                      traces.c_n, traces.c_tau, traces.m_n, traces.m_t, disc.symmetric,
-                                      traces.redundant)
+        self.reduced = ReducedContact.condensed(self.condensation, traces, disc.symmetric)
         self.f = None
         self.condense_seconds = time.perf_counter() - start
 
@@ -102,28 +105,54 @@ class NewtonState:
 
     def run(self, options):
         """Newton from the current f (zero if none) with the :class:`NewtonOptions` ``options``, then recover
-        u; returns (u, lam_tau, info) (see :func:`newton`)."""
+        u; returns (u, lam_tau, info) (see :func:`newton`).  The steps: solve the laws at the points, recover u
+        (and make the laws hold at its traces), the GridFunctions, the diagnostics."""
         start = time.perf_counter()
-        reduced, traces, disc = self.reduced, self.traces, self.disc
+        least_squares = self.reduced.diagnostics["least_squares_solves"]
         until = deadline(None if options.max_seconds is None else options.max_seconds - self.condense_seconds)
-        f, info = semismooth.solve(reduced, self.f, options.solver_tol, options.maxit, options.progress,
-                                   options.energy_tol, until)
-        seconds = dict(newton=time.perf_counter() - start)
-        start_recover = time.perf_counter()
-        u_vec = self.condensation.displacement(f)
-        seconds["recover"] = time.perf_counter() - start_recover
-        f, u_vec, consistency = self._make_consistent(f, u_vec, info, options, seconds, until)
+        f, info, seconds = self._solve_points(options, until)
+        f, u_vec, consistency = self._recover(f, info, options, seconds, until)
         self.f = f
-        u, lam_tau = starting_point(disc)
-        u.vec.FV().NumPy()[:] = u_vec
-        disc.gauss.set_values(lam_tau, reduced.multiplier(f).reshape(-1, disc.gauss.q))
-        info.update(contact_points=traces.M, linear_solver=self.condensation.linear_solver, factorizations=1,
-                    refinements=self.condensation.refinements, consistency_steps=consistency,
-                    state=None if info["converged"] else self,
-                    timings=dict(condense=self.condense_seconds, **seconds,
-                                 total=self.condense_seconds + time.perf_counter() - start))
+        u, lam_tau = self._grid_functions(u_vec, f)
+        self._diagnose(info, seconds, consistency, self.reduced.diagnostics["least_squares_solves"] - least_squares)
+        info["timings"]["total"] = self.condense_seconds + time.perf_counter() - start
         self.condense_seconds = 0.0  # a resumed run does not condense again
         return u, lam_tau, info
+
+    def _solve_points(self, options, until):
+        """Step 1: the semismooth Newton iteration on the points from the current f; (f, info, seconds)."""
+        start = time.perf_counter()
+        f, info = semismooth.solve(self.reduced, self.f, options.solver_tol, options.maxit, options.progress,
+                                   options.energy_tol, until)
+        return f, info, dict(newton=time.perf_counter() - start)
+
+    def _recover(self, f, info, options, seconds, until):
+        """Step 2: u = A^-1 (F - B^T f), then :meth:`_make_consistent`; returns (f, u as an array, re-solves)."""
+        start = time.perf_counter()
+        u_vec = self.condensation.displacement(f)
+        seconds["recover"] = time.perf_counter() - start
+        return self._make_consistent(f, u_vec, info, options, seconds, until)
+
+    def _grid_functions(self, u_vec, f):
+        """Step 3: u and lam_tau = f_t / beta (:meth:`~ngdgfric.solvers.reduced.ReducedContact.multiplier`) as
+        GridFunctions on ``disc.V``, ``disc.Q``."""
+        disc = self.disc
+        u, lam_tau = starting_point(disc)
+        u.vec.FV().NumPy()[:] = u_vec
+        disc.gauss.set_values(lam_tau, self.reduced.multiplier(f).reshape(-1, disc.gauss.q))
+        return u, lam_tau
+
+    def _diagnose(self, info, seconds, consistency, least_squares):
+        """Step 4: the solve's diagnostics into ``info`` (see :func:`newton`); a
+        :class:`~ngdgfric.errors.SolverWarning` if ``least_squares`` Newton systems of this run were singular."""
+        info.update(contact_points=self.traces.M, linear_solver=self.condensation.linear_solver, factorizations=1,
+                    refinements=self.condensation.refinements, consistency_steps=consistency,
+                    least_squares_solves=least_squares, clamped_points=self.reduced.diagnostics["clamped_points"],
+                    state=None if info["converged"] else self, timings=dict(condense=self.condense_seconds, **seconds))
+        if least_squares:
+            warn(f"semismooth Newton on the contact points: {least_squares} Newton systems were singular and were "
+                 "solved by least squares (each such direction was still checked by the globalisation, and the "
+                 "stopping test by the KKT residual; the forces at the points may not be unique)", SolverWarning)
 
     def _make_consistent(self, f, u_vec, info, options, seconds, until):
         """The traces of the computed u differ from w0 - W f by the solve's round-off amplified by cond(A),
@@ -162,7 +191,10 @@ def newton(disc, options=None, initial=None, problem=None):
     info: ``iterations``, ``history`` (relative KKT residual after each iteration), ``steps``,
     ``initial_residual``, ``residual``, ``linearization`` (eta_lin at the end), ``converged`` (solver_tol
     met), ``state`` (None when converged), ``contact_points`` (M), ``penetrating``, ``stick`` (points at
-    the end), ``linear_solver``, ``refinements``, ``timings`` (condense, newton, recover, total s).
+    the end), ``linear_solver``, ``refinements``, ``least_squares_solves`` (singular Newton systems, solved by
+    least squares: a :class:`~ngdgfric.errors.SolverWarning`), ``clamped_points`` (diagonal entries of W raised
+    to a floor, :class:`~ngdgfric.solvers.reduced.ReducedContact`), ``timings`` (condense, newton, recover,
+    total s).
     Raises :class:`ngdgfric.SolverError` if neither test is met within ``options.maxit``.
     """
     options = NewtonOptions() if options is None else options

@@ -18,13 +18,27 @@ import importlib.metadata
 
 import numpy as np
 
-__all__ = ["available", "SchurFactorization", "PardisoError"]
+from ..errors import SolverError
+
+__all__ = ["available", "SchurFactorization", "PardisoError", "PHASES"]
 
 _LIBRARY = None
+PHASES = {12: "analysis and factorisation", 331: "forward substitution", 332: "diagonal substitution",
+          333: "backward substitution", -1: "release of memory"}
+ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering problem", -4: "zero pivot",
+          -5: "unclassified (internal) error", -6: "reordering failed", -7: "diagonal matrix is singular",
+          -8: "32-bit integer overflow", -9: "not enough memory for OOC", -10: "error opening OOC files",
+          -11: "read/write error with OOC files", -12: "pardiso_64 called from 32-bit library"}
 
 
-class PardisoError(RuntimeError):
-    """PARDISO returned an error code."""
+class PardisoError(SolverError):
+    """PARDISO returned an error code: a failure of the contact solver (a :class:`~ngdgfric.errors.SolverError`,
+    exit code 1 of the command line).  ``phase``: PARDISO's phase number (None: the library is missing);
+    ``code``: its error code (oneMKL reference, "pardiso": -4 zero pivot, -2 out of memory, ...)."""
+
+    def __init__(self, message, phase=None, code=None):
+        super().__init__(message, solver="MKL PARDISO")
+        self.phase, self.code = phase, code
 
 
 def _library():
@@ -112,8 +126,9 @@ class SchurFactorization:
                           _pointer(np.zeros(1, dtype=np.int32)), null if b is None else _pointer(b),
                           null if x is None else _pointer(x), _pointer(error))
         if error[0] != 0:
-            raise PardisoError(f"MKL PARDISO failed in phase {phase} with error {error[0]} "
-                               "(-4: zero pivot, -2: out of memory; see the oneMKL reference)")
+            code = int(error[0])
+            raise PardisoError(f"MKL PARDISO failed in phase {phase} ({PHASES.get(phase, 'unknown phase')}) with "
+                               f"error {code} ({ERRORS.get(code, 'see the oneMKL reference')})", phase, code)
 
     def solve_eliminated(self, b_eliminated, x_schur):
         """x_I = K_II^-1 (b_I - K_IS x_S): the eliminated unknowns for given Schur unknowns.

@@ -37,11 +37,14 @@ solutions unchanged (d = 0 iff G = 0) and picks a small step in the kernel.
 
 import numpy as np
 
+from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
 
 __all__ = ["ReducedContact", "PointState", "dense_solve", "EPS"]
 
 EPS = np.finfo(float).eps
+DIAGONAL_FLOOR = 1e-14  # W_qq below this times the largest: raised to it (r_q = 1 / W_tt stays finite)
+NEGATIVE_DIAGONAL = 1e-10  # W_qq below -this times the largest: not round-off, A is not coercive
 
 
 def _positive_power(x, m):
@@ -65,8 +68,15 @@ def bound_rate(gap, omega, c_tau, m_t):
     return beta, rate
 
 
-def dense_solve(matrix, rhs):
-    """matrix^-1 rhs by LU (least squares if singular or not finite), on all cores when large."""
+def dense_solve(matrix, rhs, diagnostics=None):
+    """matrix^-1 rhs by LU, on all cores when large; if the matrix is singular or LU gives non-finite values,
+    the least-squares solution (rcond 1e-13), counted in ``diagnostics["least_squares_solves"]`` (a
+    :attr:`ReducedContact.diagnostics`) when given.
+
+    The solves are Newton systems: their solution is a direction that the globalisation of
+    :mod:`ngdgfric.solvers.semismooth` accepts only if it lowers its merit, and convergence is decided by the
+    KKT residual, so a least-squares direction cannot make a wrong answer pass; the count tells that the
+    Jacobian was singular there (:class:`~ngdgfric.errors.SolverWarning` from the solver)."""
     with dense_threads(len(rhs)):
         try:
             solution = np.linalg.solve(matrix, rhs)
@@ -74,7 +84,24 @@ def dense_solve(matrix, rhs):
             solution = None
         if solution is None or not np.all(np.isfinite(solution)):
             solution = np.linalg.lstsq(matrix, rhs, rcond=1e-13)[0]
+            if diagnostics is not None:
+                diagnostics["least_squares_solves"] += 1
     return solution
+
+
+def _floored_diagonal(W):
+    """(diag W with entries below DIAGONAL_FLOOR x the largest raised to that floor, the number raised).
+    SolverError if an entry is negative beyond round-off (B_h not coercive)."""
+    diagonal = np.diag(W).copy()
+    largest = np.max(np.abs(diagonal), initial=0.0)
+    negative = np.flatnonzero(diagonal < -NEGATIVE_DIAGONAL * largest)
+    if negative.size:
+        raise SolverError(f"the Delassus operator W = B A^-1 B^T has {negative.size} negative diagonal entries "
+                          f"(the most negative {diagonal.min():.3e}, the largest {largest:.3e}): A is not coercive "
+                          "(is the penalty eta large enough?)", solver="newton")
+    floor = DIAGONAL_FLOOR * largest if largest > 0 else 1.0
+    low = diagonal < floor
+    return np.where(low, floor, diagonal), int(np.sum(low))
 
 
 class PointState:
@@ -101,10 +128,17 @@ class ReducedContact:
     condensation; omega, g_a, c_n, c_tau: arrays of length M; m_n >= 1, m_t >= 0 (numbers, or arrays of length M:
     the exponents of several contact sides); symmetric: W is
     symmetric (B_h symmetric); redundant: see the module docstring.  ``energy_merit``: whether the
-    iteration descends the complementary energy (symmetric and m_t = 0).
+    iteration descends the complementary energy (symmetric and m_t = 0).  Keywords only (ten arrays and
+    numbers that are easy to swap); :meth:`condensed` builds it from a condensation and its traces.
+
+    ``diagonal``: diag W, entries below 1e-14 times the largest raised to that floor (a point whose
+    traces hardly move under its own force; SolverError if an entry is negative beyond round-off: A not
+    coercive).  ``diagnostics``: counts shared with every :meth:`variant` (the proximal and continuation
+    subproblems): ``least_squares_solves`` (:func:`dense_solve`) and ``clamped_points`` (diagonal entries
+    raised; a :class:`~ngdgfric.errors.SolverWarning` when there are any).
     """
 
-    def __init__(self, W, w0, omega, g_a, c_n, c_tau, m_n, m_t, symmetric, redundant=False):
+    def __init__(self, *, W, w0, omega, g_a, c_n, c_tau, m_n, m_t, symmetric, redundant=False, diagnostics=None):
         self.M = M = len(omega)
         self.W, self.w0 = np.asarray(W, dtype=float), np.asarray(w0, dtype=float)
         self.absW = np.abs(self.W)
@@ -112,9 +146,14 @@ class ReducedContact:
         self.c_n, self.c_tau = np.asarray(c_n, dtype=float), np.asarray(c_tau, dtype=float)
         self.m_n, self.m_t = (np.broadcast_to(np.asarray(m, dtype=float), (M,)).copy() for m in (m_n, m_t))
         self.quasi_variational = bool(np.any(self.m_t > 0))  # the bound depends on the gap somewhere
-        diagonal = np.diag(self.W).copy()
-        largest = np.max(np.abs(diagonal), initial=0.0)
-        self.diagonal = np.maximum(diagonal, 1e-14 * largest if largest > 0 else 1.0)
+        self.diagonal, clamped = _floored_diagonal(self.W)
+        if diagnostics is None:  # the original problem, not a variant
+            diagnostics = dict(least_squares_solves=0, clamped_points=clamped)
+            if clamped:
+                warn(f"the Delassus operator has {clamped} of {2 * M} diagonal entries below 1e-14 times the largest "
+                     "(points whose traces hardly move under their own force, e.g. a row of B near zero): raised "
+                     "to that floor", SolverWarning)
+        self.diagnostics = diagnostics
         self.r = 1.0 / self.diagonal[M:]
         self.energy_symmetric = bool(symmetric)
         self.energy_merit = bool(symmetric and not self.quasi_variational)
@@ -127,14 +166,24 @@ class ReducedContact:
         self.compliant = self.c_n > 0
         self.beta_fixed = None if self.quasi_variational else self.omega * self.c_tau
 
+    @classmethod
+    def condensed(cls, condensation, traces, symmetric):
+        """The problem of a :class:`~ngdgfric.solvers.condensation.Condensation` (W, w0) at the points of its
+        :class:`~ngdgfric.solvers.traces.ContactTraces` ``traces`` (weights, law data, redundancy); ``symmetric``:
+        B_h symmetric."""
+        return cls(W=condensation.W, w0=condensation.w0, omega=traces.omega, g_a=traces.g_a, c_n=traces.c_n,
+                   c_tau=traces.c_tau, m_n=traces.m_n, m_t=traces.m_t, symmetric=symmetric, redundant=traces.redundant)
+
     def variant(self, W=None, w0=None, c_tau=None, m_t=None, symmetric=None, redundant=None):
-        """This problem with some of W, w0, c_tau, m_t, the symmetry and redundancy replaced."""
+        """This problem with some of W, w0, c_tau, m_t, the symmetry and redundancy replaced (sharing its
+        ``diagnostics``)."""
         def pick(value, own):
             return own if value is None else value
 
-        return ReducedContact(pick(W, self.W), pick(w0, self.w0), self.omega, self.g_a, self.c_n,
-                              pick(c_tau, self.c_tau), self.m_n, pick(m_t, self.m_t),
-                              pick(symmetric, self.energy_symmetric), pick(redundant, self.redundant))
+        return ReducedContact(W=pick(W, self.W), w0=pick(w0, self.w0), omega=self.omega, g_a=self.g_a,
+                              c_n=self.c_n, c_tau=pick(c_tau, self.c_tau), m_n=self.m_n, m_t=pick(m_t, self.m_t),
+                              symmetric=pick(symmetric, self.energy_symmetric),
+                              redundant=pick(redundant, self.redundant), diagnostics=self.diagnostics)
 
     # ------------------------------------------------------------------ the laws and G
     def evaluate(self, f):
@@ -200,7 +249,8 @@ class ReducedContact:
 
     # ------------------------------------------------------------------ Newton direction
     def newton_direction(self, s):
-        """d with J d = -G (identity rows eliminated; least squares if the rest is singular)."""
+        """d with J d = -G (identity rows eliminated; least squares if the rest is singular, counted by
+        :func:`dense_solve`)."""
         M, W = self.M, self.W
         identity = np.concatenate([s.dN == 0, ~s.stick & (s.dbeta == 0)])
         d = np.where(identity, -s.G, 0.0)
@@ -220,7 +270,7 @@ class ReducedContact:
         block = W[np.ix_(source, rows)]
         block *= coefficient[:, None]
         block[np.arange(rows.size), np.arange(rows.size)] += unit
-        d[rows] = dense_solve(block, rhs)
+        d[rows] = dense_solve(block, rhs, self.diagnostics)
         return d
 
     def jacobian(self, s):

@@ -81,8 +81,10 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     ``linearization`` (eta_lin at the end); ``converged`` (``solver_tol`` met); ``steps``: the kind of
     each step ("newton", "newton x0.5", "projected newton", "levenberg-marquardt", "fixed point",
     "continuation s = ...", "proximal mu = ..."); ``penetrating``, ``stick``: set sizes at the end;
-    ``residual``.  Redundant problems with energy go through the proximal point method; without energy,
-    a failed iteration is followed by a continuation (module docstring).
+    ``residual``; ``least_squares_solves``: the singular Newton systems solved by least squares so far on
+    ``problem`` and its variants (:func:`~ngdgfric.solvers.reduced.dense_solve`).  Redundant problems with
+    energy go through the proximal point method; without energy, a failed iteration is followed by a
+    continuation (module docstring).
     Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations, and
     :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
     ``budget``: the continuation's iterations in all, as a multiple of maxit (None: no limit but its step).
@@ -104,7 +106,8 @@ def _info(problem, s, solver_tol, iterations, history, initial, steps):
     """The ``info`` of :func:`solve` at the final state s."""
     return dict(iterations=iterations, history=history, initial_residual=initial, steps=steps,
                 penetrating=int(np.sum(s.penetrating)), stick=int(np.sum(s.stick)), residual=problem.residual(s),
-                linearization=problem.linearization(s), converged=problem.converged(s, solver_tol))
+                linearization=problem.linearization(s), converged=problem.converged(s, solver_tol),
+                least_squares_solves=problem.diagnostics["least_squares_solves"])
 
 
 def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None, counted=0, deadline=None):

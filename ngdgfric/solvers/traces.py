@@ -18,7 +18,7 @@ matrices are B_e^T D_e V_e, so B_e = D_e^-1 V_e^-T (mass matrix)_e^T.
 import ngsolve as ngs
 import numpy as np
 
-from ..contact import contact_rule, evaluate_on_contact, normal_tangent
+from ..contact import contact_boundary, contact_rule, evaluate_on_contact, normal_tangent
 from ..problem import PerSide
 from ..threads import threads
 
@@ -109,11 +109,9 @@ class ContactTraces:
         edges are independent; a closed one (a hole's whole boundary) can have a kernel (p = 1: alternating signs
         on an even number of edges)."""
         gauss = disc.gauss
-        element_of_edge, vertices = [], set()
-        for el in disc.mesh.Elements(ngs.BND):
-            if el.mat in disc.problem.sides("contact"):
-                element_of_edge.append(disc.mesh[el.edges[0]].elements[0].nr)
-                vertices.update(v.nr for v in el.vertices)
+        edges = contact_boundary(disc.problem, disc.mesh)
+        element_of_edge = [element.nr for _, element in edges]
+        vertices = {v.nr for el, _ in edges for v in el.vertices}
         if disc.method.conforming:
             return len(vertices) <= len(element_of_edge)
         element_of_edge = np.asarray(element_of_edge)

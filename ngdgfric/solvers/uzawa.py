@@ -50,11 +50,16 @@ class UzawaOptions(SolverOptions):
 
     solver_tol: the relative change of u at which the iteration stops (the paper's test, Section 6), once
         the complementarity residual is <= max(solver_tol, kkt_tol) too (module docstring).
+
     maxit: iterations.
+
     progress: None, or callable(message) called every ``REPORT_EVERY`` = 100 iterations with a line
         "uzawa k: relative change ..., complementarity ...".
+
     rho: step size of the multiplier update; None: :func:`default_rho`.
+
     kkt_tol: the complementarity residual's part of the stopping test (kkt_tol = solver_tol: a strict test).
+
     max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) after this long.
     """
 
@@ -100,8 +105,9 @@ def default_rho(disc, problem=None, iterations=30, safety=1.5):
     return safety / estimate
 
 
-def solve_for_multiplier(op, linear_solver, du, solver_tol=1e-13, maxit=50):
-    """Newton for F_lam_tau(u) = 0 with lam_tau fixed (the inner problem of Uzawa); returns the step count.
+def solve_displacement(op, linear_solver, du, solver_tol=1e-13, maxit=50):
+    """u for the current, fixed lam_tau: Newton for F_lam_tau(u) = 0 on the operator's u, in place (Uzawa's inner
+    problem); returns the step count.
 
     For m_n = 1, F_lam_tau is affine on each set of penetrating points, so a step after which that
     set is unchanged is exact.
@@ -154,12 +160,16 @@ def uzawa(disc, options=None, initial=None, problem=None):
         if k > 1 or initial is not None:
             update()
         u_old.data = u.vec
-        inner_steps += solve_for_multiplier(op, linear_solver, du)
+        inner_steps += solve_displacement(op, linear_solver, du)
         u_old.data -= u.vec
         history.append(relative_change(u_old, u.vec))
         kkt.append(complementarity(disc, u, lam_tau))
-        if _stop(options, rho, history, kkt, k):
+        _report(options.progress, k, history, kkt)
+        _check_divergence(rho, history, k)
+        if _converged(options, history, kkt, k):
             break
+        if k % WINDOW == 0 and k >= 2 * WINDOW:
+            _check_progress(kkt, history, k, max(options.solver_tol, options.kkt_tol), options.maxit, rho)
         check_deadline(until, f"Uzawa (rho = {rho:.4g})", history,
                        f"after {k} iterations (relative change {history[-1]:.3e}, complementarity {kkt[-1]:.3e})")
     else:
@@ -187,20 +197,24 @@ def _fail(rho, history, message):
     raise SolverError(f"Uzawa (rho = {rho:.4g}) {message}", history=history, solver="uzawa")
 
 
-def _stop(options, rho, history, kkt, k):
-    """After iteration k: report progress; True if the stopping test holds; raise :class:`SolverError` if
-    Uzawa diverges or stalls (module docstring)."""
-    change, kkt_tol = history[-1], max(options.solver_tol, options.kkt_tol)
-    if options.progress is not None and k % REPORT_EVERY == 0:
-        options.progress(f"uzawa {k}: relative change {change:.2e}, complementarity {kkt[-1]:.2e}")
+def _report(progress, k, history, kkt):
+    """Call ``progress`` (if any) every REPORT_EVERY iterations with the change and the complementarity."""
+    if progress is not None and k % REPORT_EVERY == 0:
+        progress(f"uzawa {k}: relative change {history[-1]:.2e}, complementarity {kkt[-1]:.2e}")
+
+
+def _check_divergence(rho, history, k):
+    """Raise :class:`SolverError` if the change is not finite, or (after 50 iterations) 1000 times its minimum."""
+    change = history[-1]
     if not np.isfinite(change) or (k > 50 and change > 1e3 * min(history)):
         _fail(rho, history, f"diverged at iteration {k} (relative change {change:.3e}); rho is probably too "
                             "large (it must be below 2/L, see default_rho)")
-    if change <= options.solver_tol and kkt[-1] <= kkt_tol and k > 1:
-        return True
-    if k % WINDOW == 0 and k >= 2 * WINDOW:
-        _check_progress(kkt, history, k, kkt_tol, options.maxit, rho)
-    return False
+
+
+def _converged(options, history, kkt, k):
+    """The stopping test of the module docstring after iteration k > 1: change <= solver_tol and
+    complementarity <= max(solver_tol, kkt_tol)."""
+    return k > 1 and history[-1] <= options.solver_tol and kkt[-1] <= max(options.solver_tol, options.kkt_tol)
 
 
 def _check_progress(kkt, changes, k, kkt_tol, maxit, rho):
