@@ -96,6 +96,7 @@ def test_several_contact_sides_with_their_own_data_equal_one_side_with_piecewise
         assert state["pressure"].max() > 0 and np.abs(state["lam_tau"]).max() > 0.99  # contact and slip
 
 
+@pytest.mark.slow
 def test_material_per_region_gives_the_exact_layered_solution_on_a_netgen_mesh():
     """E = 1 below y = 1/2 and 100 above as two regions, nu = 0, fixed at the bottom, pressure 1 on top: the
     exact u_y is piecewise linear; Netgen's mesh follows the interface, so every method reproduces it."""
@@ -168,6 +169,7 @@ def test_contact_sides_with_their_own_exponents():
     assert np.array_equal(a.u.vec.FV().NumPy(), b.u.vec.FV().NumPy())
 
 
+@pytest.mark.slow
 def test_the_scene_of_the_readme_reaches_its_relative_tolerance(capsys):
     """The code block under "Your own scene" in README.md, as written (regions, a hole, a symmetry side, u_D,
     two contact sides with their own data, adapt(rtol=1e-2))."""

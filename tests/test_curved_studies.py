@@ -64,6 +64,7 @@ def test_fits_recover_exponential_and_algebraic_laws():
     assert fit_algebraic(n, np.exp(-0.3 * n ** (1 / 3)))[1] > fit_exponential(n, np.exp(-0.3 * n ** (1 / 3)))[1]
 
 
+@pytest.mark.slow
 def test_coarse_hp_run_matches_hertz_within_two_percent(hertz_run):
     run, _ = hertz_run
     m = hertz_measures(run.solution)
@@ -105,6 +106,7 @@ def test_reference_error_of_a_solution_against_itself_is_its_jump_part():
     assert reference_error(sol, sol) ** 2 == pytest.approx(jumps, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_energy_and_pointwise_reference_errors_agree(hertz_run):
     run, early = hertz_run
     sol, reference = early["sol"], run.solution
@@ -118,6 +120,7 @@ def annulus_meshes():
     return problem, u, uniform_meshes(ndf.netgen_mesh(problem, 0.5), 3)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["sipg", "bassi"])
 @pytest.mark.parametrize("order", [1, 2])
 def test_curved_meshes_give_the_optimal_rates_for_error_and_estimator(annulus_meshes, method, order):
@@ -133,6 +136,7 @@ def test_curved_meshes_give_the_optimal_rates_for_error_and_estimator(annulus_me
     assert eta_rate == pytest.approx(order, abs=0.3)
 
 
+@pytest.mark.slow
 def test_straight_boundary_edges_lose_the_order_of_p3(annulus_meshes):
     problem, u, meshes = annulus_meshes
     curved, straight = [], []

@@ -43,6 +43,7 @@ def test_divergence_free_solution_satisfies_compliance_and_friction_pointwise(nu
     assert np.all(c_tau[(xs > 0.26) & (xs < 0.49)] > 0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("order", [1, 2])
 def test_divergence_free_solution_converges_at_the_optimal_rate(order):
     problem, u = incompressible_contact_manufactured()

@@ -1,5 +1,5 @@
-"""ngdgfric.dg.methods: the five DG methods and the conforming baseline as data rows, eta's unit, defaults above the
-coercivity thresholds."""
+"""ngdgfric.dg.methods: the five DG methods and the conforming baseline as data rows, each the form it names, eta's
+unit, coercive defaults."""
 
 import dataclasses
 import warnings
@@ -11,12 +11,26 @@ import ngdgfric as ndf
 from ngdgfric.dg.methods import METHODS, PenaltyWarning, check_penalty, get_method
 
 
-def test_method_table_shows_one_construction():
-    rows = {name: (m.symmetry, m.penalty, m.global_lift, m.conforming) for name, m in ndf.METHODS.items()}
-    assert rows == {"sipg": (1, "edge", False, False), "nipg": (-1, "edge", False, False),
-                    "bassi": (1, "lift", False, False), "brezzi": (1, "lift", True, False),
-                    "ldg": (1, "edge", True, False), "cg": (1, "edge", False, True)}
-    assert get_method("LDG").name == "ldg"
+@pytest.fixture(scope="module")
+def matrices():
+    """name -> the dense matrix B_h of each method (default eta, P1) on Example 6.2, h = 1/4."""
+    problem = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    return {name: np.array(ndf.Discretization(problem, mesh, name).A.ToDense()) for name in METHODS}
+
+
+@pytest.mark.parametrize("name", sorted(METHODS))
+def test_each_row_of_the_table_is_the_form_it_names(name, matrices):
+    """The row's symmetry sign gives a symmetric B_h (+1) or one whose consistency terms are antisymmetric (-1,
+    NIPG); a conforming method has continuous unknowns: fewer than the DG methods' own unknowns per element."""
+    method, A = get_method(name), matrices[name]
+    asymmetry = np.abs(A - A.T).max() / np.abs(A).max()
+    assert (asymmetry < 1e-12) == (method.symmetry == 1), asymmetry
+    assert (A.shape[0] < matrices["sipg"].shape[0]) == method.conforming
+
+
+def test_method_names_are_case_insensitive_and_unknown_ones_are_named():
+    assert get_method("LDG") is METHODS["ldg"]
     with pytest.raises(ValueError, match="ipdg"):
         get_method("ipdg")
 
@@ -34,15 +48,18 @@ def test_eta_is_a_stress_for_edge_penalties_and_a_number_for_liftings(name):
 
 
 @pytest.mark.parametrize("nu", [0.0, 0.3, 0.49, 0.4999])
-@pytest.mark.parametrize("order", [1, 2, 5])
-def test_defaults_pass_their_own_coercivity_check(nu, order):
+@pytest.mark.parametrize("order", [1, 2])
+def test_the_default_penalty_is_coercive(nu, order):
+    """Every method's default eta gives a positive definite B_h (the symmetric part of its linear part),
+    also where the material nearly locks and the default is raised above 30 mu."""
     problem = dataclasses.replace(ndf.example_6_2(), nu=nu)
-    for method in METHODS.values():
-        threshold = method.threshold(problem, order)
-        eta = method.default(problem, order)
-        check_penalty(problem, method, eta, order, "raise")
-        if threshold is not None:
-            assert eta > threshold
+    mesh = ndf.uniform_mesh(problem, 1 / 2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PenaltyWarning)
+        for name in METHODS:
+            A = np.array(ndf.Discretization(problem, mesh, name, order=order).A.ToDense())
+            eigenvalues = np.linalg.eigvalsh(0.5 * (A + A.T))
+            assert eigenvalues[0] > 1e-10 * eigenvalues[-1], (name, eigenvalues[0], eigenvalues[-1])
 
 
 def test_default_sipg_matrix_is_positive_definite_near_incompressibility():

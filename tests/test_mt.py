@@ -120,6 +120,7 @@ def test_kkt_with_the_state_dependent_bound_hold_at_the_discrete_solution(order)
     np.testing.assert_array_equal(state["bound"][~contact], 0.0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("order, levels", [(1, (2, 3, 4, 5)), (2, (1, 2, 3, 4))])
 def test_manufactured_m_t_1_converges_at_the_optimal_rate(order, levels):
     p, u_exact = friction_manufactured(m_t=1)
@@ -142,6 +143,7 @@ def test_adaptive_loop_with_m_t_2():
     assert records[-1]["eta_h"] < records[0]["eta_h"]
 
 
+@pytest.mark.slow  # runs scripts/mt.py
 def test_mt_script(tmp_path):
     result = importlib.import_module("mt").main(["--quick", "--out", str(tmp_path)])
     assert {r["m_t"] for r in result["zones"]} == {0.0, 1.0, 2.0}
