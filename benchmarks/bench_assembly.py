@@ -5,29 +5,27 @@ liftings of Bassi et al., Brezzi et al. and LDG) on uniform meshes of Example 6.
 and one sparse direct solve with it.  Times are the best of ``--repeat`` runs in one process.
 Writes results/assembly_benchmark.md and .csv.
 
-    python scripts/bench_assembly.py [--quick]
+    python benchmarks/bench_assembly.py [--quick] [--repeat 4]
 """
 
-import argparse
+import sys
 import time
 from pathlib import Path
 
-from common import RESULTS, command_line, run_script, say, write_csv
-
 import ngdgfric as ndf
-from ngdgfric.dg.methods import METHODS
 from ngdgfric.files import write_text
 from ngdgfric.output import markdown_table
 from ngdgfric.sparse import direct_inverse
 from ngdgfric.threads import threads
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
+from common import command_line, run_script, say, script_parser, write_csv  # noqa: E402
+
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = script_parser(__doc__, "h = 2^-3 only, one run")
     parser.add_argument("--levels", type=int, nargs="+", default=[5, 6, 7], help="h = 2^-k")
     parser.add_argument("--repeat", type=int, default=2)
-    parser.add_argument("--quick", action="store_true", help="h = 2^-3 only, one run")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 
@@ -53,7 +51,7 @@ def main(argv=None):
     for k in levels:
         mesh = ndf.uniform_mesh(problem, 2.0**-k)
         base = None
-        for method in METHODS:
+        for method in ndf.DG_METHODS:  # the five DG methods (the baseline cg has another space)
             row = dict(h=f"2^-{k}", method=method, **measure(problem, mesh, method, repeat))
             base = base or row
             row.update(assemble_ratio=row["assemble"] / base["assemble"],
@@ -76,6 +74,7 @@ def main(argv=None):
         "", table, "", f"Regenerate: `{command_line()}`", ""])
     write_text(args.out / "assembly_benchmark.md", text)
     say(text)
+    return rows
 
 
 if __name__ == "__main__":

@@ -16,17 +16,16 @@ nonsymmetric, 1e5-4e5 DOFs) this script times, best of ``--repeat`` runs in one 
 and records which packages are importable, their installed size, and what MUMPS bindings on PyPI
 need.  Writes results/linear_solvers.md and .csv.
 
-    python scripts/bench_linear_solvers.py [--quick] [--repeat 3]
+    python benchmarks/bench_linear_solvers.py [--quick] [--repeat 3]
 """
 
-import argparse
 import importlib
 import importlib.metadata
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, command_line, run_script, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
@@ -35,16 +34,17 @@ from ngdgfric.solvers import pardiso
 from ngdgfric.solvers.condensation import augmented_matrix
 from ngdgfric.threads import threads
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
+from common import command_line, run_script, say, script_parser, write_csv  # noqa: E402
+
 CASES = [("sipg", 1, 7), ("sipg", 2, 7), ("nipg", 1, 7), ("nipg", 2, 6)]
 QUICK = [("sipg", 1, 4), ("nipg", 1, 4)]
 PACKAGES = ["ngsolve", "mkl", "intel-openmp", "tbb", "scipy", "pypardiso", "python-mumps", "mumpspy"]
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = script_parser(__doc__, "two small matrices, one run")
     parser.add_argument("--repeat", type=int, default=2)
-    parser.add_argument("--quick", action="store_true", help="two small matrices, one run")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 

@@ -14,17 +14,16 @@ everything end to end (assembly included), best of ``--repeat`` runs in one proc
 parts of a contact solve (assembly, condensation onto the contact points, Newton at the points,
 recovery of u) and Newton's iterations.  Writes results/solver_benchmark.md, .csv and .png.
 
-    python scripts/bench_solvers.py [--quick] [--repeat 2] [--budget SECONDS]
+    python benchmarks/bench_solvers.py [--quick] [--repeat 2] [--budget SECONDS]
 """
 
-import argparse
+import sys
 import time
 from pathlib import Path
 
 import matplotlib
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, best, command_line, contact_free, run_script, save_figure, say, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -34,6 +33,9 @@ from ngdgfric.sparse import direct_inverse
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.threads import threads
 from ngdgfric.transfer import WarmStart, multiplier_snapshot
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
+from common import best, command_line, contact_free, run_script, save_figure, say, script_parser, write_csv  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -46,12 +48,10 @@ GOAL = 1.5  # contact / linear at every level with >= 1e4 DOFs
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = script_parser(__doc__, "two small series, no hp meshes (smoke test)")
     parser.add_argument("--levels", type=int, nargs="+", default=[2, 3, 4, 5, 6, 7], help="h = 2^-k")
     parser.add_argument("--repeat", type=int, default=2, help="runs per measurement (best is kept)")
     parser.add_argument("--budget", type=float, default=240.0, help="seconds per series before coarser levels stop")
-    parser.add_argument("--quick", action="store_true", help="two small series, no hp meshes (smoke test)")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 
@@ -116,7 +116,7 @@ def hp_row(example, repeat):
         kept["orders"] = sol.discretization.orders.copy()
 
     run = ndf.adapt(problem, mesh, method="sipg", order=2, hp=True, max_order=8, max_levels=60,
-                    max_ndof=HP_MAX_NDOF, weights="paper", theta=0.3, progress=None, keep=keep)
+                    max_ndof=HP_MAX_NDOF, variant="paper", theta=0.3, progress=None, keep=keep)
     row, _ = measure(problem, mesh, "sipg", kept["orders"], repeat, initial=kept["previous"])
     row.update(example=example, method="sipg", order=f"hp {kept['orders'].min()}-{kept['orders'].max()}",
                mesh=f"final hp mesh ({len(run.levels)} levels)")

@@ -14,51 +14,68 @@ alternating, best of ``--repeat`` (2):
 
 Time to a target = the cumulative seconds (solve + estimate + mark + refine of the levels before, solve +
 estimate of the level itself) to the first level whose true error is at or below it, DOFs and levels of that
-level.  Then the stopping runs: ``adapt(problem, tol=t)`` for t = 5e-4 and 1e-5 on both examples: levels, the
-loop's seconds, one linear solve of its final mesh (``ndf.solve`` of the problem without contact, same method and
-orders, best of 3), their ratio, the true error.  Timings on a shared 2-core machine.
+level.  Then the stopping runs, what ``adapt(problem, tol=t)`` with its defaults delivers against t (the method
+it chooses, cg here; hp from p = 4 up to 8, Doerfler theta = 0.8, geometric layers, the estimator in energy units)
+for t = 1e-1, 1e-2, 1e-3, 5e-4 and 1e-5 on both examples: levels, DOFs, the loop's seconds, one linear solve of
+its final mesh (``ndf.solve`` of the problem without contact, same method and orders, best of 3), their ratio,
+eta_h, the true error |||u - u_h|||_h of the answer, error / t and eta_h / error.  Timings on a shared 2-core
+machine.
 
 Writes results/time_to_accuracy.csv, time_to_accuracy_stops.csv, .md and .png.
+
+    python benchmarks/time_to_accuracy.py [--quick] [--case 6.2 ...] [--repeat 2]   # about an hour
+    python benchmarks/time_to_accuracy.py --stops-only    # the stopping runs alone (a few minutes), targets kept
 """
 
-import argparse
 import itertools
 import math
 import sys
 import time
 from pathlib import Path
 
-from common import RESULTS, best, contact_free, fmt, results_path, run_script, save_figure, say, write_csv
-
 import ngdgfric as ndf
 from ngdgfric.output import markdown_table
 from ngdgfric.studies.scenes import SCENES
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
-import conforming  # noqa: E402  (benchmarks/conforming.py, the baseline)
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
+import conforming  # noqa: E402  (benchmarks/conforming.py, the baseline, beside this file)
+from common import (  # noqa: E402
+    RESULTS,
+    best,
+    contact_free,
+    fmt,
+    results_path,
+    run_script,
+    save_figure,
+    say,
+    script_parser,
+    write_csv,
+)
 
 EXAMPLE_TARGETS = (1e-1, 1e-2, 1e-3, 1e-4)
 SCENE_TARGETS = (1e-1, 1e-2, 1e-3)  # relative to |||u_ref|||
 SCENE_CASES = {"l-shape": "l_shape", "hertz": "hertz", "wedge": "wedge"}
 BASELINE_ORDERS = (3, 4)  # p = 2 is never the fastest (benchmarks/README.md: 5-7 times slower to 1e-2)
-STOP_TOLERANCES = (5e-4, 1e-5)
+STOP_TOLERANCES = (1e-1, 1e-2, 1e-3, 5e-4, 1e-5)
+RESOLVED = 1e-4  # tolerances at or above it are resolved by the stored references (estimated error 3e-5)
 MAX_NDOF = 400_000
 FIELDS = ["case", "run", "target", "relative", "seconds", "ndof", "levels", "error"]
 STOP_FIELDS = ["case", "tol", "method", "levels", "ndof", "p_max", "stopped", "loop_seconds", "linear_seconds",
-               "ratio", "eta_h", "error", "last_growth", "mean_growth"]
+               "ratio", "eta_h", "error", "error_over_tol", "effectivity", "last_growth", "mean_growth"]
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="Example 6.2, targets 1e-1 and 1e-2, one repeat, SIPG "
-                                                             "only among the DG methods (for the tests)")
+    parser = script_parser(__doc__, "Example 6.2, targets 1e-1 and 1e-2, one repeat, SIPG only among the DG "
+                                    "methods (for the tests)")
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--case", nargs="+", default=None, help="6.1, 6.2, l-shape, hertz, wedge (default: all)")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     parser.add_argument("--report", action="store_true", help="only rewrite the Markdown and the plot from the CSVs")
     parser.add_argument("--dg", nargs="*", choices=ndf.DG_METHODS, default=list(ndf.DG_METHODS),
                         help="the DG methods whose own adapt runs are timed (default: all five)")
     parser.add_argument("--append", action="store_true", help="add the rows to those of the CSVs in --out")
+    parser.add_argument("--stops-only", action="store_true",
+                        help="only the stopping runs adapt(problem, tol); the target rows are read from "
+                             "time_to_accuracy.csv in --out")
     return parser.parse_args(argv)
 
 
@@ -192,9 +209,11 @@ def stopping(name, tol):
     linear, _ = best(3, lambda: ndf.solve(contact_free(problem), sol.mesh, method=run.method,
                                           order=sol.discretization.orders))
     growth = [b["ndof"] / a["ndof"] for a, b in zip(levels, levels[1:], strict=False)]
+    error = ndf.energy_error(sol, reference)
     return dict(case=name, tol=tol, method=run.method, levels=len(levels), ndof=sol.ndof, p_max=levels[-1]["p_max"],
                 stopped=run.stopped, loop_seconds=loop, linear_seconds=linear, ratio=loop / linear,
-                eta_h=run.estimate.eta_h, error=ndf.energy_error(sol, reference),
+                eta_h=run.estimate.eta_h, error=error, error_over_tol=error / tol,
+                effectivity=run.estimate.eta_h / error,
                 last_growth=growth[-1] if growth else math.nan,
                 mean_growth=math.exp(sum(map(math.log, growth)) / len(growth)) if growth else math.nan)
 
@@ -203,23 +222,24 @@ def main(argv=None):
     args = parse(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     names = args.case or (["6.2"] if args.quick else ["6.1", "6.2", *SCENE_CASES])
-    rows, stops = [], []
-    if args.report or args.append:
-        rows, stops = (read_rows(args.out / f"time_to_accuracy{suffix}.csv") for suffix in ("", "_stops"))
+    csv_path, stops_path = args.out / "time_to_accuracy.csv", args.out / "time_to_accuracy_stops.csv"
+    rows = read_rows(csv_path) if args.report or args.append or args.stops_only else []
+    stops = read_rows(stops_path) if args.report or args.append else []
     if args.report:
         report(rows, stops, args.out)
         plot(rows, args.out / "time_to_accuracy.png")
         return rows, stops
     for name in names:
-        rows += measure(name, 1 if args.quick else args.repeat, args.quick, args.dg)
-        write_csv(args.out / "time_to_accuracy.csv", rows, FIELDS)
-        report(rows, stops, args.out)
+        if not args.stops_only:
+            rows += measure(name, 1 if args.quick else args.repeat, args.quick, args.dg)
+            write_csv(csv_path, rows, FIELDS)
+            report(rows, stops, args.out)
         for tol in [] if name not in ndf.examples.EXAMPLES else STOP_TOLERANCES[:1] if args.quick else STOP_TOLERANCES:
             stops.append(stopping(name, tol))
             s = stops[-1]
             say(f"{name} adapt(tol={tol:g}): {s.get('levels')} levels, {fmt(s['loop_seconds'], '.2f')} s = "
                 f"{fmt(s.get('ratio'), '.1f')} linear solves, error {fmt(s.get('error'), '.3e')}, {s['stopped']}")
-            write_csv(args.out / "time_to_accuracy_stops.csv", stops, STOP_FIELDS)
+            write_csv(stops_path, stops, STOP_FIELDS)
             report(rows, stops, args.out)
     plot(rows, args.out / "time_to_accuracy.png")
     return rows, stops
@@ -251,49 +271,71 @@ def report(rows, stops, out):
     lines = ["# Time to an answer: adapt against a conforming baseline", "",
              __doc__.split("\n\n")[1].replace("\n", " "), "", "![seconds to each true error](time_to_accuracy.png)", ""]
     table, verdicts = comparison(rows)
-    finite = [v for v in verdicts if math.isfinite(v[2])]
-    if finite:
-        worst = max(finite, key=lambda v: v[2])
-        lines += ["## Findings", "",
-                  f"- adapt / baseline: at most {worst[2]:.2f} ({worst[0]}, target {worst[1]:.3g}); at or below 1 in "
-                  f"{sum(v[2] <= 1 for v in finite)} of {len(finite)} (case, target) pairs; median "
-                  f"{sorted(v[2] for v in finite)[len(finite) // 2]:.2f}."]
-        dg = [v for v in verdicts if math.isfinite(v[3])]
-        if dg:
-            worst_dg = max(dg, key=lambda v: v[3])
-            lines.append(f"- best DG method / baseline: at most {worst_dg[3]:.2f} ({worst_dg[0]}, target "
-                         f"{worst_dg[1]:.3g}); within 2 in {sum(v[3] <= 2 for v in dg)} of {len(dg)}.")
-        missing = [f"{method} on {name}" for name in dict.fromkeys(r["case"] for r in rows) for method in ndf.DG_METHODS
-                   if not any(r["case"] == name and r["run"] == method for r in rows)]
-        if missing:
-            lines.append(f"- DG runs without a result (the contact solver failed, or stopped by hand after 7 minutes, "
-                         f"see the issue's closing note): {', '.join(missing)}.")
-        lines.append("")
+    lines += findings(rows, verdicts)
     lines += [markdown_table(["case", "target", "adapt s (DOFs, levels)", "baseline: best p, s (DOFs, levels)",
                               "best DG method, s (DOFs, levels)", "adapt / baseline", "DG / baseline"], table), ""]
-    if stops:
-        lines += ["## Stopping at a tolerance: adapt(problem, tol)", "",
-                  markdown_table(["case", "tol", "method", "levels", "DOFs", "p max", "stopped", "loop s", "linear s",
-                                  "loop / linear", "DOF growth (mean, last)", "eta_h", "true error"],
-                                 [[s["case"], f"{s['tol']:g}", s.get("method", "-"), s.get("levels", "-"),
-                                   s.get("ndof", "-"), s.get("p_max", "-"), s["stopped"],
-                                   fmt(s["loop_seconds"], ".2f"), fmt(s.get("linear_seconds"), ".3f"),
-                                   fmt(s.get("ratio"), ".1f"),
-                                   f"{fmt(s.get('mean_growth'), '.2f')}, {fmt(s.get('last_growth'), '.2f')}",
-                                   fmt(s.get("eta_h"), ".3e"), fmt(s.get("error"), ".3e")] for s in stops]), ""]
-        floors = {s["case"]: s["error"] for s in stops if s["tol"] == min(STOP_TOLERANCES) and "error" in s}
-        if floors:
-            lines += ["At tol = 1e-5 the true errors (" + ", ".join(f"{error:.2e} on {name}" for name, error in
-                                                            sorted(floors.items())) +
-                      ") are those of the stored references (every method's runs stall there alike, "
-                      "results/reference.md): what these runs show is eta_h <= tol, not the true error, which the "
-                      "references cannot resolve.", ""]
+    lines += stopping_section(stops)
     lines += ["All runs, each at its first level below the target:", "",
               markdown_table(["case", "run", "target", "s", "DOFs", "levels", "true error"],
                              [[r["case"], r["run"], f"{r['target']:.3g}", f"{r['seconds']:.2f}", r["ndof"],
                                r["levels"], f"{r['error']:.3e}"] for r in rows]), "",
-              "Regenerate: `python scripts/time_to_accuracy.py` (about an hour; `--case 6.2` for one case)", ""]
+              "Regenerate: `python benchmarks/time_to_accuracy.py` (about an hour; `--case 6.2` for one case, "
+              "`--stops-only` for the stopping runs alone)", ""]
     ndf.files.write_text(out / "time_to_accuracy.md", "\n".join(lines))
+
+
+def findings(rows, verdicts):
+    """The Markdown lines summing up the ratios to the baseline (none without a finite ratio)."""
+    finite = [v for v in verdicts if math.isfinite(v[2])]
+    if not finite:
+        return []
+    worst = max(finite, key=lambda v: v[2])
+    lines = ["## Findings", "",
+             f"- adapt / baseline: at most {worst[2]:.2f} ({worst[0]}, target {worst[1]:.3g}); at or below 1 in "
+             f"{sum(v[2] <= 1 for v in finite)} of {len(finite)} (case, target) pairs; median "
+             f"{sorted(v[2] for v in finite)[len(finite) // 2]:.2f}."]
+    dg = [v for v in verdicts if math.isfinite(v[3])]
+    if dg:
+        worst_dg = max(dg, key=lambda v: v[3])
+        lines.append(f"- best DG method / baseline: at most {worst_dg[3]:.2f} ({worst_dg[0]}, target "
+                     f"{worst_dg[1]:.3g}); within 2 in {sum(v[3] <= 2 for v in dg)} of {len(dg)}.")
+    missing = [f"{method} on {name}" for name in dict.fromkeys(r["case"] for r in rows) for method in ndf.DG_METHODS
+               if not any(r["case"] == name and r["run"] == method for r in rows)]
+    if missing:
+        lines.append(f"- DG runs without a result (the contact solver failed, or stopped by hand after 7 minutes, "
+                     f"see the issue's closing note): {', '.join(missing)}.")
+    return lines + [""]
+
+
+def stopping_section(stops):
+    """The Markdown lines of the stopping runs: what adapt(problem, tol=t) delivers against t, and its cost."""
+    if not stops:
+        return []
+    resolved = [s["error_over_tol"] for s in stops if s["tol"] >= RESOLVED and "error_over_tol" in s]
+    lines = ["## Stopping at a tolerance: adapt(problem, tol)", ""]
+    if resolved:
+        lines += [f"- true error / t = {min(resolved):.2f} - {max(resolved):.2f} over the {len(resolved)} runs with "
+                  f"t >= {RESOLVED:g} ({'all' if all(0.1 <= q <= 1 for q in resolved) else 'not all'} within "
+                  "[1/10, 1]).", ""]
+    lines += [markdown_table(["case", "tol", "method", "levels", "DOFs", "p max", "stopped", "loop s", "linear s",
+                              "loop / linear", "DOF growth (mean, last)", "eta_h", "true error", "error / t",
+                              "eta_h / error"],
+                             [[s["case"], f"{s['tol']:g}", s.get("method", "-"), s.get("levels", "-"),
+                               s.get("ndof", "-"), s.get("p_max", "-"), s["stopped"],
+                               fmt(s["loop_seconds"], ".2f"), fmt(s.get("linear_seconds"), ".3f"),
+                               fmt(s.get("ratio"), ".1f"),
+                               f"{fmt(s.get('mean_growth'), '.2f')}, {fmt(s.get('last_growth'), '.2f')}",
+                               fmt(s.get("eta_h"), ".3e"), fmt(s.get("error"), ".3e"),
+                               fmt(s.get("error_over_tol"), ".2f"), fmt(s.get("effectivity"), ".2f")]
+                              for s in stops]), ""]
+    floors = {s["case"]: s["error"] for s in stops if s["tol"] == min(STOP_TOLERANCES) and "error" in s}
+    if floors:
+        lines += ["At tol = 1e-5 the true errors (" + ", ".join(f"{error:.2e} on {name}" for name, error in
+                                                        sorted(floors.items())) +
+                  ") are those of the stored references (every method's runs stall there alike, "
+                  "results/reference.md): what these runs show is eta_h <= tol, not the true error, which the "
+                  "references cannot resolve.", ""]
+    return lines
 
 
 def plot(rows, path):

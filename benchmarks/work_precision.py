@@ -3,25 +3,28 @@
 For each example: the true error |||u_ref - u_h|||_h (results/reference_<example>.npz) against wall
 time and against DOFs for the five methods, P1-P3, uniform / h-adaptive / hp-adaptive refinement
 (:func:`ngdgfric.studies.strategy_run`) and Newton / Uzawa; the Pareto front (no other run is both
-faster and more accurate) marked.  What each tolerance on the paper's eta_h (``weights="paper"``) costs
+faster and more accurate) marked.  What each tolerance on the paper's eta_h (``variant="paper"``) costs
 per strategy.
 Cases run through dask.distributed with a cache (:mod:`ngdgfric.studies.runner`).  Writes
 results/work_precision_<example>.png / _dofs.png / .csv and results/work_precision.md.
 
-    python scripts/work_precision.py [--quick] [--scheduler ADDRESS] [--workers N]
+    python benchmarks/work_precision.py [--quick] [--scheduler ADDRESS] [--workers N]
 """
 
+import sys
 from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, examples_parser, run_script, save_figure, say, write_csv
 
-from ngdgfric.dg.methods import METHODS
+from ngdgfric.dg.methods import DG_METHODS
 from ngdgfric.files import write_text
 from ngdgfric.output import markdown_table
 from ngdgfric.studies.cases import precision_case
 from ngdgfric.studies.runner import run_cases
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
+from common import RESULTS, command_line, run_script, save_figure, say, script_parser, write_csv  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -32,7 +35,7 @@ TOLERANCES = (100.0, 10.0, 1.0)
 
 
 def parse(argv=None):
-    parser = examples_parser(__doc__, quick="SIPG P1 with small budgets (smoke test)")
+    parser = script_parser(__doc__, "SIPG P1 with small budgets (smoke test)", example="many")
     parser.add_argument("--newton-ndof", type=int, default=30_000, help="DOF budget per Newton run")
     parser.add_argument("--uzawa-ndof", type=int, default=5_000, help="DOF budget per Uzawa run")
     parser.add_argument("--scheduler", default=None)
@@ -43,7 +46,7 @@ def parse(argv=None):
 
 def case_list(example, args):
     reference = str((RESULTS / f"reference_{example.replace('.', '_')}.npz").resolve())
-    methods, orders = (["sipg"], [1]) if args.quick else (sorted(METHODS), [1, 2, 3])
+    methods, orders = (["sipg"], [1]) if args.quick else (sorted(DG_METHODS), [1, 2, 3])
     budget = dict(newton=1500, uzawa=800) if args.quick else dict(newton=args.newton_ndof, uzawa=args.uzawa_ndof)
     out = []
     for method in methods:
@@ -72,7 +75,7 @@ def pareto(points):
 
 
 def plot(example, runs, out):
-    colours = dict(zip(sorted(METHODS), plt.rcParams["axes.prop_cycle"].by_key()["color"], strict=False))
+    colours = dict(zip(sorted(DG_METHODS), plt.rcParams["axes.prop_cycle"].by_key()["color"], strict=False))
     for key, suffix, xlabel in (("seconds", "", "wall time (s)"), ("ndof", "_dofs", "degrees of freedom")):
         fig, ax = plt.subplots(figsize=(9, 6.5))
         points = []
@@ -130,7 +133,7 @@ def summary(example, runs):
             best = cheapest(mine, "eta_h", tol)
             tol_rows.append([strategy, f"{tol:g}"] + (["-", "-", "-"] if best is None else
                                                       [best[0], best[2], f"{best[3]:.2f}"]))
-    lines += ["What `adapt(tol=..., weights=\"paper\")` (or a uniform mesh fine enough) costs for eta_h <= tol "
+    lines += ["What `adapt(tol=..., variant=\"paper\")` (or a uniform mesh fine enough) costs for eta_h <= tol "
               "(the paper's estimator), Newton, cheapest method "
               "and order per strategy:", "",
               markdown_table(["strategy", "eta_h tol", "run", "DOFs", "s"], tol_rows), ""]

@@ -10,12 +10,9 @@ uniform_<example>_<method>.csv) and results/adaptivity_<example>.md.
     python scripts/adaptive.py --example 6.1 [--method sipg nipg ...] [--quick]
 """
 
-import argparse
-from pathlib import Path
-
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, run_script, save_figure, say, write_csv
+from common import command_line, run_script, save_figure, say, script_parser, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.dg.methods import METHODS
@@ -23,7 +20,7 @@ from ngdgfric.examples import EXAMPLES
 from ngdgfric.files import write_text
 from ngdgfric.meshes import mesh_arrays
 from ngdgfric.output import markdown_table
-from ngdgfric.studies import slope
+from ngdgfric.studies import slope, strategy_run
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -32,12 +29,10 @@ FIGURES = {"6.1": ("figure_6_1.png", "figure_6_2.png", 28), "6.2": ("figure_6_3.
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--example", choices=sorted(EXAMPLES), default="6.1")
-    parser.add_argument("--method", nargs="+", choices=sorted(METHODS), default=sorted(METHODS))
+    parser = script_parser(__doc__, "6 adaptive levels, 3 uniform meshes (smoke test)", example="one")
+    parser.add_argument("--method", nargs="+", choices=sorted(METHODS), default=sorted(ndf.DG_METHODS),
+                        help="default: the five DG methods of the paper")
     parser.add_argument("--levels", type=int, default=None, help="adaptive levels (default: paper's level + 12)")
-    parser.add_argument("--quick", action="store_true", help="6 adaptive levels, 3 uniform meshes (smoke test)")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 
@@ -64,14 +59,11 @@ def where_refined(problem, points, triangles, fraction=0.1):
 
 
 def uniform_curve(problem, method, levels):
-    """eta_h on uniform meshes h = 2^-k with the paper's weights, those of the adaptive runs it is drawn with."""
-    rows = []
-    for k in levels:
-        sol = ndf.solve(problem, ndf.uniform_mesh(problem, 2.0**-k), method=method)
-        rows.append(dict(h=2.0**-k, ndof=sol.ndof, eta_h=ndf.estimate(sol, weights="paper").eta_h,
-                         iterations=sol.iterations))
-        say(f"  uniform h = 2^-{k}: {sol.ndof} dofs, eta_h = {rows[-1]['eta_h']:.4e}")
-    return rows
+    """eta_h on uniform meshes h = 2^-1 ... 2^-levels, the estimator as printed in the paper like the adaptive runs
+    it is drawn with: the uniform strategy of :func:`ngdgfric.studies.strategy_run`."""
+    records = strategy_run(problem, "uniform", method=method, order=1, max_levels=levels, max_ndof=10**6,
+                           variant="paper", progress=say)
+    return [dict(h=2.0**-r["level"], ndof=r["ndof"], eta_h=r["eta_h"], iterations=r["iterations"]) for r in records]
 
 
 def main(argv=None):
@@ -92,10 +84,10 @@ def main(argv=None):
 
         # the paper's loop: h-adaptive P1 with the estimator of Section 4 as printed
         adaptive[method] = ndf.adapt(problem, method=method, order=1, hp=False, theta=0.3, max_levels=levels,
-                                     max_ndof=10**6, weights="paper", progress=say, keep=keep,
+                                     max_ndof=10**6, variant="paper", progress=say, keep=keep,
                                      csv_path=args.out / f"adaptive_{tag}_{method}.csv").levels
         say(f"Example {args.example}, {method.upper()}: uniform")
-        uniform[method] = uniform_curve(problem, method, range(1, 4) if args.quick else range(1, 7))
+        uniform[method] = uniform_curve(problem, method, 3 if args.quick else 6)
         write_csv(args.out / f"uniform_{tag}_{method}.csv", uniform[method])
         last, tail, coarse = adaptive[method][-1], adaptive[method][-10:], uniform[method][-3:]
         corner, contact, either = where_refined(problem, *meshes[method])

@@ -1,10 +1,9 @@
-"""Helpers shared by the scripts: the common options, results folder, timing, Markdown/CSV/figure writers, a
-process pool."""
+"""Helpers shared by scripts/ and benchmarks/: the common options, results folder, timing, Markdown/CSV/figure
+writers, a process pool.  The benchmarks import it with scripts/ put on sys.path (see any of them)."""
 
 import argparse
 import dataclasses
 import multiprocessing
-import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -18,13 +17,22 @@ from ngdgfric.threads import call_limited
 RESULTS = Path(__file__).resolve().parent.parent / "results"
 
 
-def examples_parser(doc, quick):
-    """The argument parser of a script over the paper's examples, described by the first paragraph of ``doc``:
-    --example (one or more, default both), --quick (the smoke test; ``quick``: its help), --out (default results/)."""
+def script_parser(doc, quick, example=None):
+    """The argument parser of every script and benchmark; the caller adds its own options to it.
+
+    ``doc``: the module docstring, whose first paragraph describes the script; ``quick``: the help of ``--quick``
+    (the smoke-sized run the tests call).  Every parser has ``--quick`` and ``--out`` (default results/);
+    ``example``: None (no ``--example``), ``"one"`` (one of the paper's examples, default 6.1) or ``"many"`` (one
+    or more, default both)."""
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
-    parser.add_argument("--example", nargs="+", choices=sorted(EXAMPLES), default=sorted(EXAMPLES))
     parser.add_argument("--quick", action="store_true", help=quick)
-    parser.add_argument("--out", type=Path, default=RESULTS)
+    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default: results/)")
+    if example == "one":
+        parser.add_argument("--example", choices=sorted(EXAMPLES), default="6.1")
+    elif example == "many":
+        parser.add_argument("--example", nargs="+", choices=sorted(EXAMPLES), default=sorted(EXAMPLES))
+    elif example is not None:
+        raise ValueError(f"example must be None, 'one' or 'many', not {example!r}")
     return parser
 
 
@@ -71,8 +79,6 @@ def fmt(value, spec=".4e"):
 def say(message):
     print(message, flush=True)
 
-
-os.environ.setdefault("PYTHONUNBUFFERED", "1")
 
 
 def save_figure(fig, path, dpi=120):

@@ -18,14 +18,12 @@ and the domain.  Writes results/curved.md and results/curved.csv.
     python scripts/curved_rates.py [--method sipg nipg bassi brezzi ldg] [--quick]
 """
 
-import argparse
 import dataclasses
 import time
-from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, command_line, run_script, say, write_csv
+from common import command_line, run_script, say, script_parser, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.dg.methods import METHODS
@@ -48,11 +46,9 @@ FIT = 3  # the rates are fitted over the last FIT meshes
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = script_parser(__doc__, "P1 and P2 on three meshes (smoke test)")
     parser.add_argument("--method", nargs="+", choices=sorted(METHODS), default=None,
                         help="DG methods (default: all five; with --quick SIPG and Bassi et al.)")
-    parser.add_argument("--quick", action="store_true", help="P1 and P2 on three meshes (smoke test)")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default: results/)")
     args = parser.parse_args(argv)
     if args.method is None:
         args.method = ["sipg", "bassi"] if args.quick else ["sipg", "nipg", "bassi", "brezzi", "ldg"]

@@ -19,14 +19,12 @@ A method "locks" at (nu, p) when its error on the finest uniform divergence-free
     python scripts/effectivity.py [--quick] [--workers N] [--out DIR]
 """
 
-import argparse
 import math
 import time
-from pathlib import Path
 
-from common import RESULTS, command_line, in_processes, run_script, save_figure, say, write_csv
+from common import RESULTS, command_line, in_processes, run_script, save_figure, say, script_parser, write_csv
 
-from ngdgfric.dg.methods import METHODS
+from ngdgfric.dg.methods import DG_METHODS
 from ngdgfric.files import write_text
 from ngdgfric.output import markdown_table
 
@@ -40,10 +38,8 @@ FIELDS = ["family", "E", "nu", "method", "order", "mode", "level", "ndof", "erro
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="a few small cases (smoke test)")
+    parser = script_parser(__doc__, "a few small cases (smoke test)")
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2; 1: no pool)")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 
@@ -55,7 +51,7 @@ def tasks(quick):
                 dict(family="divergence-free", E=1.0, nu=0.4999, method="brezzi", order=2, mode="uniform", levels=2),
                 dict(family="6.2", E=None, nu=None, method="nipg", order=1, mode="uniform", levels=2)]
     out = []
-    for method in METHODS:
+    for method in DG_METHODS:
         for order in ORDERS:
             for E in YOUNG:
                 for nu in POISSON:
@@ -103,7 +99,7 @@ def run_task(task):
 
     def record(level, sol, est, seconds):
         error = error_of(sol)
-        paper = ndf.estimate(sol, weights="paper").eta_h
+        paper = ndf.estimate(sol, variant="paper").eta_h
         rows.append(dict(task, level=level, ndof=sol.ndof, error=error, eta_h=est.eta_h, eta_paper=paper,
                          effectivity=est.eta_h / error, effectivity_paper=paper / error, seconds=seconds))
 
@@ -166,7 +162,7 @@ def report(rows, seconds):
     ulo, uhi, uq = spread([r for r in scope if not (r["family"] == "6.1" and r["method"] == "sipg")])
     lines = ["# Effectivity of the a posteriori estimator", "", f"Regenerate: `{command_line()}` ({seconds:.0f} s)", "",
              "eta_h / |||u - u_h|||_h with the default estimator (`ndf.estimate(sol)`, residual terms divided by "
-             "2 mu: energy units) and with the paper's (`weights=\"paper\"`).  True errors: against the exact "
+             "2 mu: energy units) and with the paper's (`variant=\"paper\"`).  True errors: against the exact "
              "solution (manufactured) or the hp reference solutions (Examples 6.1, 6.2; rows with error "
              f"< {MIN_EXAMPLE_ERROR:g} left out).  One constant is calibrated: the default estimator's factor "
              "p_T^(-1/2), chosen on Example 6.1 with SIPG (`ngdgfric.estimator.estimate`); every other row checks "
@@ -218,9 +214,9 @@ def plot(rows, path):
 
     ratio = locking(rows)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    colors = {method: f"C{k}" for k, method in enumerate(METHODS)}
+    colors = {method: f"C{k}" for k, method in enumerate(DG_METHODS)}
     for ax, families in zip(axes, (("divergence-free",), ("6.1", "6.2")), strict=True):
-        for method in METHODS:
+        for method in DG_METHODS:
             group = [r for r in rows if r["family"] in families and r["method"] == method]
             for scope, marker in ((True, "o"), (False, "x")):
                 part = [r for r in group if in_scope(r, ratio) == scope]

@@ -19,13 +19,11 @@ Writes results/hertz.md, results/hertz.csv and results/hertz.png.
     python scripts/hertz.py [--quick] [--out results/]
 """
 
-import argparse
 import math
 import time
-from pathlib import Path
 
 import numpy as np
-from common import RESULTS, command_line, run_script, say, write_csv
+from common import command_line, run_script, say, script_parser, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
@@ -57,9 +55,7 @@ FIT_RANGE = (1e-2, 30.0)  # levels fitted: eta_h below 1e-2 |||u_h|||_h and abov
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="coarse tolerances, one polygon, two sweep points")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default: results/)")
+    parser = script_parser(__doc__, "coarse tolerances, one polygon, two sweep points")
     return parser.parse_args(argv)
 
 
@@ -69,9 +65,10 @@ def parse(argv=None):
 
 
 def adaptive(problem, rtol, keep=None, max_ndof=10**6):
-    """``ndf.adapt`` (hp, p 2...8, SIPG) from a Netgen mesh of maxh FIRST_MAXH, silent."""
-    return ndf.adapt(problem, ndf.netgen_mesh(problem, FIRST_MAXH), rtol=rtol, keep=keep, progress=None,
-                     solver_tol=SOLVER_TOL, max_ndof=max_ndof)
+    """``ndf.adapt`` (hp, p 2...8, SIPG, Doerfler theta = 0.5, no geometric layers) from a Netgen mesh of maxh
+    FIRST_MAXH, silent; every setting explicit, so that adapt's defaults (which changed) leave the study as it is."""
+    return ndf.adapt(problem, ndf.netgen_mesh(problem, FIRST_MAXH), method="sipg", order=2, max_order=8, theta=0.5,
+                     layers=0, rtol=rtol, keep=keep, progress=None, solver_tol=SOLVER_TOL, max_ndof=max_ndof)
 
 
 def reference_run(problem, rtol):
@@ -337,6 +334,39 @@ def convergence_report(results, settings):
              "point evaluation of u_ref on a second run's levels.  Polygons: the error against the curved "
              "reference (the true problem, on the polygon's domain) and against the polygon's own last level "
              "(its discretisation error only).", ""]
+    lines += fits_table(results)
+    local = results["fit_levels"]
+    if len(local) >= 4:
+        half = len(local) // 2
+        first = fit_algebraic([r["ndof"] for r in local[:half + 1]], [r["error_J"] for r in local[:half + 1]])[0]
+        second = fit_algebraic([r["ndof"] for r in local[half:]], [r["error_J"] for r in local[half:]])[0]
+        lines += [f"Curved: the algebraic slope s grows along the fitted range ({first:.2f} on its first half, "
+                  f"{second:.2f} on its second): faster than any fixed power of N, as exponential convergence is.", ""]
+    check = fit_range(results["check"], results["eta_ref"])
+    if check:
+        ratio = [r["error_interp"] / r["error_J"] for r in check]
+        lines += [f"The two error measures agree: |||u_h - u_ref|||_h / (2 (J_h - J_ref))^(1/2) in "
+                  f"[{min(ratio):.3f}, {max(ratio):.3f}] on the {len(check)} levels of the check run in the fitted "
+                  "range.", ""]
+    lines += polygon_floors(results)
+    spikes = [r for r in results["levels"][:-1] if r["error_J"] > 0 and r["eta_h"] > 10 * r["error_J"]]
+    effectivity = [r["eta_h"] / r["error_J"] for r in results["fit_levels"]]
+    if spikes:
+        lines += [f"eta_h / error exceeds 10 on levels {', '.join(str(r['level']) for r in spikes)} (at most "
+                  f"{max(r['eta_h'] / r['error_J'] for r in spikes):.0f}): there eta_6 = "
+                  "||sigma_n(u_h) + c_n (u_hn - g_a)_+||, which carries c_n, is nearly all of it (eta_6 / eta_h >= "
+                  f"{min(r['eta6'] / r['eta_h'] for r in spikes):.4f}).  While the mesh does not "
+                  "resolve the contact zone (a ~ 0.03 against coarse edges) the compliance residual is of size c_n "
+                  "times an error of the penetration: the residual estimator is not robust in c_n there"
+                  + (f" (on the fitted levels eta_h / error is {min(effectivity):.1f}-{max(effectivity):.1f})."
+                     if effectivity else "."), ""]
+    lines += level_tables(results)
+    return lines
+
+
+def fits_table(results):
+    """Markdown lines: the exponential and algebraic fits of every error measure."""
+    lines = []
     fits_ = results["fits"]
     rows = []
     for name, fit in fits_.items():
@@ -355,19 +385,12 @@ def convergence_report(results, settings):
               "less than 5 %).", "",
               markdown_table(["error", "DOFs fitted", "falls by", "b", "rms (exp)", "s", "rms (alg)", "better fit"],
                              rows), ""]
-    local = results["fit_levels"]
-    if len(local) >= 4:
-        half = len(local) // 2
-        first = fit_algebraic([r["ndof"] for r in local[:half + 1]], [r["error_J"] for r in local[:half + 1]])[0]
-        second = fit_algebraic([r["ndof"] for r in local[half:]], [r["error_J"] for r in local[half:]])[0]
-        lines += [f"Curved: the algebraic slope s grows along the fitted range ({first:.2f} on its first half, "
-                  f"{second:.2f} on its second): faster than any fixed power of N, as exponential convergence is.", ""]
-    check = fit_range(results["check"], results["eta_ref"])
-    if check:
-        ratio = [r["error_interp"] / r["error_J"] for r in check]
-        lines += [f"The two error measures agree: |||u_h - u_ref|||_h / (2 (J_h - J_ref))^(1/2) in "
-                  f"[{min(ratio):.3f}, {max(ratio):.3f}] on the {len(check)} levels of the check run in the fitted "
-                  "range.", ""]
+    return lines
+
+
+def polygon_floors(results):
+    """Markdown lines: how far each polygon's error falls, and its floor against the number of sides."""
+    lines = []
     for sides, polygon in results["polygons"].items():
         floor = min(r["error_interp"] for r in polygon["records"])
         passed = [r for r in results["levels"][:-1] if 0 < r["error_J"] < floor]
@@ -390,17 +413,12 @@ def convergence_report(results, settings):
                      "the error falls algebraically at that order; a fixed polygon does not converge at all."
                      if 1.2 <= order <= 2.0 else ".")]
     lines += [""] if results["polygons"] else []
-    spikes = [r for r in results["levels"][:-1] if r["error_J"] > 0 and r["eta_h"] > 10 * r["error_J"]]
-    effectivity = [r["eta_h"] / r["error_J"] for r in results["fit_levels"]]
-    if spikes:
-        lines += [f"eta_h / error exceeds 10 on levels {', '.join(str(r['level']) for r in spikes)} (at most "
-                  f"{max(r['eta_h'] / r['error_J'] for r in spikes):.0f}): there eta_6 = "
-                  "||sigma_n(u_h) + c_n (u_hn - g_a)_+||, which carries c_n, is nearly all of it (eta_6 / eta_h >= "
-                  f"{min(r['eta6'] / r['eta_h'] for r in spikes):.4f}).  While the mesh does not "
-                  "resolve the contact zone (a ~ 0.03 against coarse edges) the compliance residual is of size c_n "
-                  "times an error of the penetration: the residual estimator is not robust in c_n there"
-                  + (f" (on the fitted levels eta_h / error is {min(effectivity):.1f}-{max(effectivity):.1f})."
-                     if effectivity else "."), ""]
+    return lines
+
+
+def level_tables(results):
+    """Markdown lines: the levels of the reference run, the check run and every polygon's run."""
+    lines = []
     lines += ["Levels of the reference run (curved):", ""]
     lines += [markdown_table(["level", "DOFs", "N^(1/3)", "eta_h", "error (energy)", "eta_h / error"],
                              [[r["level"], r["ndof"], f"{r['ndof'] ** (1 / 3):.2f}", _f(r["eta_h"], ".3e"),
@@ -421,7 +439,6 @@ def convergence_report(results, settings):
                                  [[r["level"], r["ndof"], _f(r["eta_h"], ".3e"), _f(r["error_interp"], ".3e"),
                                    _f(r["error_own"], ".3e")] for r in polygon["records"]]), ""]
     return lines
-
 
 if __name__ == "__main__":
     run_script(main)

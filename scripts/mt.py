@@ -16,14 +16,12 @@ Writes results/mt.md and results/mt.png.
     python scripts/mt.py [--quick]
 """
 
-import argparse
 import dataclasses
 import time
-from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, run_script, save_figure, say
+from common import command_line, run_script, save_figure, say, script_parser
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
@@ -37,9 +35,7 @@ M_T = (0.0, 1.0, 2.0)
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="coarse meshes, few cases and levels (smoke test)")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default: results/)")
+    parser = script_parser(__doc__, "coarse meshes, few cases and levels (smoke test)")
     return parser.parse_args(argv)
 
 
@@ -143,8 +139,9 @@ def adaptive_study(levels, max_ndof):
     curves = {}
     for m_t in M_T:
         say(f"adaptive m_t = {m_t:g}")
-        curves[m_t] = ndf.adapt(problem_with(m_t), order=1, hp=False, theta=0.3, max_levels=levels, max_ndof=max_ndof,
-                                weights="paper", progress=None).levels
+        curves[m_t] = ndf.adapt(problem_with(m_t), method="sipg", order=1, hp=False, theta=0.3, max_levels=levels,
+                                max_ndof=max_ndof,
+                                variant="paper", progress=None).levels
         last = curves[m_t][-1]
         say(f"  {len(curves[m_t])} levels, {last['ndof']} dofs, eta_h = {last['eta_h']:.4e}")
     return curves
@@ -222,22 +219,7 @@ def report(zone_h, zone_rows, solver_rows, curves):
           f"{records[-1]['eta4']:.3e}", f"{slopes[m_t]:.3f}",
           f"{min(r['iterations'] for r in records)}-{max(r['iterations'] for r in records)}"]
          for m_t, records in curves.items()])
-    coupled = [r for r in solver_rows if r["m_t"] > 0]
-    speedups = [r["fixed_seconds"] / r["newton_seconds"] for r in coupled if r["difference"] is not None]
-    failed = ", ".join(f"m_t = {r['m_t']:g} with c_tau = {r['c_tau']:g}" for r in coupled
-                       if r["fixed"].startswith("failed"))
-    newton_failed = [r for r in coupled if r["newton"] == "failed"]
-    findings = [
-        f"* The coupled Newton failed in {len(newton_failed)} of {len(coupled)} cases with m_t > 0; its "
-        f"iterations (factorisations): {', '.join(sorted({r['newton'] for r in coupled}))}.",
-        f"* Where both converged, the fixed point took {min(speedups):.1f}-{max(speedups):.1f} times as long "
-        "as the coupled Newton." if speedups else "* The fixed point never converged.",
-        f"* The fixed point failed for {failed}." if failed else "* The fixed point converged in every case.",
-        "* Largest friction bound on Gamma_C: " + ", ".join(f"{r['max_bound']:.1f} (m_t = {r['m_t']:g})"
-                                                          for r in zone_rows)
-        + ".  The penetrations stay below 1, so (u_n - g_a)_+^{m_t} weakens the friction; stick zones: "
-        + ", ".join(f"{r['stick']} (m_t = {r['m_t']:g})" for r in zone_rows) + ".",
-    ]
+    findings = mt_findings(zone_rows, solver_rows)
     return "\n".join([
         "# Friction bound depending on the penetration: m_t > 0 (Example 6.1)", "",
         f"Regenerate: `{command_line()}`", "",
@@ -270,6 +252,28 @@ def report(zone_h, zone_rows, solver_rows, curves):
         "Times are wall-clock on two cores; the factorisation counts are the robust measure: the coupled Newton "
         "factorises once (the condensation onto Gamma_C), the fixed point once per outer iteration (each inner "
         "solve condenses its own frozen-bound problem).", ""])
+
+
+
+def mt_findings(zone_rows, solver_rows):
+    """Markdown bullets: the two solvers for m_t > 0 compared, and the friction bounds and stick zones."""
+    coupled = [r for r in solver_rows if r["m_t"] > 0]
+    speedups = [r["fixed_seconds"] / r["newton_seconds"] for r in coupled if r["difference"] is not None]
+    failed = ", ".join(f"m_t = {r['m_t']:g} with c_tau = {r['c_tau']:g}" for r in coupled
+                       if r["fixed"].startswith("failed"))
+    newton_failed = [r for r in coupled if r["newton"] == "failed"]
+    findings = [
+        f"* The coupled Newton failed in {len(newton_failed)} of {len(coupled)} cases with m_t > 0; its "
+        f"iterations (factorisations): {', '.join(sorted({r['newton'] for r in coupled}))}.",
+        f"* Where both converged, the fixed point took {min(speedups):.1f}-{max(speedups):.1f} times as long "
+        "as the coupled Newton." if speedups else "* The fixed point never converged.",
+        f"* The fixed point failed for {failed}." if failed else "* The fixed point converged in every case.",
+        "* Largest friction bound on Gamma_C: " + ", ".join(f"{r['max_bound']:.1f} (m_t = {r['m_t']:g})"
+                                                          for r in zone_rows)
+        + ".  The penetrations stay below 1, so (u_n - g_a)_+^{m_t} weakens the friction; stick zones: "
+        + ", ".join(f"{r['stick']} (m_t = {r['m_t']:g})" for r in zone_rows) + ".",
+    ]
+    return findings
 
 
 if __name__ == "__main__":

@@ -17,15 +17,13 @@ the library) and its true error against tol.
     python scripts/scenes.py [--quick] [--scene NAME ...] [--workers N] [--out DIR]
 """
 
-import argparse
 import math
 import time
 import warnings
-from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
-from common import RESULTS, command_line, in_processes, run_script, say, write_csv
+from common import command_line, in_processes, run_script, say, script_parser, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.contact import contact_state, rounding_residual
@@ -63,11 +61,9 @@ ADAPT_FIELDS = ["scene", "method", "tol", "stopped", "levels", "ndof", "p_max", 
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="two methods, P1, two meshes, coarse references")
+    parser = script_parser(__doc__, "two methods, P1, two meshes, coarse references")
     parser.add_argument("--scene", nargs="+", choices=sorted(SCENES), default=list(SCENES))
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2; 1: no pool)")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 

@@ -1,5 +1,8 @@
 """Where each method fails: penalty, near incompressibility, stiff compliance, friction extremes, Uzawa's rho.
 
+Beyond the paper: the limits of its assumptions (the penalty threshold of Section 3's coercivity, the data of
+Section 6's examples pushed to extremes, the step of its Uzawa iteration).
+
 Every case is one independent solve (:mod:`ngdgfric.studies.cases`) run through dask.distributed
 (:mod:`ngdgfric.studies.runner`: a LocalCluster with one worker per core, or ``--scheduler ADDRESS``),
 cached in ``--cache`` so a restarted study recomputes nothing.  Writes results/stability.md,
@@ -9,7 +12,6 @@ and with two workers (no cache).
     python scripts/stability.py [--quick] [--scheduler tcp://host:8786] [--workers N] [--speedup]
 """
 
-import argparse
 import csv
 import math
 import time
@@ -17,9 +19,9 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-from common import RESULTS, command_line, run_script, save_figure, say, write_csv
+from common import RESULTS, command_line, run_script, save_figure, say, script_parser, write_csv
 
-from ngdgfric.dg.methods import METHODS, SIPG_THRESHOLD
+from ngdgfric.dg.methods import DG_METHODS, SIPG_THRESHOLD
 from ngdgfric.files import write_text
 from ngdgfric.output import markdown_table
 from ngdgfric.studies import cases
@@ -28,17 +30,15 @@ from ngdgfric.studies.runner import run_cases
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-METHOD_NAMES = sorted(METHODS)
+METHOD_NAMES = sorted(DG_METHODS)  # the five DG methods (not the conforming baseline cg)
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="a few cases per section (smoke test)")
+    parser = script_parser(__doc__, "a few cases per section (smoke test)")
     parser.add_argument("--scheduler", default=None, help="address of a running dask scheduler")
     parser.add_argument("--workers", type=int, default=None, help="local worker processes (default: cores)")
     parser.add_argument("--cache", type=Path, default=Path(".cache/stability"))
     parser.add_argument("--speedup", action="store_true", help="time the locking section with 1 and 2 workers")
-    parser.add_argument("--out", type=Path, default=RESULTS)
     return parser.parse_args(argv)
 
 
@@ -82,7 +82,21 @@ def report(results, speedup):
     lines = ["# Stability: where each method fails", "",
              "Example 6.1 unless said otherwise; uniform meshes; P1-P3; Newton unless said otherwise.  Every number",
              "below comes from `stability_<section>.csv`.  ![stability](stability.png)", ""]
-    thresholds = results["threshold"]
+    lines += thresholds_section(results["threshold"]) + penalty_section(results["penalty"])
+    lines += locking_section(results["locking"]) + extremes_section(results)
+    if speedup:
+        lines += ["## Parallel speed-up (dask.distributed LocalCluster)", "",
+                  "The locking section (small cases: dask's start-up and scheduling are a visible share), without",
+                  "the cache, 1 and 2 worker processes; `stability_speedup.csv`, from `--speedup`.", "",
+                  markdown_table(["workers", "locking section wall time (s)", "speed-up"],
+                                 [[w, f"{t:.1f}", f"{speedup[1] / t:.2f}"] for w, t in speedup.items()]), ""]
+    lines += [f"Regenerate: `{command_line()}`", ""]
+    return "\n".join(lines)
+
+
+def thresholds_section(thresholds):
+    """Markdown lines: the coercivity thresholds of the penalty."""
+    lines = []
     sipg1 = [r for r in thresholds if r["method"] == "sipg" and r["order"] == 1]
     lines += ["## Penalty: coercivity thresholds", "",
               "Smallest eta/mu (lifting methods: the dimensionless eta multiplying (C r_e, r_e)) for which the linear",
@@ -99,7 +113,12 @@ def report(results, speedup):
               "30 mu where 30 mu is not enough.  The paper's 30 mu is " + ", ".join(
                   f"{30 / r['threshold_mu']:.2f} times the P1 threshold of Example {r['example']}" for r in sipg1)
               + ".", ""]
-    penalty = results["penalty"]
+    return lines
+
+
+def penalty_section(penalty):
+    """Markdown lines: the penalty sweep."""
+    lines = []
     lines += ["## Penalty sweep: coercivity, error against the reference, Newton iterations", "",
               "h = 1/8 for the solve; error |||u_ref - u_h|||_h against results/reference_6_1.npz.", "",
               markdown_table(["method", "p", "eta/mu", "lambda_min", "error", "Newton its", "status"],
@@ -116,7 +135,12 @@ def report(results, speedup):
                   f"{r['method']} P{r['order']} eta/mu = {r['ratio']:.3g}" for r in coercive_failures) or "none")
               + ".  (The norm's jump term carries no mu, so NIPG's symmetric part stays above the norm for any eta "
               "here.)", ""]
-    locking = results["locking"]
+    return lines
+
+
+def locking_section(locking):
+    """Markdown lines: near incompressibility."""
+    lines = []
     lines += ["## Near incompressibility (volumetric locking)", "",
               "Smooth manufactured solution (`ngdgfric.studies.manufactured.elasticity_manufactured`, E = 1000),",
               "h = 1/8, relative energy error.", "",
@@ -128,6 +152,12 @@ def report(results, speedup):
     pairs = sorted({(r["method"], r["order"]) for r in locking})
     lines += [f"- Error growth nu = 0.3 -> {max(r['nu'] for r in locking)}: " + ", ".join(
         f"{m} P{p} x{_growth(locking, m, p):.1f}" for m, p in pairs) + ".", ""]
+    return lines
+
+
+def extremes_section(results):
+    """Markdown lines: stiff compliance, friction extremes, Uzawa's step."""
+    lines = []
     lines += ["## Stiff compliance (towards Signorini)", "",
               markdown_table(["c_n", "solver", "iterations", "seconds", "max penetration", "eta_h", "cond(A + c_n N)",
                               "status"],
@@ -146,14 +176,7 @@ def report(results, speedup):
               markdown_table(["factor", "rho", "iterations", "seconds", "status"],
                              [[fmt(r["factor"]), fmt(r["rho"]), r["iterations"], fmt(r["seconds"]), r["status"][:70]]
                               for r in results["rho"]]), ""]
-    if speedup:
-        lines += ["## Parallel speed-up (dask.distributed LocalCluster)", "",
-                  "The locking section (small cases: dask's start-up and scheduling are a visible share), without",
-                  "the cache, 1 and 2 worker processes; `stability_speedup.csv`, from `--speedup`.", "",
-                  markdown_table(["workers", "locking section wall time (s)", "speed-up"],
-                                 [[w, f"{t:.1f}", f"{speedup[1] / t:.2f}"] for w, t in speedup.items()]), ""]
-    lines += [f"Regenerate: `{command_line()}`", ""]
-    return "\n".join(lines)
+    return lines
 
 
 THEORY = {"sipg": "large enough", "nipg": "any > 0", "bassi": "> 3", "brezzi": "any > 0", "ldg": "any > 0"}

@@ -13,13 +13,11 @@ Writes results/table_investigation.md and .csv.
     python scripts/table_variants.py [--quick]
 """
 
-import argparse
 import dataclasses
 import math
-from pathlib import Path
 
 import ngsolve as ngs
-from common import RESULTS, command_line, run_script, say, write_csv
+from common import RESULTS, command_line, run_script, say, script_parser, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.examples import EXAMPLES
@@ -89,11 +87,12 @@ def failed_rows(example, method, name, err):
                  max_rate_diff=math.nan)]
 
 
+def parse(argv=None):
+    return script_parser(__doc__, "h = 2^-1 ... 2^-3 (rows), SIPG, no traction variants").parse_args(argv)
+
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="h = 2^-1 ... 2^-3 (rows), SIPG, no traction variants")
-    parser.add_argument("--out", type=Path, default=RESULTS)
-    args = parser.parse_args(argv)
+    args = parse(argv)
     levels = (1, 2, 3, 4) if args.quick else (1, 2, 3, 4, 5, 6)
     rows = []
     for example in ("6.1", "6.2"):

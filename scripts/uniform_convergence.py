@@ -12,11 +12,9 @@ paper's, and the ratio ours/paper for every entry.
         [--uzawa sipg nipg] [--quick]
 """
 
-import argparse
 import time
-from pathlib import Path
 
-from common import RESULTS, command_line, fmt, run_script, say, write_csv
+from common import RESULTS, command_line, fmt, run_script, say, script_parser, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.dg.methods import METHODS
@@ -29,8 +27,7 @@ from ngdgfric.studies.paper import TABLES
 
 
 def parse(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--example", choices=sorted(EXAMPLES), default="6.1")
+    parser = script_parser(__doc__, "levels 2^-1 ... 2^-3 only (smoke test)", example="one")
     parser.add_argument("--method", nargs="+", choices=sorted(METHODS), default=["sipg", "nipg"],
                         help="DG methods of Section 3 (default: the paper's two)")
     parser.add_argument("--order", type=int, default=1)
@@ -39,8 +36,6 @@ def parse(argv=None):
     parser.add_argument("--uzawa", nargs="*", choices=sorted(METHODS), default=None, metavar="METHOD",
                         help="also solve every level of these methods (all listed if none given) with the "
                              "paper's Uzawa method and report iterations, seconds and difference")
-    parser.add_argument("--quick", action="store_true", help="levels 2^-1 ... 2^-3 only (smoke test)")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default: results/)")
     return parser.parse_args(argv)
 
 
