@@ -22,9 +22,15 @@ setup(
     extras_require={
         # the studies run many independent cases through dask.distributed (issue: the two studies)
         "studies": ["dask[distributed]"],
-        # hypothesis: property tests of the condensed contact solver over random data (tests/test_reduced.py)
+        # the documentation site (docs/, README "Documentation"): sphinx builds it, autodoc (part of sphinx)
+        # reads the docstrings; myst-nb reads Markdown (with myst-parser, its dependency: README sections
+        # included by markers) and executes the gallery's notebooks and MyST notebooks at build time through
+        # jupyter-cache and the ipykernel below; it needs no pandoc binary, unlike nbsphinx
+        "docs": ["sphinx", "myst-nb", "ipykernel"],
+        # hypothesis: property tests of the condensed contact solver over random data (tests/test_reduced.py);
+        # the docs extra: tests/test_docs.py builds the site when it is not built
         "test": ["pytest", "ruff", "hypothesis", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
-                 "webgui_jupyter_widgets", "dask[distributed]"],
+                 "webgui_jupyter_widgets", "dask[distributed]", "ngdgfric[docs]"],
     },
     entry_points={"console_scripts": ["ngdgfric = ngdgfric.cli:main"]},
 )

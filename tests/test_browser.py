@@ -86,6 +86,8 @@ def static_page(nb, js, path):
     return path
 
 
+@pytest.mark.slow
+@pytest.mark.browser
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (Debian: apt-get install chromium)")
 def test_exported_notebook_renders_webgui(tmp_path, monkeypatch):
     js = local_javascript(tmp_path)

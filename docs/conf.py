@@ -1,0 +1,191 @@
+"""Sphinx configuration of the ngdgfric documentation site.
+
+Build (from the repository root; warnings are errors):
+
+    python -m sphinx -W --keep-going -b html docs docs/_build/html
+
+MyST-NB reads the Markdown pages and the notebooks and executes every notebook and MyST
+notebook of the gallery at build time, at smoke size (``NGDGFRIC_SMOKE=1``, as
+``tests/test_notebooks.py`` runs them); an execution error fails the build.  The API pages come
+from the docstrings (autodoc).  The pages of ``results/`` are made here at build time: one stub per
+``results/*.md`` that includes the file where it is (``docs/results/`` is generated, not kept in git).
+"""
+
+import functools
+import os
+import re
+import sys
+from pathlib import Path
+
+from sphinx.errors import PycodeError
+
+import ngdgfric
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+
+project = "ngdgfric"
+author = "the ngdgfric developers"
+copyright = "2026, the ngdgfric developers"
+release = ngdgfric.__version__
+version = release
+
+extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.autosummary"]
+exclude_patterns = ["_build", "**.ipynb_checkpoints", "README.md"]
+suppress_warnings = []
+
+# MyST: $...$ and $$...$$ maths (the notebooks), aligned environments, headings as link targets
+myst_enable_extensions = ["dollarmath", "amsmath"]
+myst_heading_anchors = 3
+
+# MyST-NB: execute every notebook, smoke-sized, each time the page is rebuilt; any error fails the build
+os.environ["NGDGFRIC_SMOKE"] = "1"  # the kernels inherit the environment
+# "force": a page is executed whenever Sphinx reads it (a fresh or -E build reads all); no cache that could
+# keep outputs of an older ngdgfric, since a cache is keyed on the notebook's code alone
+nb_execution_mode = "force"
+nb_execution_raise_on_error = True
+nb_execution_show_tb = True
+nb_execution_timeout = 600
+nb_merge_streams = True
+
+# autodoc: members in source order, signatures as written
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"
+autodoc_default_options = {"members": False}
+
+html_theme = "alabaster"
+html_title = f"ngdgfric {release}"
+html_static_path = []
+# alabaster shows its narrow-screen layout below page_width: keep it at laptop widths
+html_theme_options = {"description": "DG methods for 2D frictional contact on NGSolve", "page_width": "1100px",
+                      "body_max_width": "none", "fixed_sidebar": True}
+
+
+def plain_pipes(lines):
+    """``lines`` (one docstring) with every ``|`` escaped outside inline literals and literal blocks.
+
+    The docstrings write norms and absolute values as in the paper, ``|u_tau|``, ``|||u - u_h|||_h``,
+    which reStructuredText would read as substitution references; they use no substitutions.
+    """
+    out, literal_indent = [], None
+    for line in lines:
+        indent = len(line) - len(line.lstrip())
+        if literal_indent is not None and (not line.strip() or indent > literal_indent):
+            out.append(line)
+            continue
+        literal_indent = indent if line.rstrip().endswith("::") else None
+        parts = line.split("``")
+        out.append("``".join(part if k % 2 else part.replace("|", r"\|") for k, part in enumerate(parts)))
+    return out
+
+
+def preformatted_blocks(lines):
+    """``lines`` (one docstring) with every indented block that follows a blank line made a literal block.
+
+    The docstrings indent tables and formulas (the method table of :mod:`ngdgfric.dg.methods`, the
+    averages of :mod:`ngdgfric.dg.material`); reStructuredText would run them together as a quotation.
+    A paragraph ending in ``:`` gets ``::``, any other a ``::`` line of its own.  Indented text directly
+    under a line (definition lists), list items' own paragraphs and explicit markup stay as they are.
+    """
+    def indent(line):
+        return len(line) - len(line.lstrip())
+
+    out, k = [], 0
+    while k < len(lines):
+        line = lines[k]
+        previous = next((j for j in range(len(out) - 1, -1, -1) if out[j].strip()), None)
+        if line.strip() and out and not out[-1].strip() and previous is not None:
+            head = out[previous]
+            start = previous  # the first line of the paragraph that ends at ``head``
+            while start > 0 and out[start - 1].strip() and indent(out[start - 1]) == indent(head):
+                start -= 1
+            first = out[start].lstrip()
+            bullet = re.match(r"([-*+]|\d+[.)]|\(\d+\)) ", first)
+            content = indent(out[start]) + (len(bullet.group(0)) if bullet else 0)
+            if (indent(line) > content and not head.rstrip().endswith("::") and not first.startswith("..")
+                    and not first.startswith(":")):
+                if head.rstrip().endswith(":"):
+                    out[previous] = head.rstrip() + ":"
+                else:
+                    out += [" " * indent(out[start]) + "::", ""]
+                while k < len(lines) and (not lines[k].strip() or indent(lines[k]) > content):
+                    out.append(lines[k])
+                    k += 1
+                continue
+        out.append(line)
+        k += 1
+    return out
+
+
+def _escape_pipes(app, what, name, obj, options, lines):
+    lines[:] = plain_pipes(preformatted_blocks(lines))
+
+
+def _public_data_docstring(app, what, name, obj, options, lines):
+    """A top-level name of data (``ngdgfric.METHODS``) gets the docstring of its definition (the
+    string after the assignment in the module that defines it), not its type's."""
+    if what == "data" and name.count(".") == 1 and name.split(".")[1] in public_data_docs():
+        lines[:] = [*public_data_docs()[name.split(".")[1]].splitlines(), ""]
+
+
+@functools.cache
+def public_data_docs():
+    """{name: docstring} of the names of ``ngdgfric.__all__`` that are data (neither classes nor functions),
+    read by Sphinx's source analyser from the module that defines each (already imported by ``ngdgfric``)."""
+    from sphinx.pycode import ModuleAnalyzer
+
+    wanted = {name: getattr(ngdgfric, name) for name in ngdgfric.__all__ if not callable(getattr(ngdgfric, name))}
+    docs = {}
+    for module in sorted(name for name in sys.modules if name == "ngdgfric" or name.startswith("ngdgfric.")):
+        try:
+            attr_docs = ModuleAnalyzer.for_module(module).find_attr_docs()
+        except PycodeError:  # a module without source
+            continue
+        for (scope, attr), doc in attr_docs.items():
+            if not scope and attr in wanted and getattr(sys.modules[module], attr, None) is wanted[attr]:
+                docs.setdefault(attr, "\n".join(doc).strip())
+    return docs
+
+
+def setup(app):
+    app.connect("autodoc-process-docstring", _public_data_docstring)
+    app.connect("autodoc-process-docstring", _escape_pipes)
+
+
+def _write_if_changed(path, text):
+    """Write ``text`` to ``path`` unless it already holds it (Sphinx then keeps its cached page)."""
+    if not path.exists() or path.read_text() != text:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+
+
+def _results_pages():
+    """docs/results/<name>.md for every results/<name>.md (an include of it) and docs/results/index.md."""
+    folder = DOCS / "results"
+    names = sorted(path.stem for path in (ROOT / "results").glob("*.md"))
+    for stale in folder.glob("*.md"):
+        if stale.stem not in names and stale.stem != "index":
+            stale.unlink()
+    for name in names:
+        _write_if_changed(folder / f"{name}.md", f"```{{include}} ../../results/{name}.md\n:relative-images:\n```\n")
+    toctree = "\n".join(names)
+    _write_if_changed(folder / "index.md", f"""# Results
+
+Every file in `results/` is written by a script of `scripts/` or `benchmarks/`; each page below is one
+of them, shown as it is in the repository (the command that wrote it is in the file).
+
+```{{include}} ../../README.md
+:start-after: <!-- docs:gallery -->
+:end-before: <!-- /docs:gallery -->
+:relative-images:
+```
+
+```{{toctree}}
+:maxdepth: 1
+
+{toctree}
+```
+""")
+
+
+_results_pages()
