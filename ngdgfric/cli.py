@@ -30,7 +30,7 @@ import warnings
 from pathlib import Path
 
 from .adaptivity import LAYERS, MAX_ORDER, adapt
-from .checks import DataError
+from .checks import MEMORY_BUDGET, DataError
 from .commands import COMMANDS, DEFAULT_H, NOT_REACHED, NotReached, load, outputs
 from .dg.methods import METHODS
 from .errors import SolverError
@@ -43,7 +43,7 @@ from .solution import SOLVERS, solve
 
 __all__ = ["main", "run", "build_parser", "load"]
 
-MAX_NDOF_HELP = "refuse meshes with more DOFs (default: refuse above an estimated 8 GB of memory)"
+MAX_NDOF_HELP = f"refuse meshes with more DOFs (default: above an estimated {MEMORY_BUDGET / 1e9:g} GB of memory)"
 
 
 class UsageError(Exception):
