@@ -12,7 +12,8 @@ import importlib.abc
 import importlib.util
 import sys
 import types
-import warnings
+
+from .errors import warn
 
 MOVED_MODULES = {
     **{name: f"ngdgfric.dg.{name}" for name in ("methods", "forms", "liftings", "material", "discretization")},
@@ -27,8 +28,7 @@ MOVED_NAMES = {"refine": "ngdgfric.meshes", "minimum_angle": "ngdgfric.adaptivit
 
 
 def _warn(old, new):
-    warnings.warn(f"{old} moved to {new} in ngdgfric 0.2; the old path goes in 0.3", DeprecationWarning,
-                  stacklevel=3)
+    warn(f"{old} moved to {new} in ngdgfric 0.2; the old path goes in 0.3", DeprecationWarning)
 
 
 class _LinalgModule(types.ModuleType):
@@ -76,7 +76,7 @@ def moved_name(name):
     """The top-level name ``name`` of 0.1 that moved (module ``__getattr__`` of ``ngdgfric``): a function or
     class of :data:`MOVED_NAMES`, or a module of :data:`MOVED_MODULES` (``ngdgfric.uzawa.uzawa``)."""
     if name in MOVED_MODULES or name == "linalg":
-        return importlib.import_module(f"ngdgfric.{name}")
+        return importlib.import_module(f"ngdgfric.{name}")  # the finder warns
     if name not in MOVED_NAMES:
         raise AttributeError(f"module 'ngdgfric' has no attribute {name!r}")
     _warn(f"ngdgfric.{name}", f"{MOVED_NAMES[name]}.{name}")

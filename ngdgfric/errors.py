@@ -1,5 +1,6 @@
 """Errors raised by the solvers, and warnings that point at the user's code."""
 
+import importlib
 import sys
 import time
 import warnings
@@ -8,6 +9,7 @@ from pathlib import Path
 __all__ = ["SolverError", "TimeLimitError", "SolverWarning", "deadline", "check_deadline", "warn"]
 
 PACKAGE = str(Path(__file__).resolve().parent)
+IMPORTLIB = str(Path(importlib.__file__).resolve().parent)
 
 
 class SolverError(RuntimeError):
@@ -42,10 +44,24 @@ def check_deadline(when, solver, history, what):
                              solver=solver)
 
 
+def _ours(frame):
+    """True for a frame of ngdgfric or of the import machinery (an old import path resolved by ngdgfric._moved)."""
+    name = frame.f_code.co_filename
+    return name.startswith("<frozen importlib") or str(Path(name).resolve()).startswith((PACKAGE, IMPORTLIB))
+
+
 def warn(message, category):
     """``warnings.warn(message, category)`` attributed to the first caller outside ngdgfric (the line of the
-    user's script that called solve, estimate, adapt ...), however deep inside the package it is issued."""
-    frame, level = sys._getframe(0), 1
-    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(PACKAGE):
-        frame, level = frame.f_back, level + 1
-    warnings.warn(message, category, stacklevel=level)
+    user's script that called solve, estimate, adapt ... or used an old name), however deep inside the package or
+    the import machinery it is issued; the warning filters see that caller's module (a DeprecationWarning shows
+    in ``__main__``, as Python's default filters intend)."""
+    frame = sys._getframe(1)
+    while frame is not None and _ours(frame):
+        frame = frame.f_back
+    if frame is None:  # called from the package itself, with no caller outside it
+        warnings.warn(message, category, stacklevel=2)
+        return
+    module_globals = frame.f_globals
+    warnings.warn_explicit(message, category, frame.f_code.co_filename, frame.f_lineno,
+                           module=module_globals.get("__name__", "__main__"),
+                           registry=module_globals.setdefault("__warningregistry__", {}), module_globals=module_globals)

@@ -67,7 +67,6 @@ follows the material's jumps, the error of the element means where a jump cuts e
     already in energy units).
 """
 
-import warnings
 from dataclasses import dataclass
 
 import ngsolve as ngs
@@ -77,6 +76,7 @@ from .contact import compliance, friction_bound, normal_tangent
 from .dg.discretization import contact_elements
 from .dg.forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
 from .dg.material import BONUS
+from .errors import warn
 from .meshes import element_diameters, facet_indicator
 from .problem import PARTS, coefficient, strain, stress
 from .threads import limited_blas, threads
@@ -171,9 +171,8 @@ def deprecated_weights(variant, weights, where):
     with a DeprecationWarning: it selects a variant of the estimator, it weights nothing."""
     if weights is None:
         return variant
-    warnings.warn(f"{where}(weights=...) is deprecated and will be removed in the next release: use "
-                  f"variant={weights!r} (it selects the estimator's variant)", DeprecationWarning,
-                  stacklevel=5)  # deprecated_weights, estimate or adapt, call_limited, limited_blas's wrapper
+    warn(f"{where}(weights=...) is deprecated and will be removed in the next release: use "
+         f"variant={weights!r} (it selects the estimator's variant)", DeprecationWarning)
     if variant is not None and variant != weights:
         raise ValueError(f"{where}: variant={variant!r} and its old name weights={weights!r} disagree; give variant "
                          f"only")

@@ -52,7 +52,9 @@ __all__ = ["generate", "default_timeout", "triangles_of", "shutdown"]
 
 WORKER = str(Path(__file__).with_name("_mesh_worker.py"))
 # run the worker as a script without its folder on sys.path (whose modules could shadow others)
-LAUNCH = "import runpy, sys; sys.argv = sys.argv[1:]; runpy.run_path(sys.argv[0], run_name='__main__')"
+# the caller's working directory leaves sys.path first: a signal.py or numpy.py there must not replace the modules
+LAUNCH = ("import sys; del sys.path[0]; import runpy; sys.argv = sys.argv[1:]; "
+          "runpy.run_path(sys.argv[0], run_name='__main__')")
 POLL = 0.02  # seconds between two looks at the child
 _SERVER = None  # (the server's Popen, the process id of the process that started it)
 _LOCK = threading.Lock()

@@ -1,13 +1,13 @@
 """The solve() entry point and the Solution record."""
 
 import time
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .checks import MEMORY_BUDGET
 from .dg.discretization import Discretization
+from .errors import warn
 from .meshes import snapshot
 from .solvers.fixed_point import FixedPointOptions, fixed_point
 from .solvers.newton import NewtonOptions, newton
@@ -61,8 +61,8 @@ class Solution:
     @property
     def order(self):
         """Deprecated: the largest degree, :attr:`max_order` (see :attr:`orders` for the degree per element)."""
-        warnings.warn("Solution.order is deprecated: it is the largest degree, Solution.max_order (the degree of "
-                      "every element: Solution.orders)", DeprecationWarning, stacklevel=2)
+        warn("Solution.order is deprecated: it is the largest degree, Solution.max_order (the degree of "
+             "every element: Solution.orders)", DeprecationWarning)
         return self.max_order
 
     @property
@@ -121,8 +121,7 @@ def _solver_tol(solver_tol, options):
     """``solver_tol``, or the value of the deprecated keyword ``tol`` (removed from ``options``)."""
     if "tol" not in options:
         return solver_tol
-    warnings.warn("solve(tol=...) is deprecated: the solver's tolerance is solver_tol", DeprecationWarning,
-                  stacklevel=3)
+    warn("solve(tol=...) is deprecated: the solver's tolerance is solver_tol", DeprecationWarning)
     tol = options.pop("tol")
     if solver_tol is not None and tol is not None:
         raise ValueError(f"give solver_tol only (got solver_tol={solver_tol!r} and the deprecated tol={tol!r})")

@@ -1,12 +1,18 @@
 """Import paths of 0.1 that moved in 0.2 keep working for one release, each with a DeprecationWarning."""
 
 import importlib
+import os
+import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 import ngdgfric as ndf
 from ngdgfric import _moved
+
+# the subprocesses import the ngdgfric these tests import
+SAME_PACKAGE = dict(os.environ, PYTHONPATH=str(Path(ndf.__file__).resolve().parents[1]))
 
 
 @pytest.mark.parametrize("old", sorted(_moved.MOVED_MODULES))
@@ -46,3 +52,26 @@ def test_the_public_api_is_all_of_it_and_the_method_table_is_read_only():
     assert ndf.__version__ == importlib.metadata.version("ngdgfric")
     with pytest.raises(TypeError):
         ndf.METHODS["mine"] = ndf.METHODS["sipg"]
+
+
+def test_the_warnings_point_at_the_users_line_where_python_shows_them(tmp_path):
+    # a DeprecationWarning shows by default only when attributed to __main__: the user's script, not the package
+    script = tmp_path / "old_names.py"
+    script.write_text("import ngdgfric\nngdgfric.refine\nngdgfric.uzawa\nimport ngdgfric.fixed_point\n")
+    result = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120,
+                            env=SAME_PACKAGE)
+    assert result.returncode == 0, result.stderr
+    shown = [line for line in result.stderr.splitlines() if "DeprecationWarning" in line]
+    assert [line.split(": DeprecationWarning")[0] for line in shown] \
+        == [f"{script}:2", f"{script}:3", f"{script}:4"], result.stderr
+
+
+def test_a_file_named_like_a_module_in_the_working_directory_does_not_break_meshing(tmp_path):
+    # the mesh server's interpreter must not import the caller's signal.py instead of the standard library's
+    work, scripts = tmp_path / "work", tmp_path / "scripts"
+    work.mkdir(), scripts.mkdir()
+    (work / "signal.py").write_text("raise ImportError('the wrong signal module')\n")
+    (scripts / "mesh.py").write_text("import ngdgfric as ndf\nprint(ndf.netgen_mesh(ndf.example_6_1(), 0.5).ne > 0)\n")
+    result = subprocess.run([sys.executable, str(scripts / "mesh.py")], cwd=work, capture_output=True, text=True,
+                            timeout=120, env=SAME_PACKAGE)
+    assert result.stdout.strip() == "True", result.stderr[-2000:]

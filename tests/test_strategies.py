@@ -40,3 +40,12 @@ def test_hp_reaches_a_smaller_error_than_h_with_the_same_budget(example_and_refe
     assert hp["ndof"] <= 1500 and h["ndof"] <= 1500 and hp["error"] < 0.5 * h["error"]
     with pytest.raises(ValueError, match="strategy"):
         strategy_run(problem, "p")
+
+
+def test_the_old_name_weights_still_selects_the_variant_with_a_warning():
+    new = strategy_run(ndf.example_6_1(), "uniform", max_ndof=200, progress=None, variant="paper")
+    with pytest.warns(DeprecationWarning, match=r"strategy_run\(weights=...\) is deprecated"):
+        old = strategy_run(ndf.example_6_1(), "uniform", max_ndof=200, progress=None, weights="paper")
+    assert [r["eta_h"] for r in old] == [r["eta_h"] for r in new]
+    energy = strategy_run(ndf.example_6_1(), "uniform", max_ndof=200, progress=None)
+    assert energy[0]["eta_h"] != new[0]["eta_h"]

@@ -5,7 +5,7 @@ import time
 
 from ..adaptivity import adapt
 from ..dg.spaces import dg_ndof
-from ..estimator import estimate
+from ..estimator import deprecated_weights, estimate
 from ..meshes import uniform_mesh
 from ..progress import log, reporter
 from ..reference import energy_error
@@ -17,7 +17,7 @@ STRATEGIES = ("uniform", "h", "hp")
 
 
 def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", reference=None, max_ndof=10**5,
-                 max_levels=60, max_order=6, progress=log, keep=None, variant=None, **options):
+                 max_levels=60, max_order=6, progress=log, keep=None, variant=None, weights=None, **options):
     """Records (ndof, eta_h, error, seconds, iterations per level) of one refinement strategy.
 
     ``strategy``: "uniform" (uniform meshes h = 2^-1, 2^-2, ... up to ``max_ndof``; ``seconds`` is
@@ -28,8 +28,9 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
     :class:`ngdgfric.Reference` (None without one); its evaluation is not timed.  ``keep``: as in
     :func:`ngdgfric.adapt` (adaptive strategies); ``variant``: the estimator's (:func:`ngdgfric.estimate`);
     ``progress``: callable(str) receiving one line per level (default :func:`ngdgfric.progress.log`: the logger
-    "ngdgfric" at INFO; None: none).
+    "ngdgfric" at INFO; None: none).  ``weights``: the old name of ``variant`` (DeprecationWarning).
     """
+    variant = deprecated_weights(variant, weights, "strategy_run")
     if strategy not in STRATEGIES:
         raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
     records = []
