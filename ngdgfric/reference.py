@@ -29,6 +29,7 @@ from .energy import EXACT_ORDER, difference, energy_matrix, energy_norm, energy_
 from .files import atomic_path
 from .meshes import mesh_arrays, mesh_from_arrays
 from .problem import Polygon, coefficient, is_number, strain
+from .transfer import discontinuous
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
            "energy_norm", "energy_norm_squared_parts", "energy_matrix", "difference", "gridfunction_errors",
@@ -49,13 +50,16 @@ class Reference:
 
 def save_reference(sol, path, eta_h, description=""):
     """Write Solution ``sol`` with its estimator value ``eta_h`` to ``path`` (.npz, written atomically),
-    with a fingerprint of its problem (:func:`fingerprint`)."""
+    with a fingerprint of its problem (:func:`fingerprint`).  The displacement is stored as the DG
+    coefficients of each element's degree, also for the conforming baseline (its u_h copied exactly
+    into L2: :func:`ngdgfric.transfer.discontinuous`), so a reference of any method loads alike."""
     check_storable(sol.problem)
+    u, orders = discontinuous(sol)
     points, triangles, segments, labels = mesh_arrays(sol.mesh)
     with atomic_path(path) as temporary:
         with open(temporary, "wb") as handle:
             np.savez_compressed(handle, points=points, triangles=triangles, segments=segments, labels=labels,
-                                orders=sol.discretization.orders, u=sol.u.vec.FV().NumPy(), eta_h=eta_h,
+                                orders=orders, u=u.vec.FV().NumPy(), eta_h=eta_h,
                                 method=sol.method, description=description,
                                 **fingerprint(sol.problem, sol.mesh, points, triangles, segments))
 
