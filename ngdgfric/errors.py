@@ -61,7 +61,9 @@ def warn(message, category):
     if frame is None:  # called from the package itself, with no caller outside it
         warnings.warn(message, category, stacklevel=2)
         return
-    module_globals = frame.f_globals
+    # no module_globals: with them warn_explicit asks the module's loader for its source, which raises ImportError
+    # for __main__ in the REPL, python -c and python - (its loader is BuiltinImporter); warnings.warn never asks
+    caller = frame.f_globals
     warnings.warn_explicit(message, category, frame.f_code.co_filename, frame.f_lineno,
-                           module=module_globals.get("__name__", "__main__"),
-                           registry=module_globals.setdefault("__warningregistry__", {}), module_globals=module_globals)
+                           module=caller.get("__name__", "__main__"),
+                           registry=caller.setdefault("__warningregistry__", {}))

@@ -65,6 +65,18 @@ def test_the_warnings_point_at_the_users_line_where_python_shows_them(tmp_path):
     assert [line.split(": DeprecationWarning")[0] for line in shown] \
         == [f"{script}:2", f"{script}:3", f"{script}:4"], result.stderr
 
+@pytest.mark.parametrize("how", ["-c", "-"])
+def test_warnings_show_in_python_c_and_on_standard_input(how):
+    # there __main__'s loader is BuiltinImporter: every package warning raised "ImportError: '__main__' is not a
+    # built-in module" when warn_explicit was given the caller's globals
+    code = "import ngdgfric\nngdgfric.refine\nimport warnings\nwarnings.warn('from the user', UserWarning)\n"
+    argv, given = ([sys.executable, "-c", code], None) if how == "-c" else ([sys.executable, "-"], code)
+    result = subprocess.run(argv, input=given, capture_output=True, text=True, timeout=120, env=SAME_PACKAGE)
+    assert result.returncode == 0, result.stderr
+    shown = [line.split(": ", 1)[0] for line in result.stderr.splitlines() if "Warning:" in line]
+    assert len(shown) == 2 and shown[0].endswith(":2") and shown[0][:-2] == shown[1][:-2], result.stderr
+
+
 
 def test_a_file_named_like_a_module_in_the_working_directory_does_not_break_meshing(tmp_path):
     # the mesh server's interpreter must not import the caller's signal.py instead of the standard library's
