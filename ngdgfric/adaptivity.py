@@ -41,7 +41,7 @@ from .files import check_writable, write_csv
 from .hp import containing
 from .levels import FIELDS, AdaptiveLoop, frozen_older_objects, record, timed
 from .marking import dorfler_mark
-from .meshes import minimum_angle, netgen_mesh, refine, uniform_mesh
+from .meshes import grid_mesh, minimum_angle, netgen_mesh, refine
 from .progress import log, reporter
 from .threads import limited_blas
 
@@ -185,15 +185,17 @@ def _levels(loop, limits, keep, csv_path, show):
 
 
 def initial_mesh(problem, layers=0):
-    """The first mesh of :func:`adapt`: uniform h = 1/2 on a rectangle, else Netgen with maxh = min(1/2, a
-    quarter of the domain's diameter); then ``layers`` geometric layers towards the domain's corners (the elements
-    containing one bisected twice, ``layers`` times), where the solution is singular whatever the data: hp-adaptive
-    runs start with ``INITIAL_LAYERS`` (exploratory runs, not kept: on Examples 6.1 and 6.2 the true errors 1e-1 ...
-    1e-4 are reached in 35-65 % less time, 1e-1 one level sooner)."""
+    """The first mesh of :func:`adapt`: on a rectangle cells of sides at most min(1/2, half its longest side)
+    (:func:`~ngdgfric.meshes.grid_mesh`: uniform h = 1/2 on the paper's examples), else Netgen with maxh = min(1/2,
+    a quarter of the domain's diameter, its longest extent); then ``layers`` geometric layers towards the domain's
+    corners (the elements containing one bisected twice, ``layers`` times), where the solution is singular whatever
+    the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (exploratory runs, not kept: on Examples 6.1 and 6.2
+    the true errors 1e-1 ... 1e-4 are reached in 35-65 % less time, 1e-1 one level sooner)."""
+    size = problem.geometry.diameter()
     if problem.geometry.is_rectangle:
-        mesh = uniform_mesh(problem, 0.5)
+        mesh = grid_mesh(problem, min(0.5, size / 2))
     else:
-        mesh = netgen_mesh(problem, min(0.5, problem.geometry.diameter() / 4))
+        mesh = netgen_mesh(problem, min(0.5, size / 4))
     for _ in range(layers):
         refine(mesh, containing(mesh, problem.geometry.corners), bisections=2)
     return mesh

@@ -29,7 +29,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from .adaptivity import LAYERS, MAX_ORDER, adapt
+from .adaptivity import INITIAL_LAYERS, LAYERS, MAX_ORDER, adapt
 from .checks import MEMORY_BUDGET, DataError
 from .commands import COMMANDS, DEFAULT_H, NOT_REACHED, NotReached, load, outputs
 from .dg.methods import METHODS
@@ -142,7 +142,8 @@ def _common_options(sub, several_methods=False, library="solve"):
 def _mesh_options(sub, default):
     group = sub.add_mutually_exclusive_group()
     group.add_argument("--h", type=_number(float), default=None,
-                       help=f"uniform mesh of squares of side h cut in two (rectangles only; default: {default})")
+                       help=f"uniform mesh of squares of side h cut in two (rectangles only, h dividing their sides; "
+                            f"default: {default})")
     group.add_argument("--maxh", type=_number(float), default=None, help="Netgen mesh with mesh size maxh")
 
 
@@ -153,7 +154,8 @@ def _solve_parser(commands):
                                           "Mises stress), a PNG of the deformed mesh with the contact zones, the "
                                           "forces as CSV and a PNG of the zones along each contact side.")
     _common_options(sub)
-    _mesh_options(sub, f"h = {DEFAULT_H}, or Netgen maxh = {DEFAULT_H} for other polygons")
+    _mesh_options(sub, f"cells of sides at most {DEFAULT_H} on a rectangle, Netgen maxh = {DEFAULT_H} on other "
+                       f"domains; {DEFAULT_H} x the diameter on domains smaller than 1")
     sub.add_argument("--max-ndof", type=_number(int), default=None, help=MAX_NDOF_HELP)
     sub.add_argument("--scale", type=_number(float), default=None,
                      help="displacement magnification in the PNG (default: largest displacement = 10%% of the "
@@ -175,7 +177,9 @@ def _adaptive_parser(commands):
                               description="SOLVE -> ESTIMATE -> MARK (Doerfler) -> REFINE (newest vertex "
                                           "bisection, or h/p with --hp), one progress line per level.")
     _common_options(sub, library="adapt")
-    _mesh_options(sub, "h = 1/2, or Netgen maxh = 1/2 for other polygons")
+    _mesh_options(sub, f"adapt's first mesh: cells of sides at most min(1/2, diameter / 2) on a rectangle, Netgen "
+                       f"maxh = min(1/2, diameter / 4) on other domains, then {INITIAL_LAYERS} geometric layers "
+                       f"towards the corners with --hp")
     theta, levels, max_ndof = (default("adapt", name) for name in ("theta", "max_levels", "max_ndof"))
     sub.add_argument("--theta", type=_number(float, high=1.0, what="in (0, 1]"), default=theta,
                      help=f"Doerfler parameter (default: {theta})")

@@ -18,7 +18,7 @@ from .estimator import estimate
 from .examples import EXAMPLES, SCENES, example
 from .files import write_csv, write_text
 from .forces import force_balance
-from .meshes import estimated_elements, netgen_mesh, uniform_mesh
+from .meshes import estimated_elements, grid_mesh, netgen_mesh, uniform_mesh
 from .output import (
     rate_text,
     uniform_markdown,
@@ -57,12 +57,18 @@ def load(spec):
 
 
 def _mesh(problem, h, maxh, default, order, max_ndof):
-    """(mesh, description) from --h / --maxh; the size is checked before meshing (``max_ndof``)."""
+    """(mesh, description) from --h / --maxh; the size is checked before meshing (``max_ndof``).  Without either:
+    ``default`` None is adapt's first mesh (:func:`ngdgfric.adaptivity.initial_mesh`), a number the mesh size
+    on domains of unit size, smaller ones scaled with their diameter (cells of sides at most it on a rectangle,
+    :func:`~ngdgfric.meshes.grid_mesh`; Netgen's maxh otherwise)."""
     rectangle = problem.geometry.is_rectangle
     if maxh is None and h is None:
         if default is None:
-            return None, "h = 1/2" if rectangle else "Netgen maxh = 1/2"
-        h, maxh = (default, None) if rectangle else (None, default)
+            return None, "adapt's first mesh"
+        size = default * min(1.0, problem.geometry.diameter())
+        if rectangle:
+            return grid_mesh(problem, size, max_elements=None), f"cells of sides at most {size:g}"
+        maxh = size
     try:
         check_size(order, max_ndof, elements=estimated_elements(problem, h=h, maxh=maxh))
     except ValueError as exc:

@@ -212,6 +212,18 @@ def test_general_polygon(tmp_path, capsys):
     check_one_line_error(main(["solve", str(path), "--h", "0.5", "--out", str(tmp_path)]), capsys, "--maxh")
 
 
+def test_every_command_runs_on_a_rectangle_whose_sides_the_default_sizes_do_not_divide(tmp_path, capsys):
+    # 1.3 x 0.7: solve (h = 0.125), adaptive (h = 1/2) and uniform (h = 1/2, 1/4) exited 2 on this valid file
+    path = variant(tmp_path, "[[0.0, 0.05], [1.0, 0.05], [1.0, 1.05], [0.0, 1.05]]",
+                   "[[0.0, 0.05], [1.3, 0.05], [1.3, 0.75], [0.0, 0.75]]", "rectangle.toml")
+    assert main(["solve", str(path), "--out", str(tmp_path)]) == 0
+    assert "cells of sides at most 0.125, 132 elements" in capsys.readouterr().out  # 11 x 6 cells
+    assert main(["adaptive", str(path), "--levels", "2", "--out", str(tmp_path)]) == 0
+    assert main(["uniform", str(path), "--levels", "3", "--out", str(tmp_path)]) == 0
+    with open(tmp_path / "rectangle_uniform.csv") as handle:
+        assert [int(row["k"]) for row in csv.DictReader(handle)] == [1, 2]
+
+
 BAD_ARGUMENTS = {
     "unknown method": (["solve", "6.1", "--method", "dg"], "--method"),
     "negative h": (["solve", "6.1", "--h", "-0.25"], "--h"),

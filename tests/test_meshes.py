@@ -1,6 +1,7 @@
 import dataclasses
 
 import ngsolve as ngs
+import numpy as np
 import pytest
 
 import ngdgfric as ndf
@@ -19,6 +20,44 @@ def test_uniform_mesh_has_squares_of_side_h_and_the_problem_labels(diagonal):
     # Gamma_C is the bottom side y = 0.05
     y_mean = ngs.Integrate(ngs.y, mesh, definedon=mesh.Boundaries("contact"))
     assert y_mean == pytest.approx(0.05)
+
+
+def rectangle(width, height):
+    """Example 6.2's data on the rectangle (0, width) x (0, height)."""
+    geometry = ndf.Polygon.rectangle(0, 0, width, height, bottom="contact", right="traction", top="dirichlet",
+                                     left="traction")
+    return dataclasses.replace(ndf.example_6_2(), geometry=geometry)
+
+
+def test_grid_mesh_is_the_uniform_mesh_where_h_divides_and_nested_cells_where_it_does_not():
+    from ngdgfric.meshes import grid_mesh, mesh_arrays
+    p = ndf.example_6_1()
+    for refinements in (0, 2):
+        ours = mesh_arrays(grid_mesh(p, 0.5, refinements))
+        uniform = mesh_arrays(ndf.uniform_mesh(p, 0.5 / 2**refinements))
+        assert all(np.array_equal(a, b) for a, b in zip(ours, uniform, strict=True))
+    p = rectangle(1.3, 0.7)  # 0.5 divides neither side: uniform_mesh refuses it
+    with pytest.raises(ValueError, match="does not divide the side length 1.3"):
+        ndf.uniform_mesh(p, 0.5)
+    coarse, fine = grid_mesh(p, 0.5), grid_mesh(p, 0.5, 1)
+    assert (coarse.ne, fine.ne) == (2 * 3 * 2, 2 * 6 * 4)  # ceil(2.6) x ceil(1.4) cells, then each in 2 x 2
+    assert ngs.Integrate(ngs.CF(1), fine) == pytest.approx(1.3 * 0.7, rel=1e-14)
+    assert set(map(tuple, mesh_arrays(coarse)[0].round(12))) <= set(map(tuple, mesh_arrays(fine)[0].round(12)))
+    with pytest.raises(ValueError, match="refinements must be an integer"):
+        grid_mesh(p, 0.5, -1)
+
+
+@pytest.mark.parametrize("width, height", [(1.3, 0.7), (0.01, 0.01)])
+def test_the_default_meshes_fit_rectangles_of_any_size(width, height):
+    # adapt's first mesh was uniform h = 1/2 on every rectangle: "h = 0.5 does not divide the side length 1.3",
+    # also for a square of 1 cm in metres; the mesh is scaled with the domain as Netgen's is elsewhere
+    from ngdgfric.adaptivity import initial_mesh
+    p = rectangle(width, height)
+    mesh = initial_mesh(p)
+    assert ngs.Integrate(ngs.CF(1), mesh) == pytest.approx(width * height, rel=1e-13)
+    assert mesh.ne >= 8
+    run = ndf.adapt(p, max_levels=2, progress=None)
+    assert len(run.levels) == 2 and run.levels[1]["eta_h"] < run.levels[0]["eta_h"]
 
 
 def test_edge_length_function_is_the_edge_length():

@@ -7,7 +7,7 @@ import time
 import ngsolve as ngs
 
 from ..checks import check_size
-from ..meshes import estimated_elements, uniform_mesh
+from ..meshes import estimated_elements, grid_mesh
 from ..progress import log, reporter
 from ..reference import energy_norm, energy_norm_squared_parts
 from ..solution import solve
@@ -46,6 +46,9 @@ def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), so
                   diagonal="sw-ne", eta=None, progress=log, **options):
     """Solve on uniform meshes h = 2^-k, k in ``levels``, and compare consecutive solutions.
 
+    The meshes are :func:`~ngdgfric.meshes.grid_mesh` (2^-min(levels), k - min(levels)): squares of side 2^-k where
+    that divides the rectangle's sides, else nested cells of sides at most 2^-k (the rates take h = 2^-k).
+
     Returns (rows, solutions): one row per level but the last, with h, ndof, iterations,
     seconds, the norms of :func:`consecutive_differences` and the observed ``rate`` of the
     energy error.  ``progress``: callable(str) receiving one line per solved level (default
@@ -57,7 +60,7 @@ def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), so
     solutions, seconds, say = [], [], reporter(progress)
     for k in levels:
         h = 2.0**-k
-        mesh = uniform_mesh(problem, h, diagonal=diagonal, max_elements=None)
+        mesh = grid_mesh(problem, 2.0**-min(levels), int(k - min(levels)), diagonal=diagonal, max_elements=None)
         start = time.perf_counter()
         sol = solve(problem, mesh, method=method, order=order, eta=eta, solver=solver, **options)
         seconds.append(time.perf_counter() - start)
