@@ -12,7 +12,7 @@ densities (:func:`_strain_energy`, :func:`_support_jumps`).
 import ngsolve as ngs
 
 from .dg.forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
-from .meshes import facet_indicator
+from .meshes import facet_indicator, nested
 from .problem import coefficient, strain, strain_of, stress
 
 __all__ = ["energy_norm", "energy_norm_squared_parts", "energy_matrix", "difference", "problem_of", "EXACT_ORDER"]
@@ -78,12 +78,21 @@ def _jump_part(problem, mesh, w, element_wise=False, dirichlet_value=None):
 def difference(u, w, extra_order=2):
     """u - w as a GridFunction on u's mesh.
 
-    ``w``: a GridFunction on the same mesh (the difference lives in the larger of the two DG
-    spaces, exactly) or a CoefficientFunction (interpolated elementwise in degree p + extra_order).
+    ``w``: a GridFunction on the same mesh or on one that u's mesh refines (the difference lives in the larger of
+    the two DG spaces, or L2 of the larger degree, exactly; ValueError for a mesh u's does not refine: the jumps
+    would be taken on the wrong edges) or a CoefficientFunction (interpolated elementwise in degree p +
+    extra_order).
     """
     space_u = u.space
     if isinstance(w, ngs.GridFunction):
-        target = w.space if _order(w.space) >= _order(space_u) else space_u
+        if not nested(w.space.mesh, space_u.mesh):
+            raise ValueError(f"w is a GridFunction on a mesh ({w.space.mesh.ne} elements) that u_h's mesh "
+                             f"({space_u.mesh.ne} elements) does not refine: interpolate w onto u_h's mesh, pass it as "
+                             f"a CoefficientFunction, or measure against a Reference (ngdgfric.energy_error)")
+        if w.space.mesh is space_u.mesh:
+            target = w.space if _order(w.space) >= _order(space_u) else space_u
+        else:  # w interpolated onto u's mesh (also when it is a copy: a Solution keeps its own copy of the mesh)
+            target = ngs.L2(space_u.mesh, order=max(_order(w.space), _order(space_u))) ** 2
     else:
         target = ngs.L2(u.space.mesh, order=_order(space_u) + extra_order) ** 2
     e = ngs.GridFunction(target)

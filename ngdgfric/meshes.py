@@ -17,7 +17,7 @@ from .mesher import default_timeout, generate, triangles_of
 
 __all__ = ["uniform_mesh", "grid_mesh", "netgen_mesh", "refine", "refined", "grid_arrays", "mesh_from_arrays",
            "mesh_arrays", "check_mesh", "facet_indicator", "element_diameters", "smallest_angles", "minimum_angle",
-           "triangle_corners", "estimated_elements", "snapshot", "same_mesh", "curve", "MAX_ELEMENTS"]
+           "triangle_corners", "estimated_elements", "snapshot", "same_mesh", "nested", "curve", "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 MAX_ELEMENTS = 10**6
@@ -336,6 +336,17 @@ def snapshot(mesh):
     mesh, and renumbers its elements) leaves it valid: 0.08 s for 1.3e5 triangles.  Anything but an NGSolve
     mesh is returned as it is (for :func:`check_mesh` to name)."""
     return ngs.Mesh(mesh.ngmesh.Copy()) if isinstance(mesh, ngs.Mesh) else mesh
+
+
+def nested(coarse, fine):
+    """Whether every triangle of ``fine`` lies in one triangle of ``coarse`` (fine refines coarse, or both are the
+    same mesh): its three corners, moved 0.1 % towards its centroid, are found in one element of ``coarse``."""
+    if same_mesh(coarse, fine):
+        return True
+    corners = triangle_corners(fine)  # (ne, 3, 2)
+    inner = 0.999 * corners + 0.001 * corners.mean(axis=1, keepdims=True)
+    found = coarse(inner[..., 0].ravel(), inner[..., 1].ravel())["nr"].reshape(-1, 3)
+    return bool(np.all(found >= 0) and np.all(found == found[:, :1]))
 
 
 def same_mesh(a, b):

@@ -170,3 +170,26 @@ def test_a_reference_of_the_conforming_baseline_loads_and_measures_like_its_dg_c
     # against its own reference the volume part of the error vanishes (what is left is the jump part: u_h on
     # Gamma_D, where the baseline's Dirichlet condition is Nitsche's)
     assert reference_errors(fine, reference)["energy_volume"] <= 1e-10 * ndf.energy_norm(fine)
+
+
+def test_energy_norm_against_a_gridfunction_is_exact_on_its_mesh_or_a_coarser_one_and_refused_elsewhere():
+    # w quadratic: a P2 GridFunction holds it exactly on any mesh, so all three must agree with w as a
+    # CoefficientFunction to round-off; on the user's own mesh object (not the Solution's copy) the jumps used to
+    # be evaluated by point search on the wrong side (1e-8), on an unrelated Netgen mesh taken on its edges (1 %)
+    from ngdgfric.meshes import netgen_mesh
+    problem = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(problem, 0.25)
+    sol = ndf.solve(problem, mesh, order=2)
+    w = ngs.CF((0.01 * ngs.x * ngs.y, 0.02 * ngs.x - 0.01 * ngs.y**2))
+    exact = ndf.energy_norm(sol, w)
+
+    def on(other):
+        g = ngs.GridFunction(ngs.L2(other, order=2) ** 2)
+        g.Set(w)
+        return g
+
+    for other in (mesh, ndf.uniform_mesh(problem, 0.5)):
+        assert ndf.energy_norm(sol, on(other)) == pytest.approx(exact, rel=1e-13)
+    for other in (ndf.uniform_mesh(problem, 0.125), netgen_mesh(problem, 0.13)):
+        with pytest.raises(ValueError, match=r"u_h's mesh \(32 elements\) does not refine"):
+            ndf.energy_norm(sol, on(other))
