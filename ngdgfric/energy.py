@@ -47,16 +47,17 @@ def energy_matrix(problem, mesh, V):
     return form.mat
 
 
-def energy_norm_squared_parts(problem, mesh, w, element_wise=False):
+def energy_norm_squared_parts(problem, mesh, w, element_wise=False, dirichlet_value=None):
     """(sum_T |w|_T^2, sum_{e in E_h^o} h_e^-1 ||[w]||_e^2) for a DG function ``w`` (Section 3).
 
     With ``element_wise`` both are numpy arrays over elements (edge terms of interior edges split
-    half-half between the two neighbours, Dirichlet edges to their element).
+    half-half between the two neighbours, Dirichlet edges to their element).  ``dirichlet_value``: [w] = w -
+    dirichlet_value on Gamma_D (u_D for the jumps u_h has and the exact u has not), None: w.
     """
     bonus = max(2 * _order(w.space) + 2 - 5, 0)  # quadrature order 2p + 2 (Integrate's default is 5)
     volume = ngs.Integrate(_strain_energy(problem, w, w) * ngs.dx(bonus_intorder=bonus), mesh,
                            element_wise=element_wise)
-    jumps = _jump_part(problem, mesh, w, element_wise)
+    jumps = _jump_part(problem, mesh, w, element_wise, dirichlet_value)
     return (volume.NumPy().copy(), jumps) if element_wise else (volume, jumps)
 
 

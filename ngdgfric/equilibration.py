@@ -223,8 +223,9 @@ def _contact_gap(problem, s, traction, k, mesh):
 
 
 def _misfits(problem, mesh, sigma, s, k):
-    """Relative misfits of the data the spaces must reproduce: ||sigma n - g|| on Gamma_F over ||g|| (+ ||sigma n||),
-    ||s - u_D|| on Gamma_D over ||u_D|| (+ ||s||)."""
+    """Relative misfits of the data the spaces must reproduce: ||sigma n - g|| on Gamma_F over ||g|| + ||sigma n||,
+    ||s - u_D|| on Gamma_D over ||u_D|| + ||s||, each scale at least the field's L2 norm on the domain over the
+    square root of its diameter (a scale that exists when g = 0 or u_D = 0: no 0 / 0)."""
     n = ngs.specialcf.normal(2)
     g, u_D = coefficient(problem.g), coefficient(problem.u_D)
     measure = ngs.dx(element_boundary=True, bonus_intorder=k + BONUS)
@@ -233,9 +234,13 @@ def _misfits(problem, mesh, sigma, s, k):
     def norm(density, on):
         return ngs.Integrate(on * density * measure, mesh) ** 0.5
 
+    def domain_scale(field):
+        return (ngs.Integrate(ngs.InnerProduct(field, field), mesh) / problem.geometry.diameter()) ** 0.5
+
     miss_g, scale_g = norm((sigma * n - g) ** 2, on_f), norm(g * g + (sigma * n) ** 2, on_f)
     miss_u, scale_u = norm((s - u_D) ** 2, on_d), norm(u_D * u_D + s * s, on_d)
-    return miss_g / max(scale_g, 1e-300), miss_u / max(scale_u, 1e-300)
+    scale_g, scale_u = max(scale_g, domain_scale(sigma), 1e-300), max(scale_u, domain_scale(s), 1e-300)
+    return miss_g / scale_g, miss_u / scale_u
 
 
 def equilibrate(sol):
@@ -261,7 +266,9 @@ def equilibrate(sol):
     cross = _element_values(mesh, ngs.InnerProduct(A, strain_s - strain_h), order).sum()
     gap, excess = _contact_gap(problem, s, traction, k, mesh)
     parts["contact"] = 2 * gap
-    _, parts["jumps"] = energy_norm_squared_parts(problem, mesh, u_h, element_wise=True)
+    # [u - u_h] = -[u_h] inside, u_D - u_h on Gamma_D
+    _, parts["jumps"] = energy_norm_squared_parts(problem, mesh, u_h, element_wise=True,
+                                                  dirichlet_value=coefficient(problem.u_D))
     beta = inf_sup_lower_bounds(mesh)
     stiff = _element_values(mesh, 2 * mu, order) / element_areas(mesh).vec.FV().NumPy()  # 2 mu, element mean
     skew = _element_values(mesh, (sigma[0, 1] - sigma[1, 0]) ** 2, order)
