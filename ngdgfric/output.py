@@ -9,6 +9,8 @@ quantities along Gamma_C with the laws (1.8) and (1.9) that they satisfy, and th
 zones of :mod:`ngdgfric.forces` (on the deformed mesh and along each contact side).
 """
 
+from pathlib import Path
+
 import ngsolve as ngs
 import numpy as np
 
@@ -49,8 +51,11 @@ def write_vtk(path, sol):
     """Write u_h and its von Mises stress (1.3) as the VTK file ``path`` (.vtu) atomically.
 
     Point data ``displacement`` and ``von_mises``; every element subdivided p - 1 times, so that
-    P_p is drawn by its values on a finer lattice.
+    P_p is drawn by its values on a finer lattice.  ValueError for a ``path`` not ending in ``.vtu`` (NGSolve's
+    writer appends it: "out.vtk" would become "out.vtk.vtu").
     """
+    if Path(path).suffix != ".vtu":
+        raise ValueError(f"write_vtk writes a .vtu file (VTK unstructured grid), got the path {str(path)!r}")
     with atomic_path(path) as temporary:  # VTKOutput appends .vtu to the name it is given
         ngs.VTKOutput(sol.mesh, coefs=[sol.u, von_mises(sol.discretization.material, sol.u)],
                       names=["displacement", "von_mises"], filename=str(temporary.with_suffix("")),

@@ -1,5 +1,6 @@
 """The solve() entry point and the Solution record."""
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -110,6 +111,9 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     start_from = None if initial is None else _warm_start(initial)
     start = time.perf_counter()
     disc = Discretization(problem, snapshot(mesh), method, order, eta, penalty_check, max_ndof, max_bytes)
+    if settings.max_seconds is not None:  # the limit counts from here: what assembly took is the solver's no more
+        left = settings.max_seconds - (time.perf_counter() - start)
+        settings = dataclasses.replace(settings, max_seconds=max(left, 1e-9))
     u, lam_tau, info = function(disc, settings, None if start_from is None else initial_guess(start_from, disc))
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)

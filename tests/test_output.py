@@ -177,6 +177,9 @@ def read_vtu(path):
 
 
 def test_vtk_file_holds_the_displacement_and_its_von_mises_stress(solution, tmp_path):
+    for other in ("u.vtk", "u"):  # NGSolve's writer appends .vtu: this was "OSError ... the writer produced no file"
+        with pytest.raises(ValueError, match=f"write_vtk writes a .vtu file .*{other}'"):
+            write_vtk(tmp_path / other, solution)
     write_vtk(tmp_path / "u.vtu", solution)
     assert [p.name for p in tmp_path.iterdir()] == ["u.vtu"]
     arrays = read_vtu(tmp_path / "u.vtu")

@@ -9,7 +9,7 @@ import pytest
 import ngdgfric as ndf
 from ngdgfric.errors import TimeLimitError
 from ngdgfric.solution import DEFAULT_SOLVER_TOL, finish
-from ngdgfric.studies.scenes import layers_indented
+from ngdgfric.studies.scenes import layers_indented, layers_pressure
 from ngdgfric.transfer import WarmStart
 
 
@@ -78,6 +78,17 @@ def test_a_time_limit_stops_every_solver_with_a_named_error(example, solver):
     with pytest.raises(ValueError, match="max_seconds must be a positive finite number"):
         ndf.solve(p, mesh, solver=solver, max_seconds=0)
     assert issubclass(TimeLimitError, ndf.SolverError)
+
+
+def test_the_time_limit_counts_the_assembly():
+    # P3 Bassi et al. with the contact open: assembly takes most of a solve; a limit of half the assembly time was
+    # the solver's alone (Uzawa went on and converged in 2x the limit without a word)
+    problem = layers_pressure().problem
+    mesh = ndf.uniform_mesh(problem, 1 / 16)
+    assembly = min(ndf.solve(problem, mesh, method="bassi", order=3, solver="uzawa").timings["assemble"]
+                   for _ in range(2))
+    with pytest.raises(TimeLimitError, match="Uzawa .* stopped at its time limit"):
+        ndf.solve(problem, mesh, method="bassi", order=3, solver="uzawa", max_seconds=0.5 * assembly)
 
 
 def test_a_body_loaded_by_a_penetration_only_has_kkt_residuals_at_round_off():
