@@ -18,7 +18,7 @@ from .estimator import estimate
 from .examples import EXAMPLES, SCENES, example
 from .files import write_csv, write_text
 from .forces import force_balance
-from .meshes import estimated_elements, grid_mesh, netgen_mesh, uniform_mesh
+from .meshes import estimated_elements, grid_counts, grid_mesh, netgen_mesh, uniform_mesh
 from .output import (
     rate_text,
     uniform_markdown,
@@ -31,6 +31,7 @@ from .problem_file import load_problem
 from .reference import energy_norm
 from .solution import solve
 from .studies import uniform_study
+from .studies.uniform import finest_elements
 
 __all__ = ["COMMANDS", "cmd_solve", "cmd_uniform", "cmd_adaptive", "load", "outputs", "report_forces", "write_forces",
            "say", "NotReached", "NOT_REACHED", "DEFAULT_H"]
@@ -61,18 +62,24 @@ def _mesh(problem, h, maxh, default, order, max_ndof):
     ``default`` None is adapt's first mesh (:func:`ngdgfric.adaptivity.initial_mesh`), a number the mesh size
     on domains of unit size, smaller ones scaled with their diameter (cells of sides at most it on a rectangle,
     :func:`~ngdgfric.meshes.grid_mesh`; Netgen's maxh otherwise)."""
-    rectangle = problem.geometry.is_rectangle
+    grid = None
     if maxh is None and h is None:
         if default is None:
             return None, "adapt's first mesh"
         size = default * min(1.0, problem.geometry.diameter())
-        if rectangle:
-            return grid_mesh(problem, size, max_elements=None), f"cells of sides at most {size:g}"
-        maxh = size
+        grid, maxh = (size, None) if problem.geometry.is_rectangle else (None, size)
+    if grid is not None:
+        given = f"the default mesh (cells of sides at most {grid:g})"
+        elements = 2 * math.prod(grid_counts(problem, grid))
+    else:
+        given = f"{'--maxh' if maxh is not None else '--h'} {maxh or h:g}"
+        elements = estimated_elements(problem, h=h, maxh=maxh)
     try:
-        check_size(order, max_ndof, elements=estimated_elements(problem, h=h, maxh=maxh))
+        check_size(order, max_ndof, elements=elements)
     except ValueError as exc:
-        raise ValueError(f"{'--maxh' if maxh is not None else '--h'} {maxh or h:g}: {exc}") from None
+        raise ValueError(f"{given}: {exc}") from None
+    if grid is not None:
+        return grid_mesh(problem, grid, max_elements=None), f"cells of sides at most {grid:g}"
     if maxh is not None:
         return netgen_mesh(problem, maxh, max_elements=None), f"Netgen maxh = {maxh:g}"
     return uniform_mesh(problem, h, max_elements=None), f"uniform h = {h:g}"
@@ -153,7 +160,7 @@ def outputs(args, tag):
 def cmd_uniform(args, problem, tag):
     levels = tuple(range(1, args.levels + 1))
     try:  # before any output (uniform_study checks it again)
-        check_size(args.order, args.max_ndof, elements=estimated_elements(problem, h=2.0**-levels[-1]))
+        check_size(args.order, args.max_ndof, elements=finest_elements(problem, levels))
     except ValueError as exc:
         raise ValueError(f"--levels {args.levels}: {exc}") from None
     csv_path, md_path = outputs(args, tag)

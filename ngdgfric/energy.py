@@ -80,16 +80,20 @@ def difference(u, w, extra_order=2):
     """u - w as a GridFunction on u's mesh.
 
     ``w``: a GridFunction on the same mesh or on one that u's mesh refines (the difference lives in the larger of
-    the two DG spaces, or L2 of the larger degree, exactly; ValueError for a mesh u's does not refine: the jumps
-    would be taken on the wrong edges) or a CoefficientFunction (interpolated elementwise in degree p +
+    the two DG spaces, or L2 of the larger degree, exactly; ValueError where :func:`ngdgfric.meshes.nested` does
+    not find u's mesh to refine w's: the jumps would be taken on the wrong edges, or w evaluated in the wrong
+    element) or a CoefficientFunction (interpolated elementwise in degree p +
     extra_order).
     """
     space_u = u.space
     if isinstance(w, ngs.GridFunction):
         if not nested(w.space.mesh, space_u.mesh):
             raise ValueError(f"w is a GridFunction on a mesh ({w.space.mesh.ne} elements) that u_h's mesh "
-                             f"({space_u.mesh.ne} elements) does not refine: interpolate w onto u_h's mesh, pass it as "
-                             f"a CoefficientFunction, or measure against a Reference (ngdgfric.energy_error)")
+                             f"({space_u.mesh.ne} elements) is not found to refine: some element of u_h's mesh does "
+                             f"not lie in one element of w's as NGSolve's point search finds them (another mesh, a "
+                             f"curved side whose refinement moved vertices onto the curve, or elements too small "
+                             f"for the point search, below about 1e-5 of w's); interpolate w onto u_h's mesh, pass "
+                             f"it as a CoefficientFunction, or measure against a Reference (ngdgfric.energy_error)")
         if w.space.mesh is space_u.mesh:
             target = w.space if _order(w.space) >= _order(space_u) else space_u
         else:  # w interpolated onto u's mesh (also when it is a copy: a Solution keeps its own copy of the mesh)

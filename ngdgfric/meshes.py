@@ -15,9 +15,10 @@ from .dg.spaces import element_dofs
 from .domain import INTERFACE
 from .mesher import default_timeout, generate, triangles_of
 
-__all__ = ["uniform_mesh", "grid_mesh", "netgen_mesh", "refine", "refined", "grid_arrays", "mesh_from_arrays",
-           "mesh_arrays", "check_mesh", "facet_indicator", "element_diameters", "smallest_angles", "minimum_angle",
-           "triangle_corners", "estimated_elements", "snapshot", "same_mesh", "nested", "curve", "MAX_ELEMENTS"]
+__all__ = ["uniform_mesh", "grid_mesh", "grid_counts", "netgen_mesh", "refine", "refined", "grid_arrays",
+           "mesh_from_arrays", "mesh_arrays", "check_mesh", "facet_indicator", "element_diameters",
+           "smallest_angles", "minimum_angle", "triangle_corners", "estimated_elements", "snapshot", "same_mesh",
+           "nested", "curve", "MAX_ELEMENTS"]
 
 DIAGONALS = ("sw-ne", "nw-se")
 MAX_ELEMENTS = 10**6
@@ -95,11 +96,20 @@ def grid_mesh(problem, h, refinements=0, diagonal="sw-ne", max_elements=MAX_ELEM
         raise ValueError(f"refinements must be an integer in 0..60, got {refinements!r}")
     if diagonal not in DIAGONALS:
         raise ValueError(f"diagonal must be one of {DIAGONALS}, got {diagonal!r}")
-    _check_elements(problem, max_elements, h=h / 2**refinements)
-    x0, y0, x1, y1 = problem.geometry.bounds
-    nx, ny = (max(1, math.ceil(n - 1e-9 * max(1.0, n))) * 2**refinements for n in ((x1 - x0) / h, (y1 - y0) / h))
+    nx, ny = grid_counts(problem, h, refinements)
+    if max_elements is not None and 2 * nx * ny > max_elements:
+        raise ValueError(f"h = {h:g} with {refinements} refinements would make {2 * nx * ny:.3g} elements "
+                         f"({element_dofs(1) * 2 * nx * ny:.3g} DOFs at P1), more than max_elements = "
+                         f"{max_elements:.3g}; pass a larger max_elements to allow it")
     points, triangles, segments, sides = grid_arrays(problem.geometry.bounds, nx, ny, diagonal)
     return mesh_from_arrays(problem, points, triangles, segments, np.asarray(problem.geometry.labels)[sides])
+
+
+def grid_counts(problem, h, refinements=0):
+    """(nx, ny): the cells of :func:`grid_mesh` along the width and the height of the problem's rectangle
+    (2 nx ny triangles), computed before meshing."""
+    x0, y0, x1, y1 = problem.geometry.bounds
+    return tuple(max(1, math.ceil(n - 1e-9 * max(1.0, n))) * 2**refinements for n in ((x1 - x0) / h, (y1 - y0) / h))
 
 
 def grid_arrays(bounds, nx, ny, diagonal="sw-ne"):
@@ -340,13 +350,21 @@ def snapshot(mesh):
 
 def nested(coarse, fine):
     """Whether every triangle of ``fine`` lies in one triangle of ``coarse`` (fine refines coarse, or both are the
-    same mesh): its three corners, moved 0.1 % towards its centroid, are found in one element of ``coarse``."""
+    same mesh): the coarse element that holds its centroid (point search) holds its three corners too (their
+    barycentric coordinates in its straight triangle >= -1e-9).  False on curved domains once a refinement put
+    vertices on a curved side, outside the coarse mesh's elements."""
     if same_mesh(coarse, fine):
         return True
     corners = triangle_corners(fine)  # (ne, 3, 2)
-    inner = 0.999 * corners + 0.001 * corners.mean(axis=1, keepdims=True)
-    found = coarse(inner[..., 0].ravel(), inner[..., 1].ravel())["nr"].reshape(-1, 3)
-    return bool(np.all(found >= 0) and np.all(found == found[:, :1]))
+    centroids = corners.mean(axis=1)
+    found = coarse(centroids[:, 0], centroids[:, 1])["nr"]
+    if np.any(found < 0):
+        return False
+    a, b, c = np.moveaxis(triangle_corners(coarse)[found], 1, 0)  # (ne, 2) each
+    basis = np.stack([b - a, c - a], axis=-1)  # (ne, 2, 2): x = a + basis (l1, l2)
+    local = np.linalg.solve(basis[:, None], (corners - a[:, None])[..., None])[..., 0]  # (ne, 3, 2)
+    barycentric = np.concatenate([1 - local.sum(-1, keepdims=True), local], axis=-1)
+    return bool(np.all(barycentric >= -1e-9))
 
 
 def same_mesh(a, b):

@@ -222,6 +222,16 @@ def test_every_command_runs_on_a_rectangle_whose_sides_the_default_sizes_do_not_
     assert main(["uniform", str(path), "--levels", "3", "--out", str(tmp_path)]) == 0
     with open(tmp_path / "rectangle_uniform.csv") as handle:
         assert [int(row["k"]) for row in csv.DictReader(handle)] == [1, 2]
+    # the default mesh's size is checked before meshing: a 300 x 300 rectangle (11.5 million triangles) was meshed
+    # and ran out of memory; its refusal names the default mesh
+    huge = variant(tmp_path, "[[0.0, 0.05], [1.0, 0.05], [1.0, 1.05], [0.0, 1.05]]",
+                   "[[0.0, 0.0], [300.0, 0.0], [300.0, 300.0], [0.0, 300.0]]", "huge.toml")
+    capsys.readouterr()
+    check_one_line_error(main(["solve", str(huge), "--out", str(tmp_path)]), capsys,
+                         "the default mesh (cells of sides at most 0.125): ")
+    # 6 x 2 x (3 x 16) x (2 x 16) P1 DOFs, counted exactly
+    check_one_line_error(main(["uniform", str(path), "--levels", "5", "--max-ndof", "1000", "--out", str(tmp_path),
+                               "--overwrite"]), capsys, "--levels 5: 1.843e+04 DOFs")
 
 
 BAD_ARGUMENTS = {

@@ -45,6 +45,10 @@ def test_grid_mesh_is_the_uniform_mesh_where_h_divides_and_nested_cells_where_it
     assert set(map(tuple, mesh_arrays(coarse)[0].round(12))) <= set(map(tuple, mesh_arrays(fine)[0].round(12)))
     with pytest.raises(ValueError, match="refinements must be an integer"):
         grid_mesh(p, 0.5, -1)
+    # the element limit counts grid_mesh's own cells: 1 x 1 cells refined 10 times on a 1 cm square (was estimated
+    # as uniform squares of side 0.5 / 2^10: 2 elements, and 2 million were built)
+    with pytest.raises(ValueError, match="would make 2.1e\\+06 elements"):
+        grid_mesh(rectangle(0.01, 0.01), 0.5, 10)
 
 
 @pytest.mark.parametrize("width, height", [(1.3, 0.7), (0.01, 0.01)])
@@ -153,3 +157,22 @@ def test_triangle_corners_are_the_elements_vertices():
     for el in mesh.Elements(ngs.VOL):
         expected = [mesh[v].point for v in el.vertices]
         assert corners[el.nr].tolist() == [list(point) for point in expected]
+
+
+def test_nested_finds_deep_corner_layers_and_refuses_meshes_that_do_not_refine():
+    # twelve geometric layers (elements 1e-4 of the coarse ones at the corners) used to be refused: corners moved
+    # 0.1 % inwards were found in the neighbouring coarse element
+    from ngdgfric.hp import containing
+    from ngdgfric.meshes import nested, netgen_mesh, snapshot
+    p = ndf.example_6_1()
+    coarse = ndf.uniform_mesh(p, 0.5)
+    fine = snapshot(coarse)
+    for _ in range(12):
+        refine(fine, containing(fine, p.geometry.corners), bisections=2)
+    assert nested(coarse, fine) and nested(coarse, coarse) and not nested(fine, coarse)
+    assert not nested(coarse, netgen_mesh(p, 0.13))
+    w = ngs.CF((0.01 * ngs.x * ngs.y, 0.02 * ngs.x - 0.01 * ngs.y**2))  # in P2: exact on both meshes
+    on_coarse = ngs.GridFunction(ngs.L2(coarse, order=2) ** 2)
+    on_coarse.Set(w)
+    sol = ndf.solve(p, fine, order=2)
+    assert ndf.energy_norm(sol, on_coarse) == pytest.approx(ndf.energy_norm(sol, w), rel=1e-12)

@@ -7,13 +7,13 @@ import time
 import ngsolve as ngs
 
 from ..checks import check_size
-from ..meshes import estimated_elements, grid_mesh
+from ..meshes import grid_counts, grid_mesh
 from ..progress import log, reporter
 from ..reference import energy_norm, energy_norm_squared_parts
 from ..solution import solve
 from .measures import rates
 
-__all__ = ["uniform_study", "consecutive_differences", "difference_norms"]
+__all__ = ["uniform_study", "consecutive_differences", "difference_norms", "finest_elements"]
 
 
 def difference_norms(coarse, fine):
@@ -42,12 +42,18 @@ def consecutive_differences(solutions):
     return [difference_norms(c, f) for c, f in zip(solutions[:-1], solutions[1:], strict=True)]
 
 
+def finest_elements(problem, levels):
+    """The triangles of the finest mesh of :func:`uniform_study` over ``levels`` (before meshing)."""
+    return 2 * math.prod(grid_counts(problem, 2.0**-min(levels), int(max(levels) - min(levels))))
+
+
 def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), solver="newton",
                   diagonal="sw-ne", eta=None, progress=log, **options):
     """Solve on uniform meshes h = 2^-k, k in ``levels``, and compare consecutive solutions.
 
     The meshes are :func:`~ngdgfric.meshes.grid_mesh` (2^-min(levels), k - min(levels)): squares of side 2^-k where
-    that divides the rectangle's sides, else nested cells of sides at most 2^-k (the rates take h = 2^-k).
+    2^-min(levels) divides the rectangle's sides (the paper's), else ceil(side 2^min(levels)) cells per side halved
+    at every level, nested, of sides at most 2^-k (the rates take h = 2^-k).
 
     Returns (rows, solutions): one row per level but the last, with h, ndof, iterations,
     seconds, the norms of :func:`consecutive_differences` and the observed ``rate`` of the
@@ -56,7 +62,7 @@ def uniform_study(problem, method="sipg", order=1, levels=(1, 2, 3, 4, 5, 6), so
     The finest mesh's size is checked before the first solve (:func:`ngdgfric.checks.check_size`, ``max_ndof`` in
     ``options``).
     """
-    check_size(order, options.get("max_ndof"), elements=estimated_elements(problem, h=2.0**-max(levels)))
+    check_size(order, options.get("max_ndof"), elements=finest_elements(problem, levels))
     solutions, seconds, say = [], [], reporter(progress)
     for k in levels:
         h = 2.0**-k
