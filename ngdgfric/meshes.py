@@ -71,15 +71,11 @@ def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
         raise ValueError(f"h must be a positive number, got {h!r}")
     _check_elements(problem, max_elements, h=h)
     x0, y0, x1, y1 = geometry.bounds
-    counts = []
     for length in (x1 - x0, y1 - y0):
         n = length / h
         if abs(n - round(n)) > 1e-9 * max(1.0, n) or round(n) < 1:
             raise ValueError(f"h = {h} does not divide the side length {length} of the rectangle")
-        counts.append(int(round(n)))
-    nx, ny = counts
-    points, triangles, segments, sides = grid_arrays(geometry.bounds, nx, ny, diagonal)
-    return mesh_from_arrays(problem, points, triangles, segments, np.asarray(geometry.labels)[sides])
+    return grid_mesh(problem, h, diagonal=diagonal, max_elements=None)  # its cells: squares of side h
 
 
 def grid_mesh(problem, h, refinements=0, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
