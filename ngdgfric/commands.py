@@ -18,7 +18,7 @@ from .estimator import estimate
 from .examples import EXAMPLES, SCENES, example
 from .files import write_csv, write_text
 from .forces import force_balance
-from .meshes import estimated_elements, grid_counts, grid_mesh, netgen_mesh, uniform_mesh
+from .meshes import estimated_elements, grid_mesh, netgen_mesh, uniform_mesh
 from .output import (
     rate_text,
     uniform_markdown,
@@ -62,24 +62,21 @@ def _mesh(problem, h, maxh, default, order, max_ndof):
     ``default`` None is adapt's first mesh (:func:`ngdgfric.adaptivity.initial_mesh`), a number the mesh size
     on domains of unit size, smaller ones scaled with their diameter (cells of sides at most it on a rectangle,
     :func:`~ngdgfric.meshes.grid_mesh`; Netgen's maxh otherwise)."""
-    grid = None
+    grid = False
     if maxh is None and h is None:
         if default is None:
             return None, "adapt's first mesh"
         size = default * min(1.0, problem.geometry.diameter())
-        grid, maxh = (size, None) if problem.geometry.is_rectangle else (None, size)
-    if grid is not None:
-        given = f"the default mesh (cells of sides at most {grid:g})"
-        elements = 2 * math.prod(grid_counts(problem, grid))
-    else:
-        given = f"{'--maxh' if maxh is not None else '--h'} {maxh or h:g}"
-        elements = estimated_elements(problem, h=h, maxh=maxh)
+        grid = problem.geometry.is_rectangle
+        h, maxh = (size, None) if grid else (None, size)
+    given = f"the default mesh (cells of sides at most {h:g})" if grid else \
+        f"{'--maxh' if maxh is not None else '--h'} {maxh or h:g}"
     try:
-        check_size(order, max_ndof, elements=elements)
+        check_size(order, max_ndof, elements=estimated_elements(problem, h=h, maxh=maxh))
     except ValueError as exc:
         raise ValueError(f"{given}: {exc}") from None
-    if grid is not None:
-        return grid_mesh(problem, grid, max_elements=None), f"cells of sides at most {grid:g}"
+    if grid:
+        return grid_mesh(problem, h, max_elements=None), f"cells of sides at most {h:g}"
     if maxh is not None:
         return netgen_mesh(problem, maxh, max_elements=None), f"Netgen maxh = {maxh:g}"
     return uniform_mesh(problem, h, max_elements=None), f"uniform h = {h:g}"
