@@ -10,12 +10,15 @@ densities (:func:`_strain_energy`, :func:`_support_jumps`).
 """
 
 import ngsolve as ngs
+import numpy as np
 
 from .dg.forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
-from .meshes import facet_indicator, nested
+from .meshes import facet_indicator, nested, triangle_corners
 from .problem import coefficient, strain, strain_of, stress
+from .transfer import interpolate
 
-__all__ = ["energy_norm", "energy_norm_squared_parts", "energy_matrix", "difference", "problem_of", "EXACT_ORDER"]
+__all__ = ["energy_norm", "energy_norm_squared_parts", "energy_matrix", "difference", "problem_of", "check_derivative",
+           "EXACT_ORDER"]
 
 EXACT_ORDER = 16  # the least quadrature degree of errors against an exact solution (energy_norm)
 
@@ -101,11 +104,48 @@ def difference(u, w, extra_order=2):
     else:
         target = ngs.L2(u.space.mesh, order=_order(space_u) + extra_order) ** 2
     e = ngs.GridFunction(target)
-    e.Set(u)
+    interpolate(e, u)
     other = ngs.GridFunction(target)
-    other.Set(w)
+    interpolate(other, w)
     e.vec.data -= other.vec
     return e
+
+
+DERIVATIVE_SAMPLES = 64  # elements in which check_derivative compares a CoefficientFunction's derivatives
+STEP = 1e-5  # the differences' step, relative to the element's size
+AGREE = 1e-6  # the largest difference of the symbolic and the numerical derivative, relative to the largest of both
+
+
+def check_derivative(w, mesh):
+    """ValueError unless the symbolic derivative of the 2-vector CoefficientFunction ``w`` (what
+    :func:`ngdgfric.problem.strain_of` differentiates) is the derivative of its values: at one point inside each of up
+    to :data:`DERIVATIVE_SAMPLES` elements of ``mesh``, each partial derivative agrees with the forward or the backward
+    one-sided difference of second order (steps :data:`STEP` h_T; exact to about 1e-10 for smooth w, and one of the
+    two is right on a kink of w through the point) to :data:`AGREE` of the largest derivative.  A CoefficientFunction
+    built from a GridFunction fails: its symbolic derivative is zero."""
+    corners = triangle_corners(mesh)
+    chosen = corners[np.unique(np.linspace(0, len(corners) - 1, min(len(corners), DERIVATIVE_SAMPLES)).astype(int))]
+    point = np.einsum("k,ekd->ed", [0.2113, 0.3277, 0.461], chosen)  # not a centroid: kinks along mesh lines miss it
+    step = STEP * np.linalg.norm(chosen[:, 1] - chosen[:, 0], axis=1)[:, None]
+    gradient = ngs.CF(tuple(w[i].Diff(z) for i in range(2) for z in (ngs.x, ngs.y)))
+    symbolic = np.asarray(gradient(mesh(point[:, 0], point[:, 1]))).reshape(-1, 2, 2)
+
+    def at(k, multiple):
+        shifted = point + multiple * step * np.eye(2)[k]
+        return np.asarray(w(mesh(shifted[:, 0], shifted[:, 1]))).reshape(-1, 2)
+
+    worst = scale = 0.0
+    for k in range(2):
+        values = {m: at(k, m) for m in (-2, -1, 0, 1, 2)}
+        sides = [(s * (4 * values[s] - values[2 * s] - 3 * values[0])) / (2 * step) for s in (1, -1)]
+        worst = max(worst, np.max(np.minimum(*(np.abs(side - symbolic[:, :, k]) for side in sides))))
+        scale = max(scale, np.abs(symbolic[:, :, k]).max(), *(np.abs(side).max() for side in sides))
+    if worst > AGREE * scale:
+        raise ValueError(f"w is a CoefficientFunction whose symbolic derivative is not the derivative of its values "
+                         f"(they differ by {worst:.3g}, {worst / scale:.2g} of their size): one built from a "
+                         f"GridFunction (symbolic differentiation sees a GridFunction as a constant)?  Pass the "
+                         f"GridFunction itself, or measure against a Reference or another Solution "
+                         f"(ngdgfric.energy_error)")
 
 
 def _order(space):
@@ -130,6 +170,9 @@ def energy_norm(sol, w=None):
     max(2 p + 4, :data:`EXACT_ORDER`) (a kink of w inside an element is integrated, not interpolated), and
     [u_h - w] = [u_h] on interior edges.  With a prescribed displacement u_D != 0, |||u_h|||_h takes
     [u_h] = u_h - u_D on Gamma_D (the jump the solution has there; u_h itself would add h^-1 ||u_D||^2).
+    A CoefficientFunction whose symbolic derivative is not the derivative of its values (one built from a
+    GridFunction, ``0.5 * sol.u``: symbolic differentiation sees a GridFunction as a constant) is refused with a
+    ValueError (:func:`check_derivative`); pass the GridFunction itself.
     """
     problem = problem_of(sol)
     if w is None or isinstance(w, ngs.GridFunction):
@@ -139,6 +182,7 @@ def energy_norm(sol, w=None):
         volume, jumps = energy_norm_squared_parts(problem, sol.mesh, v, dirichlet_value=shift)
         return (volume + jumps) ** 0.5
     problem, mesh, u = problem, sol.mesh, sol.u
+    check_derivative(w, mesh)
     e = strain(u) - strain_of(w)
     order = max(2 * _order(u.space) + 4, EXACT_ORDER)
     volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)

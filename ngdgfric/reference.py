@@ -23,6 +23,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
+from .bounds import DATA as BOUNDED
 from .dg.discretization import dg_space
 from .dg.forms import has_dirichlet_data
 from .energy import EXACT_ORDER, difference, energy_matrix, energy_norm, energy_norm_squared_parts, problem_of
@@ -33,7 +34,7 @@ from .transfer import discontinuous
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
            "energy_norm", "energy_norm_squared_parts", "energy_matrix", "difference", "gridfunction_errors",
-           "EXACT_ORDER"]
+           "locate", "check_same_problem", "sample_points", "EXACT_ORDER"]
 
 
 @dataclass
@@ -73,14 +74,22 @@ def fingerprint(problem, mesh, points, triangles, segments):
     """Arrays that identify ``problem``: its geometry, boundary names and numbers, and its data at
     the centroids of up to SAMPLES triangles and the midpoints of up to SAMPLES boundary edges of
     ``mesh`` (given by its :func:`mesh_arrays`)."""
-    def sample(cells):
-        return points[cells[np.unique(np.linspace(0, len(cells) - 1, min(len(cells), SAMPLES)).astype(int))]].mean(1)
-
-    where = np.concatenate([sample(triangles), sample(segments)])
+    where = sample_points(points, triangles, segments)
     varying_nu = {} if is_number(problem.nu) else dict(fp_nu=_values_at(problem.nu, mesh, where))
     return dict(fp_vertices=np.asarray(problem.geometry.vertices), fp_labels=np.asarray(problem.geometry.labels),
                 fp_names=np.asarray(problem.boundary_names()), fp_numbers=_numbers(problem),
                 fp_points=where, fp_data=_data_at(problem, mesh, where), **varying_nu)
+
+
+def sample_points(points, triangles, segments=None):
+    """The centroids of up to SAMPLES triangles and the midpoints of up to SAMPLES boundary ``segments`` (None: none)
+    of a mesh given by its :func:`ngdgfric.meshes.mesh_arrays`, evenly spread over their numbers, as a (k, 2)
+    array."""
+    def sample(cells):
+        return points[cells[np.unique(np.linspace(0, len(cells) - 1, min(len(cells), SAMPLES)).astype(int))]].mean(1)
+
+    centres = sample(triangles)
+    return centres if segments is None else np.concatenate([centres, sample(segments)])
 
 
 def check_storable(problem):
@@ -231,25 +240,34 @@ def _check_fingerprint(path, data, problem):
 
 
 def energy_error(sol, reference):
-    """|||u_ref - u_h|||_h of a Solution (or a :class:`Reference`: anything with ``problem``,
-    ``mesh`` and ``u``) against a :class:`Reference` (module docstring)."""
+    """|||u_ref - u_h|||_h of a Solution (or a :class:`Reference`: anything with ``problem``, ``mesh`` and ``u``)
+    against a :class:`Reference` or a finer Solution of the same problem (module docstring;
+    :func:`reference_errors`)."""
     return reference_errors(sol, reference)["energy"]
 
 
 def reference_errors(sol, reference):
-    """Norms of u_ref - u_h for a Solution against a :class:`Reference` (module docstring).
+    """Norms of u_ref - u_h for a Solution against a reference solution (module docstring).
 
-    Returns a dict: ``energy`` = |||u_ref - u_h|||_h with its parts ``energy_volume`` and
-    ``energy_jumps``, ``relative`` = energy / (int C eps(u_ref) : eps(u_ref))^(1/2), ``h1`` (broken
-    H1 seminorm), ``l2``; all volume integrals by the same Gauss rule on u_h's elements (degree
-    2 p + 4; exact when u_ref is a polynomial of degree <= p + 3 there, else a quadrature of a
-    function as smooth as u_ref is on u_h's elements).
+    ``reference``: a :class:`Reference` (checked against its problem when loaded), or any Solution of the same
+    problem, for instance a finer one on a scene a Reference cannot store (curved sides, holes, regions, u_D != 0,
+    symmetry sides); ValueError if its geometry, numbers or data differ from ``sol``'s.  Returns a dict:
+    ``energy`` = |||u_ref - u_h|||_h with its parts ``energy_volume`` and ``energy_jumps`` (the jumps [u_h] of
+    u_h's edges, u_h - u_D on Gamma_D: those of the exact solution vanish), ``relative`` = energy / (int C
+    eps(u_ref) : eps(u_ref))^(1/2), ``h1`` (broken H1 seminorm), ``l2``; all volume integrals by the same Gauss
+    rule on u_h's elements (degree 2 p + 4; exact when u_ref is a polynomial of degree <= p + 3 there, else a
+    quadrature of a function as smooth as u_ref is on u_h's elements); ``moved_points``: the number of those
+    points that lie outside the reference's mesh (two meshes of a curved side differ by their chords or curved
+    elements), where u_ref is evaluated a little inside (:func:`locate`).
     """
     mesh, problem = sol.mesh, problem_of(sol)
+    if not isinstance(reference, Reference):
+        check_same_problem(sol, reference)
     rule = ngs.IntegrationRule(ngs.TRIG, 2 * sol.u.space.globalorder + 4)
     points = mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL)
     xy = np.asarray(ngs.CF((ngs.x, ngs.y))(points)).reshape(-1, 2)
-    foreign = reference.mesh(xy[:, 0], xy[:, 1])
+    centres = np.repeat(xy.reshape(mesh.ne, -1, 2).mean(axis=1), len(rule.weights), axis=0)
+    foreign, moved = locate(reference.mesh, xy, centres)
     area = ngs.Integrate(ngs.CF(1) * ngs.dx, mesh, element_wise=True).NumPy()
     weights = 2 * np.outer(area, np.asarray(rule.weights)).ravel()
 
@@ -266,12 +284,66 @@ def reference_errors(sol, reference):
     gradient = values(ngs.Grad(reference.u), foreign, 4) - values(ngs.Grad(sol.u), points, 4)
     displacement = values(reference.u, foreign, 2) - values(sol.u, points, 2)
     volume = float(np.sum(weights * energy_density(difference)))
-    _, jumps = energy_norm_squared_parts(problem, mesh, sol.u)
+    shift = coefficient(problem.u_D) if has_dirichlet_data(problem) else None  # the exact u has u = u_D there
+    _, jumps = energy_norm_squared_parts(problem, mesh, sol.u, dirichlet_value=shift)
     energy = float(np.sqrt(volume + jumps))
     return dict(energy=energy, energy_volume=float(np.sqrt(volume)), energy_jumps=float(np.sqrt(jumps)),
                 relative=energy / float(np.sqrt(np.sum(weights * energy_density(strain_ref)))),
                 h1=float(np.sqrt(np.sum(weights * np.sum(gradient**2, axis=1)))),
-                l2=float(np.sqrt(np.sum(weights * np.sum(displacement**2, axis=1)))))
+                l2=float(np.sqrt(np.sum(weights * np.sum(displacement**2, axis=1)))), moved_points=moved)
+
+
+def locate(mesh, xy, centres):
+    """(MeshPoints of ``mesh`` at the points ``xy`` (k, 2), the number of points moved): a point outside ``mesh`` is
+    moved towards its ``centres`` row (the centre of the element it belongs to on the other mesh) by the smallest of
+    1e-6, 1e-5, ..., 1 times the way that brings it inside.  Two meshes of a curved side differ near it (chords at
+    p = 1, curved elements of different sizes): points of one lie up to the distance of the two boundaries outside
+    the other.  ValueError if a point is not found even at its centre (meshes of different domains)."""
+    found = mesh(xy[:, 0], xy[:, 1])
+    missing = np.flatnonzero(found["nr"] < 0)
+    moved = missing.size
+    for fraction in 10.0 ** np.arange(-6, 1):
+        if not missing.size:
+            break
+        shifted = xy[missing] + fraction * (centres[missing] - xy[missing])
+        again = mesh(shifted[:, 0], shifted[:, 1])
+        inside = again["nr"] >= 0
+        found[missing[inside]] = again[inside]
+        missing = missing[~inside]
+    if missing.size:
+        x, y = xy[missing[0]]
+        raise ValueError(f"{missing.size} points of u_h's mesh, e.g. ({x:.6g}, {y:.6g}), lie outside the reference's "
+                         f"mesh and so do their elements' centres: meshes of different domains?")
+    return found, moved
+
+
+def check_same_problem(sol, other):
+    """ValueError unless the solution ``other`` (anything with ``problem``) is of ``sol``'s problem: the same geometry
+    and side names, and every datum of :data:`ngdgfric.bounds.DATA` the same (per region or side: the same parts, each
+    with the same value) at the :func:`sample_points` (centroids) of ``sol``'s mesh, to 1e-10."""
+    mine, theirs = sol.problem, other.problem
+    if mine is theirs:
+        return
+    if mine.geometry != theirs.geometry or list(mine.boundary_names()) != list(theirs.boundary_names()):
+        raise ValueError(f"the reference solves another problem: its geometry or side names differ from u_h's "
+                         f"({theirs.name!r} against {mine.name!r})")
+    points, triangles, _, _ = mesh_arrays(sol.mesh)
+    where = sample_points(points, triangles)  # centroids: inside the mesh also next to curved sides
+    for name in BOUNDED:
+        values = [getattr(problem, name) for problem in (mine, theirs)]
+        parts = [sorted(value) if isinstance(value, dict) else [None] for value in values]
+        if parts[0] != parts[1]:
+            raise ValueError(f"the reference solves another problem: {name} is given on {parts[1]}, u_h's on "
+                             f"{parts[0]}")
+        for part in parts[0]:
+            a, b = (_values_at(value if part is None else value[part], sol.mesh, where) for value in values)
+            differ = np.abs(b - a) > 1e-10 * (np.abs(a) + np.abs(a).max())
+            if np.any(differ):
+                row = int(np.argwhere(differ)[0][0])
+                raise ValueError(f"the reference solves another problem: {name}{'' if part is None else f'[{part}]'} "
+                                 f"is {b.ravel()[row]:.10g} there, {a.ravel()[row]:.10g} for u_h at "
+                                 f"({where[row][0]:.6g}, {where[row][1]:.6g})")
+
 
 @dataclass(frozen=True)
 class _Approximation:

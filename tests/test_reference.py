@@ -193,3 +193,102 @@ def test_energy_norm_against_a_gridfunction_is_exact_on_its_mesh_or_a_coarser_on
     for other in (ndf.uniform_mesh(problem, 0.125), netgen_mesh(problem, 0.13)):
         with pytest.raises(ValueError, match=r"u_h.s mesh \(32 elements\) is not found to refine"):
             ndf.energy_norm(sol, on(other))
+
+
+@pytest.mark.parametrize("h", [1 / 8, 1 / 16])
+def test_two_solutions_of_one_problem_on_one_mesh_are_measured_coefficient_by_coefficient(h):
+    """Newton's and Uzawa's solutions (coefficients equal to 1e-12) of Example 6.2, SIPG P1: each solution lives on
+    its own copy of the mesh, and |||u_h - w||| took w's values there by point search at the Gauss points of Set's
+    rule, which at P1 lie on the edges (0.6 = 1.8 % of |||u_h||| for w = u_h's twin).  Now the distance is the
+    coefficient-wise one: zero to round-off for the twin, 1 % of |||u_h||| for 1.01 times the twin."""
+    problem = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(problem, h)
+    sol = ndf.solve(problem, mesh, method="sipg", order=1)
+    twin = ndf.solve(problem, mesh, method="sipg", order=1, solver="uzawa", solver_tol=1e-11, kkt_tol=1e-11)
+    norm = ndf.energy_norm(sol)
+    assert np.abs(sol.u.vec.FV().NumPy() - twin.u.vec.FV().NumPy()).max() <= 1e-12 * np.abs(
+        sol.u.vec.FV().NumPy()).max()
+    assert ndf.energy_norm(sol, twin.u) <= 1e-9 * norm and ndf.energy_norm(twin, sol.u) <= 1e-9 * norm
+    scaled = ngs.GridFunction(twin.u.space)
+    scaled.vec.data = 1.01 * twin.u.vec
+    assert ndf.energy_norm(sol, scaled) == pytest.approx(0.01 * norm, rel=1e-8)
+
+
+def test_a_p1_solution_against_a_coarser_one_is_the_norm_of_the_prolongation():
+    """u_h on a refinement of the coarse solution's mesh, P1: |||u_h - u_coarse||| equals the norm of u_h minus the
+    coarse coefficients prolongated by NGSolve's own refinement (exact for nested L2 spaces), to round-off."""
+    from ngdgfric.meshes import refined, snapshot
+
+    problem = ndf.example_6_2()
+    mesh = ndf.uniform_mesh(problem, 1 / 4)
+    marked = np.arange(mesh.ne) % 3 == 0
+    coarse = ndf.solve(problem, mesh, method="sipg", order=1)
+    fine = ndf.solve(problem, refined(mesh, marked), method="nipg", order=1)
+    live = snapshot(mesh)
+    carried = ngs.GridFunction(ngs.L2(live, order=1, autoupdate=True) ** 2, autoupdate=True)
+    carried.vec.data = coarse.u.vec
+    ndf.meshes.refine(live, marked)
+    difference = ngs.GridFunction(fine.u.space)
+    difference.vec.data = fine.u.vec - carried.vec
+    expected = sum(energy_norm_squared_parts(fine.discretization.problem, fine.mesh, difference)) ** 0.5
+    assert ndf.energy_norm(fine, coarse.u) == pytest.approx(expected, rel=1e-12)
+
+
+def test_a_coefficient_function_made_of_a_gridfunction_is_refused():
+    """eps(w) of a CoefficientFunction w is its symbolic derivative, which sees a GridFunction as a constant:
+    |||u_h - 0.5 u_h||| came out as |||u_h||| (for any factor).  Such a w is now refused by name."""
+    problem = ndf.example_6_2()
+    sol = ndf.solve(problem, ndf.uniform_mesh(problem, 1 / 4), method="sipg", order=2)
+    for w in (0.5 * sol.u, 1.0 * sol.u, ngs.CF((sol.u[0], 0.0))):
+        with pytest.raises(ValueError, match="symbolic derivative is not the derivative of its values.*GridFunction"):
+            ndf.energy_norm(sol, w)
+
+
+HOLE_AND_REGIONS = """
+name = "Two blocks with a hole"
+[material]
+E = { left = 100.0, right = 300.0 }
+nu = 0.3
+[[geometry.region]]
+name = "left"
+vertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.5, 1.0], [0.0, 1.0]]
+labels = ["contact", "interface", "load", "free", "support"]
+[[geometry.region]]
+name = "right"
+vertices = [[1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.5, 1.0], [1.0, 1.0]]
+labels = ["contact", "free", "free", "load", "interface"]
+[[geometry.hole]]
+centre = [1.5, 0.5]
+radius = 0.25
+label = "hole"
+[boundaries]
+dirichlet = "support"
+traction = ["load", "free", "hole"]
+contact = "contact"
+[loads]
+g = { load = [0.0, -5.0] }
+[contact]
+c_n = 300.0
+m_n = 1.0
+g_a = 0.0
+c_tau = 0.2
+"""
+
+
+@pytest.mark.slow
+def test_the_true_error_of_a_curved_scene_with_regions_against_a_finer_solution(tmp_path):
+    """A user's scene with a circular hole (curved elements) and two materials, measured against adapt's finer
+    solution of the same problem (a Solution as the reference; Reference files store polygons only): adapt's
+    rtol = 1e-2 solution has a true error of 0.28e-2 |||u||| against the rtol = 1e-4 solution (0.2823e-2 against the
+    rtol = 1e-5 one), inside [0.1, 1] x rtol; the reference's own error against itself is its jumps only; another
+    problem is refused."""
+    path = tmp_path / "scene.toml"
+    path.write_text(HOLE_AND_REGIONS)
+    problem = ndf.load_problem(path)
+    coarse, fine = (ndf.adapt(problem, rtol=rtol).solution for rtol in (1e-2, 1e-4))
+    norm = ndf.energy_norm(fine)
+    errors = reference_errors(coarse, fine)
+    assert 0.1e-2 <= errors["energy"] / norm <= 1e-2
+    assert reference_errors(fine, fine)["energy_volume"] <= 1e-12 * norm
+    with pytest.raises(ValueError, match="another problem.*c_tau"):
+        ndf.energy_error(coarse, ndf.solve(dataclasses.replace(problem, c_tau={"contact": 0.3}), fine.mesh))

@@ -11,6 +11,7 @@ from ..meshes import grid_counts, grid_mesh
 from ..progress import log, reporter
 from ..reference import energy_norm, energy_norm_squared_parts
 from ..solution import solve
+from ..transfer import interpolate
 from .measures import rates
 
 __all__ = ["uniform_study", "consecutive_differences", "difference_norms", "finest_elements"]
@@ -24,7 +25,7 @@ def difference_norms(coarse, fine):
     (energy / |||u_fine|||_h).
     """
     w = ngs.GridFunction(fine.u.space)
-    w.Set(coarse.u)
+    interpolate(w, coarse.u)
     w.vec.data -= fine.u.vec
     dx = ngs.dx(bonus_intorder=max(2 * w.space.globalorder + 2 - 5, 0))  # exact: degree 2 p + 2 (default 5)
     volume, jumps = energy_norm_squared_parts(fine.problem, fine.mesh, w)
