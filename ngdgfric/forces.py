@@ -27,7 +27,8 @@ import numpy as np
 
 from .contact_forces import LAM_TOL, SLIP_TOL, ContactSide, Zone, constant_vectors, contact_sides
 from .dg.forms import dirichlet_load_terms, has_dirichlet_data, support_terms
-from .dg.liftings import edge_colours, lifting_matrices, lifting_space
+from .dg.liftings import liftings
+from .meshes import facet_indicator
 from .problem import coefficient, pattern
 from .threads import threads
 
@@ -201,51 +202,25 @@ def _dirichlet_load(disc, side):
 def _lifting_parts(disc, u, constants):
     """{side: the lifting terms of B_h(u_h, e_i) - (u_D part) on the edges of the side, an (x, y) array}.
 
-    The liftings of the edge colours (:func:`ngdgfric.dg.liftings.lifting_matrices`): r_c[e_i] = R_c e_i lives on
-    the elements with a Dirichlet or symmetry edge of colour c, and no element has two edges of one colour, so
-    its part on the elements of the side's edges of colour c is sum_{e in S, e in c} r_e[e_i].  Then
-    eta sum_{e in S} (C r_e[u - u_D], r_e[e_i]) = eta sum_c (R_c u - r_c)^T P (R_c e_i restricted to those
-    elements) and likewise with R u - r (the global lifting r_0) for (C r_0[u - u_D], r_e[e_i])."""
+    In the moments of :mod:`ngdgfric.dg.liftings`, (C r_e[w], r_e[v]) = m_e[v]^T S_T,ee m_e[w] and (C r_0[w],
+    r_e[v]) = sum_{e' in T} m_e[v]^T S_T,ee' m_e'[w] for the boundary edge e of element T: with w = u_h - u_D and
+    v = e_i, summed over the edges of the side, eta times the first (Bassi, Brezzi) and the second (Brezzi, LDG)."""
     method, problem, mesh = disc.method, disc.problem, disc.mesh
     if method.penalty != "lift" and not method.global_lift:
         return {}
-    R, P, r = lifting_matrices(problem, disc.material, mesh, disc.V, disc.order, local=True,
-                               total=method.global_lift)
-    colours = edge_colours(problem, mesh)
-    space = lifting_space(mesh, disc.order)
-    supported = set(_found(problem, mesh, "dirichlet") + _found(problem, mesh, "symmetry"))
-    boundary_edges = [(el.mat, el.edges[0].nr, mesh[el.edges[0]].elements[0].nr)
-                      for el in mesh.Elements(ngs.BND) if el.mat in supported]
-
-    def apply(matrix, vector):
-        x = matrix.CreateRowVector()
-        x.FV().NumPy()[:] = vector
-        y = matrix.CreateColVector()
-        y.data = matrix * x
-        return y
-
-    def lifted(k):  # P (R_k u - r_k) as a numpy array
-        y = apply(R[k], u.vec.FV().NumPy())
-        if r[k] is not None:
-            y.data -= r[k]
-        z = P.CreateColVector()
-        z.data = P * y
-        return z.FV().NumPy().copy()
-
-    global_part = lifted(len(R) - 1) if method.global_lift else None
-    parts = {side: np.zeros(2) for side in supported}
-    for c, colour in enumerate(colours):
-        tests = np.array([apply(R[c], e).FV().NumPy() for e in constants])  # R_c e_i, shape (2, dim Sigma_h)
-        local_part = lifted(c) if method.penalty == "lift" else None
-        for side in supported:
-            elements = {element for name, facet, element in boundary_edges if name == side and colour.facets[facet]}
-            if not elements:
-                continue
-            dofs = np.concatenate([list(space.GetDofNrs(ngs.ElementId(ngs.VOL, nr))) for nr in sorted(elements)])
-            if local_part is not None:
-                parts[side] += disc.penalty.boundary * tests[:, dofs] @ local_part[dofs]
-            if global_part is not None:
-                parts[side] += tests[:, dofs] @ global_part[dofs]
+    ops = liftings(problem, disc.material, mesh, disc.V_plain, disc.orders)
+    kernel = ops.kernel(disc.penalty.boundary if method.penalty == "lift" else 0.0, float(method.global_lift))
+    jumps = ops.moments_of(u.vec.FV().NumPy())
+    if ops.data is not None:
+        jumps -= ops.data
+    lifted = np.einsum("trs,ts->tr", kernel, ops.per_element(jumps))  # S_T m_T[u_h - u_D]
+    tests = np.array([ops.per_element(ops.moments_of(e)) for e in constants])  # m_T[e_i]
+    rows = ops.edge_rows
+    parts = {}
+    for side in _found(problem, mesh, "dirichlet") + _found(problem, mesh, "symmetry"):
+        element, local = np.nonzero(facet_indicator(mesh, pattern([side])).vec.FV().NumPy()[ops.facets] > 0.5)
+        test = np.take_along_axis(tests[:, element], rows[local][None], axis=2)  # (2, edges, 3 q)
+        parts[side] = np.einsum("ier,er->i", test, np.take_along_axis(lifted[element], rows[local], axis=1))
     return parts
 
 

@@ -9,7 +9,7 @@ with two numpy scatters.
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal", "sparse_sum"]
+__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal"]
 
 
 def csr_keys(mat, ncols=None):
@@ -85,40 +85,3 @@ def diagonal(mat):
     out = np.zeros(mat.height)
     out[rows[on_diagonal]] = np.asarray(values)[on_diagonal]
     return out
-
-
-def sparse_sum(terms):
-    """sum_k w_k M_k for (w_k, M_k) pairs of equally sized NGSolve sparse matrices.
-
-    If one pattern contains all others (the usual case here: liftings inside the DG pattern, or
-    the DG pattern inside the two-ring pattern of r_0), the others are scattered into a copy of
-    it; otherwise the union pattern is built from COO triplets.
-    """
-    terms = sorted(terms, key=lambda term: -term[1].nze)
-    weight, base = terms[0]
-    width = base.width
-    base_keys = csr_keys(base, width)
-    positions = []
-    for _, mat in terms[1:]:
-        pos, found = _positions(base_keys, csr_keys(mat, width))
-        if not found.all():
-            return _coo_sum(terms)
-        positions.append(pos)
-    out = base.CreateMatrix()
-    values = out.AsVector().FV().NumPy()
-    values[:] = weight * np.asarray(base.AsVector().FV().NumPy())
-    for (w, mat), pos in zip(terms[1:], positions, strict=True):
-        values[pos] += w * np.asarray(mat.AsVector().FV().NumPy())
-    return out
-
-
-def _coo_sum(terms):
-    rows, cols, values = [], [], []
-    for weight, mat in terms:
-        r, c, v = mat.COO()
-        rows.append(np.asarray(r, dtype=np.int64))
-        cols.append(np.asarray(c, dtype=np.int64))
-        values.append(weight * np.asarray(v))
-    height, width = terms[0][1].height, terms[0][1].width
-    return ngs.la.SparseMatrixd.CreateFromCOO(np.concatenate(rows), np.concatenate(cols),
-                                              np.concatenate(values), height, width)

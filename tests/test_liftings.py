@@ -1,92 +1,109 @@
+import dataclasses
 import warnings
 
 import ngsolve as ngs
 import numpy as np
 import pytest
+from reference_liftings import dense, reference_parts, reference_system
 
 import ngdgfric as ndf
-from ngdgfric.dg.liftings import edge_colours, lifting_matrices, lifting_space
 from ngdgfric.dg.methods import PenaltyWarning
-from ngdgfric.meshes import facet_indicator, refine
+from ngdgfric.meshes import refine
 
 # the methods with a lifting operator: Bassi et al., Brezzi et al., LDG
 LIFTING_METHODS = [name for name, m in ndf.METHODS.items() if m.penalty == "lift" or m.global_lift]
 
 
-@pytest.fixture(scope="module", params=["netgen", "bisected"])
-def small(request):
+def _bisected():
     p = ndf.example_6_1()
-    mesh = ndf.netgen_mesh(p, 0.35)  # unstructured: more colours than a structured mesh
-    if request.param == "bisected":  # facet numbers then include the bisected edges: not the facet dofs
-        refine(mesh, np.arange(mesh.ne) % 3 == 0)
-        assert mesh.nfacet > ngs.FacetFESpace(mesh, order=0).ndof
-    return p, mesh, ndf.Discretization(p, mesh, order=2)
+    mesh = ndf.netgen_mesh(p, 0.35)  # unstructured, then bisected: facet numbers include the inactive parent edges
+    refine(mesh, np.arange(mesh.ne) % 3 == 0)
+    assert mesh.nfacet > ngs.FacetFESpace(mesh, order=0).ndof
+    return p, mesh, 3
 
 
-def test_colours_separate_the_edges_of_every_triangle(small):
-    p, mesh, _ = small
-    colours = [colour.indicator for colour in edge_colours(p, mesh)]
-    assert 3 <= len(colours) <= 5
-    total = sum(c.vec.FV().NumPy() for c in colours)
-    interior_or_dirichlet = ngs.Integrate(sum(colours) * ngs.dx(element_boundary=True), mesh, element_wise=True)
-    assert np.max(total) == 1  # each edge has at most one colour
-    assert np.max(interior_or_dirichlet.NumPy()) > 0
-    for c in colours:  # no triangle has two edges of one colour
-        per_element = ngs.Integrate(c * ngs.dx(element_boundary=True), mesh, element_wise=True).NumPy()
-        lengths = ngs.Integrate(ngs.CF(1) * ngs.dx(element_boundary=True), mesh, element_wise=True).NumPy()
-        # one edge is shorter than half the perimeter, two edges are longer (triangle inequality)
-        assert np.all(per_element < lengths / 2)
+def _hp():
+    p, mesh, _ = _bisected()
+    return p, mesh, np.random.default_rng(3).integers(1, 5, size=mesh.ne)
 
 
-def test_colour_bitarrays_mark_the_facets_of_the_indicators(small):
-    p, mesh, _ = small
-    space = ngs.FacetFESpace(mesh, order=0)
-    for colour in edge_colours(p, mesh):
-        marked = np.array(list(colour.facets), dtype=bool)
-        assert marked.size == mesh.nfacet
-        values = colour.indicator.vec.FV().NumPy()
-        for facet in range(mesh.nfacet):  # facet -> dof through NGSolve's own node lookup
-            dofs = space.GetDofNrs(ngs.NodeId(ngs.FACET, facet))
-            assert marked[facet] == (len(dofs) == 1 and values[dofs[0]] == 1.0)
+def _symmetric():  # regions (material per region), an interface, a symmetry side, u_D != 0
+    p = ndf.load_problem(ndf.example_file("two_materials_symmetric"))
+    return p, ndf.netgen_mesh(p, 0.25), 2
 
 
-def test_lifting_identity_and_global_lifting(small):
-    p, mesh, disc = small
-    R, _, _ = lifting_matrices(p, disc.material, mesh, disc.V, 2, local=True, total=True)
-    S = lifting_space(mesh, 2)
-    rng = np.random.default_rng(7)
-    u = ngs.GridFunction(disc.V)
-    u.vec.FV().NumPy()[:] = rng.standard_normal(disc.V.ndof)
-    tau = ngs.GridFunction(S)
-    tau.vec.FV().NumPy()[:] = rng.standard_normal(S.ndof)
-    n = ngs.specialcf.normal(2)
-    tmp = tau.vec.CreateVector()
+def _curved():  # curved elements of degree 3, u_D != 0
+    from ngdgfric.domain import Domain, Loop
 
-    def paired(mat):  # tau^T R u = int r(u) : tau (R = M r)
-        tmp.data = mat * u.vec
-        return float(np.dot(tau.vec.FV().NumPy(), tmp.FV().NumPy()))
+    domain = Domain({"omega": Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})})
+    p = ndf.ContactProblem(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=1e2, m_n=1, g_a=ngs.y, c_tau=0.05,
+                           geometry=domain, u_D=(0.005, -0.01))
+    return p, ndf.netgen_mesh(p, 0.45), 3
 
-    # - int_{E_h^o} [u] : {tau} ds, computed independently from element-boundary integrals
-    jump = u - u.Other()
-    interior = ngs.Integrate(-0.5 * jump * (0.5 * (tau + tau.Other()) * n) * ngs.dx(element_boundary=True), mesh)
-    dirichlet = ngs.Integrate(-facet_indicator(mesh, p.dirichlet) * u * (tau * n) * ngs.dx(element_boundary=True),
-                              mesh)
-    local = sum(paired(R_c) for R_c in R[:-1])
-    assert local == pytest.approx(interior + dirichlet, rel=1e-10)
-    assert paired(R[-1]) == pytest.approx(local, rel=1e-10)  # r_0 = sum_e r_e
+
+def _varying():  # E and nu vary inside the elements: degree-p fields, weights that vary along the edges
+    p = dataclasses.replace(ndf.example_6_2(), E=2500 * (1 + 0.5 * ngs.x * ngs.y), nu=0.3 + 0.1 * ngs.x)
+    return p, ndf.uniform_mesh(p, 1 / 4), 2
+
+
+def _layered():  # five geometric layers towards a corner, p = 4: elements 1/32 of the coarse ones
+    from ngdgfric.hp import containing
+
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 0.5)
+    for _ in range(5):
+        refine(mesh, containing(mesh, p.geometry.corners[:1]), bisections=2)
+    return p, mesh, 4
+
+
+SCENES = {"bisected": _bisected, "hp": _hp, "symmetric": _symmetric, "curved": _curved, "varying": _varying,
+          "layered": _layered}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", SCENES)
+def test_the_lifting_terms_are_those_of_the_definition(scene):
+    """B_h's matrix and load with the liftings assembled from moments and element kernels equal the same terms
+    built from the definition edge by edge (tests/reference_liftings.py) for Bassi et al., Brezzi et al. and LDG, to
+    round-off (measured <= 1e-15 relative; tested at 1e-12): on a bisected Netgen mesh, with degrees 1..4 per
+    element, with regions, an interface, a symmetry side and u_D, on curved elements, with a material that varies
+    inside the elements, and on five layers of elements down to 1/32 of the coarse ones."""
+    p, mesh, order = SCENES[scene]()
+    parts = None
+    for method in LIFTING_METHODS:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ndf.MaterialWarning)
+            disc = ndf.Discretization(p, mesh, method=method, order=order)
+        parts = parts or reference_parts(disc)
+        A, F = reference_system(disc, parts)
+        assert np.abs(dense(disc.A) - A).max() <= 1e-12 * np.abs(A).max()
+        assert np.abs(disc.F.FV().NumPy() - F).max() <= 1e-12 * np.abs(F).max()
 
 
 @pytest.mark.parametrize("method", [name for name in ndf.DG_METHODS if ndf.METHODS[name].symmetry == 1])
-def test_symmetric_methods_give_symmetric_matrices(small, method):
-    p, mesh, _ = small
-    A = ndf.Discretization(p, mesh, method=method).A.ToDense().NumPy()
+def test_symmetric_methods_give_symmetric_matrices(method):
+    p, mesh, _ = _bisected()
+    A = dense(ndf.Discretization(p, mesh, method=method, order=2).A)
     assert np.abs(A - A.T).max() <= 1e-12 * np.abs(A).max()
+
+
+def test_the_global_lifting_reaches_the_neighbours_neighbours_and_no_further():
+    """Brezzi et al. and LDG couple an element with its neighbours' neighbours, Bassi et al. with its neighbours
+    only: the matrices' nonzeros per row against the element graph of the mesh."""
+    p = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(p, 1 / 4)
+    nonzeros = {name: ndf.Discretization(p, mesh, method=name, order=1).A.nze for name in ("sipg", "bassi", "ldg")}
+    neighbours = {el.nr: {n.nr for f in el.facets for n in mesh[f].elements} for el in mesh.Elements()}
+    two_ring = {e: set().union(*(neighbours[n] for n in near)) for e, near in neighbours.items()}
+    block = 6 ** 2  # P1: 3 functions per component and element, 2 components
+    assert nonzeros["sipg"] == nonzeros["bassi"] == block * sum(map(len, neighbours.values()))
+    assert nonzeros["ldg"] == block * sum(map(len, two_ring.values()))
 
 
 def test_bassi_is_coercive_above_3_and_warns_at_or_below():
     p = ndf.example_6_1()
     mesh = ndf.uniform_mesh(p, 1 / 4)
-    A = ndf.Discretization(p, mesh, method="bassi", eta=3.5).A.ToDense().NumPy()
+    A = dense(ndf.Discretization(p, mesh, method="bassi", eta=3.5).A)
     assert np.linalg.eigvalsh(0.5 * (A + A.T)).min() > 0
     with pytest.warns(PenaltyWarning, match="threshold 3"):
         ndf.Discretization(p, mesh, method="bassi", eta=3.0)
@@ -107,51 +124,8 @@ def test_lifting_methods_converge_at_the_optimal_rate(elasticity, method, order,
 
 
 def test_lifting_methods_on_curved_elements():
-    """On a curved mesh the mass matrix of Sigma_h has a full block per curved element and component (it was
-    taken to be diagonal, and Bassi, Brezzi and LDG stopped with "not diagonal"): its inverse is exact, and the
-    three methods solve a half-disk to the round-off of the KKT system."""
-    from ngdgfric.dg.liftings import _block_inverse
-    from ngdgfric.domain import Domain, Loop
-
-    domain = Domain({"omega": Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})})
-    p = ndf.ContactProblem(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=1e2, m_n=1, g_a=ngs.y, c_tau=0.05,
-                           geometry=domain, u_D=(0.005, -0.01))
-    mesh = ndf.netgen_mesh(p, 0.3)
-    curved = ngs.Mesh(mesh.ngmesh.Copy())
-    curved.Curve(3)
-    sigma, tau = lifting_space(curved, 3, dgjumps=False).TnT()
-    mass = ngs.BilinearForm(sigma.space)
-    mass += ngs.InnerProduct(sigma, tau) * ngs.dx
-    mass.Assemble()
-    x = mass.mat.CreateColVector()
-    x.FV().NumPy()[:] = np.random.default_rng(0).random(len(x))
-    y = x.CreateVector()
-    y.data = _block_inverse(mass.mat) * (mass.mat * x)
-    assert np.abs(y.FV().NumPy() - x.FV().NumPy()).max() < 1e-12
+    """The three methods solve a half-disk with curved elements to the round-off of the KKT system."""
+    p, mesh, order = _curved()
     for method in LIFTING_METHODS:
-        sol = ndf.solve(p, mesh, method=method, order=3)
+        sol = ndf.solve(p, mesh, method=method, order=order)
         assert ndf.kkt_residuals(sol)["equilibrium"] < 1e-12 and ndf.contact_state(sol)["pressure"].max() > 0
-
-
-def test_the_lifting_mass_matrix_is_inverted_on_tiny_high_order_elements():
-    # ten geometric layers towards the corners and p = 7: the mass matrix of Sigma_h is diagonal up to round-off
-    # entries of 1.7e-13 against the diagonal of a low-degree row of a tiny element, but below 1e-13 of the
-    # geometric mean of the two diagonals (the row criterion called it "not block diagonal": adapt with Bassi et
-    # al. crashed on Example 6.1)
-    from ngdgfric.dg.liftings import _block_inverse
-    from ngdgfric.hp import containing
-    from ngdgfric.meshes import refine
-
-    problem = ndf.example_6_1()
-    mesh = ndf.uniform_mesh(problem, 0.5)
-    for _ in range(10):
-        refine(mesh, containing(mesh, problem.geometry.corners), bisections=2)
-    cells = lifting_space(mesh, 7, dgjumps=False)
-    sigma, tau = cells.TnT()
-    mass = ngs.BilinearForm(cells)
-    mass += ngs.InnerProduct(sigma, tau) * ngs.dx
-    mass.Assemble()
-    x = mass.mat.CreateColVector()
-    x.FV().NumPy()[:] = np.random.default_rng(0).standard_normal(len(x))
-    y = (_block_inverse(mass.mat) @ mass.mat * x).Evaluate()
-    assert np.max(np.abs(y.FV().NumPy() - x.FV().NumPy())) <= 1e-10

@@ -16,7 +16,6 @@ from ..contact import ContactGauss, contact_boundary, contact_measure, contact_p
 from ..meshes import check_mesh, curve
 from ..problem import ContactProblem
 from ..solvers.traces import ContactTraces
-from ..sparse import sparse_sum
 from ..threads import threads
 from .forms import dg_terms, edge_length, load_terms, penalty_length
 from .liftings import lifting_terms
@@ -198,10 +197,11 @@ class Discretization:
         self.h_e = edge_length(mesh)
         self.h_penalty = penalty_length(mesh)
         self.dS = contact_measure(problem, mesh, self.contact_order)
+        # the trial space of the liftings' moments and the test space of the mixed contact forms (NGSolve crashes on
+        # mixed skeleton forms whose test space has facet couplings; H^1 has none to leave out)
+        self.V_plain = self.V if self.method.conforming else dg_space(mesh, order, dgjumps=False)
         self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
-        # the test space of the mixed contact forms (H^1 has no facet couplings to leave out)
-        self.V_plain = self.V if self.method.conforming else dg_space(mesh, order, dgjumps=False)
         self.timings["setup"] = time.perf_counter() - start
 
     def _largest_law(self):
@@ -221,16 +221,15 @@ class Discretization:
                                  self.h_penalty):
                 a += term
             a.Assemble()
-            lifts, lifted_load = lifting_terms(problem, self.material, mesh, self.V, self.order, self.method,
-                                               self.penalty.boundary)
-            A = sparse_sum([(1.0, a.mat), *lifts]) if lifts else a.mat
+            A, lifted_load = lifting_terms(problem, self.material, mesh, self.V_plain, self.orders, self.method,
+                                           self.penalty.boundary, a.mat)
             f = ngs.LinearForm(self.V)
             for term in load_terms(problem, self.material, mesh, v, self.method, self.penalty, self.p,
                                    self.h_penalty):
                 f += term
             f.Assemble()
             if lifted_load is not None:
-                f.vec.data += lifted_load
+                f.vec.FV().NumPy()[:] += lifted_load
         return A, f.vec
 
     @functools.cached_property
