@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.adaptivity import choose_method
 from ngdgfric.dg.methods import METHODS, LockingWarning, PenaltyWarning, check_penalty, get_method
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
@@ -151,6 +152,26 @@ def test_the_locking_warning_is_silenced_by_the_warning_filters():
         warnings.simplefilter("ignore", LockingWarning)
         ndf.Discretization(problem, mesh, "cg")
     assert not [w for w in caught if issubclass(w.category, LockingWarning)]
+
+
+@pytest.mark.parametrize("order", [1, 2, 3, 4, 6])
+def test_adapt_never_chooses_a_method_that_locks(order):
+    """choose_method and the warning read one table (LOCKING): over nu = 0 ... 0.49999 adapt's choice never locks
+    at its first degree, and it is cg exactly below cg's lowest threshold (nu = 0.49)."""
+    for nu in (0.0, 0.3, 0.45, 0.4899, 0.49, 0.495, 0.4999, 0.49999):
+        name, _ = choose_method(dataclasses.replace(ndf.example_6_1(), nu=nu), None, order)
+        assert not get_method(name).locks(nu, order), (nu, name)
+        assert (name == "cg") == (nu < 0.49), (nu, name)
+
+
+def test_adapt_with_its_defaults_does_not_warn_near_incompressibility():
+    problem = dataclasses.replace(ndf.example_6_1(), nu=0.4999)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LockingWarning)
+        run = ndf.adapt(problem, max_levels=1, progress=None)
+    assert run.method == "bassi"
+    with pytest.warns(LockingWarning, match="cg with elements of degree 1"):
+        ndf.adapt(problem, method="cg", order=1, hp=False, max_levels=1, progress=None)
 
 
 def read_rows(path):
