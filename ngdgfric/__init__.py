@@ -19,7 +19,7 @@ from .checks import DataError
 from .contact import contact_state, kkt_residuals
 from .dg.discretization import Discretization
 from .dg.material import MaterialWarning
-from .dg.methods import DG_METHODS, METHODS, Method, PenaltyWarning
+from .dg.methods import DG_METHODS, METHODS, LockingWarning, Method, PenaltyWarning
 from .domain import Domain, Loop
 from .equilibration import Equilibration, equilibrate
 from .errors import SolverError, SolverWarning, TimeLimitError
@@ -53,7 +53,7 @@ __all__ = [
     # meshes
     "uniform_mesh", "netgen_mesh", "check_mesh", "refined",
     # methods and discretisation
-    "Method", "METHODS", "DG_METHODS", "Discretization", "MaterialWarning", "PenaltyWarning",
+    "Method", "METHODS", "DG_METHODS", "Discretization", "MaterialWarning", "PenaltyWarning", "LockingWarning",
     # solving
     "solve", "finish", "Solution", "WarmStart", "SolverOptions", "NewtonOptions", "UzawaOptions",
     "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError", "SolverWarning",

@@ -24,17 +24,16 @@ into bisecting Gamma_C (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DO
 results/time_to_accuracy.md), and gamma_lin = 0.01 kept the path but not the iterations.
 """
 
-import dataclasses
 import functools
 import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import ngsolve as ngs
 import numpy as np
 
 from .checks import MEMORY_BUDGET
+from .dg.material import largest
 from .dg.methods import get_method
 from .estimator import KINDS, VARIANTS, deprecated_weights, estimate
 from .files import check_writable, write_csv
@@ -76,30 +75,25 @@ class Adaptation:
 
 
 def choose_method(problem, mesh, order):
-    """(method, reason): the discretisation :func:`adapt` uses when none is given.  The conforming baseline ``cg``
-    (about half the DOFs of a DG method on the same mesh and orders, no skeleton terms, and the same contact solver,
-    estimator and hp loop: results/time_to_accuracy.md) unless nu is close to 1/2: where SIPG's coercivity
-    threshold t_p (2 mu + lam) at degree ``order`` reaches its default penalty 30 mu somewhere (t_1 (2 mu + lam) >=
-    30 mu from nu = 0.42, t_2 from nu = 0.46) conforming elements of low degree lock like SIPG with its raised
-    penalty (results/effectivity.md: errors 1.75 times the best method's at nu = 0.49, 6 times at 0.4999); then
-    Bassi et al., which does not lock there (error growth x1.0-1.1 from nu = 0.3 to 0.4999 in both regimes of
-    results/stability.md and effectivity.md) and is symmetric (Brezzi et al. is as robust at 1.3-1.5 times Bassi's
-    assembly cost)."""
-    nu = _largest(problem.on(mesh).nu, mesh)
-    law, sipg = dataclasses.replace(problem, E=1.0, nu=nu), get_method("sipg")  # the thresholds scale with E
-    if sipg.default(law, order) == sipg.default_eta * sipg.eta_scale(law):  # not raised
+    """(method, reason): the discretisation :func:`adapt` uses when none is given, by where each method locks
+    (:data:`ngdgfric.dg.methods.LOCKING`, results/locking.md; the data :class:`~ngdgfric.Discretization` warns with,
+    so that adapt never warns about its own choice).  The conforming baseline ``cg`` (about half the DOFs of a DG
+    method on the same mesh and orders, no skeleton terms, and the same contact solver, estimator and hp loop:
+    results/time_to_accuracy.md) where it locks at no degree: below nu = 0.49, from where its error grows more than
+    twice at p = 1-3.  At p = 4 its displacement does not lock (x1.84 at nu = 0.49999), but its stresses are worse: the
+    estimator's effectivity (which sees them) rises from 2.0 at nu = 0.3 to 4.9 at nu = 0.49 and 6.6 at 0.4999 (Bassi
+    et al.: 2.1-2.5), so adapt would stop far below tol (an exploratory run, not kept, to 1e-3 |||u||| on the
+    divergence-free scene at nu = 0.4999: true error 0.05 tol, effectivity 18 on the hp meshes).  From nu = 0.49 the
+    first of Bassi et al. (symmetric, error growth at most x1.08 up to nu = 0.49999) and Brezzi et al. (as robust at
+    1.3-1.5 times Bassi's assembly cost) that does not lock at ``order``."""
+    nu = largest(problem.on(mesh).nu, mesh)
+    cg = get_method("cg")
+    if not cg.locks(nu):
         return "cg", (f"nu = {nu:.6g} is moderate: the conforming baseline, half the DOFs of a DG method on the same "
                       f"mesh, is the cheapest adequate discretisation")
-    return "bassi", (f"nu reaches {nu:.6g}: conforming elements of low degree lock, and so does SIPG, whose penalty "
-                     f"would be raised above 30 mu to stay coercive; Bassi et al. does not")
-
-
-def _largest(datum, mesh):
-    """The largest value of a scalar datum (a number, or a CoefficientFunction at the mesh's Gauss points)."""
-    if not isinstance(datum, ngs.CoefficientFunction):
-        return float(datum)
-    rule = ngs.IntegrationRule(ngs.TRIG, 4)
-    return float(np.max(np.asarray(datum(mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL)))))
+    name = next((name for name in ("bassi", "brezzi") if not get_method(name).locks(nu, order)), "brezzi")
+    return name, (f"nu reaches {nu:.6g}: conforming elements lock from nu = {min(e.nu for e in cg.locking if e):g} "
+                  f"(results/locking.md); the DG method {name!r} does not")
 
 
 @limited_blas

@@ -110,6 +110,22 @@ def test_stability(tmp_path):
     assert (tmp_path / "stability.png").stat().st_size > 0
 
 
+def test_locking(tmp_path):
+    # cg and Bassi, P1, nu = 0.3 and 0.4999, h = 1/4 and 1/8: cg's error triples (3.01) and stops converging (rate
+    # 0.02), Bassi's grows by 1.03 at most; the library warned exactly where the study finds locking
+    run("locking", tmp_path, "--workers", "1")
+    rows = read_csv(tmp_path / "locking.csv", labels=("method", "status", "warnings"))
+    assert len(rows) == 8 and all(r["status"] == "solved" for r in rows)
+    module = importlib.import_module("locking")
+    grown = {m: module.growth(rows, m, 1, 0.4999)[0] for m in ("cg", "bassi")}
+    assert grown["cg"] == pytest.approx(3.01, rel=0.02) and grown["bassi"] == pytest.approx(1.03, abs=0.02)
+    assert module.rate(rows, "cg", 1, 0.4999) < 0.1 < 0.8 < module.rate(rows, "bassi", 1, 0.4999)
+    assert [module.threshold(rows, m, 1) for m in ("cg", "bassi")] == [0.4999, None]
+    assert {(r["method"], r["nu"]) for r in rows if r["warnings"] == "LockingWarning"} == {("cg", 0.4999)}
+    text = (tmp_path / "locking.md").read_text()
+    assert "Regenerate: `python" in text and "they differ in none" in text
+
+
 def test_effectivity(tmp_path):
     run("effectivity", tmp_path, "--workers", "1")
     rows = read_csv(tmp_path / "effectivity.csv")

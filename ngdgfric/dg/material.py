@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import warn
 from ..problem import coefficient, is_number
 
-__all__ = ["Material", "Lame", "EdgeCoefficient", "MaterialWarning", "element_fields", "RESOLVED"]
+__all__ = ["Material", "Lame", "EdgeCoefficient", "MaterialWarning", "element_fields", "largest", "RESOLVED"]
 
 RESOLVED = 0.1
 """mu and lam count as represented by their degree-p projections on an element when these differ from them
@@ -82,6 +82,16 @@ def _evaluation_points(mesh, order):
     """Gauss points of degree 2 p + :data:`BONUS` in every element, mapped (an element's points are consecutive)."""
     rule = ngs.IntegrationRule(ngs.TRIG, 2 * order + BONUS)
     return mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL), len(rule.weights)
+
+
+def largest(value, mesh):
+    """The largest value of a scalar datum: a number itself, a CoefficientFunction at the Gauss points of degree
+    2 + :data:`BONUS` of every element of ``mesh`` (Poisson's ratio for :func:`ngdgfric.adaptivity.choose_method`
+    and the locking check of :class:`~ngdgfric.Discretization`, a stress scale for the penalty check)."""
+    if is_number(value):
+        return float(value)
+    points, _ = _evaluation_points(mesh, 1)
+    return float(np.max(np.asarray(value(points))))
 
 
 def _projection(value, mesh, degree):
@@ -183,9 +193,6 @@ class Material:
         return EdgeCoefficient(2 * own * other / (own + other), own, text)
 
     def largest(self, quantity, mesh):
-        """The largest value of ``quantity`` (a function of a :class:`Lame`) over the elements' Gauss points."""
-        value = quantity(self.own)
-        if is_number(value):
-            return float(value)
-        points, _ = _evaluation_points(mesh, 1)
-        return float(np.max(np.asarray(value(points))))
+        """The largest value of ``quantity`` (a function of a :class:`Lame`) over the elements' Gauss points
+        (:func:`largest`)."""
+        return largest(quantity(self.own), mesh)

@@ -28,6 +28,12 @@ neighbours' defaults (:func:`penalty`).  t_p is :data:`SIPG_THRESHOLD`, measured
 Bassi et al.: eta > 3, the number of edges of a triangle (Arnold, Brezzi, Cockburn, Marini 2002,
 for liftings into a space containing eps_h(V_h)); sufficient, the measured threshold is lower.
 Brezzi et al.: any eta > 0 is stable, the global lifting term adds stability.
+
+Volumetric locking (:data:`LOCKING`, measured by ``scripts/locking.py``, results/locking.md): on a divergence-free
+contact solution cg and SIPG lock at p = 1, 2, 3 (from nu = 0.49 and 0.497: SIPG through its raised penalty), LDG at
+every p from nu = 0.4997-0.4999; NIPG, Bassi et al. and Brezzi et al. do not (error growth at most x1.17 up to
+nu = 0.49999), nor cg and SIPG at p = 4.  :class:`~ngdgfric.Discretization` warns (:class:`LockingWarning`,
+:func:`check_locking`) where the chosen method locks at the problem's largest nu and the lowest element degree.
 """
 
 from dataclasses import dataclass
@@ -40,7 +46,7 @@ from ..errors import warn
 from .material import EdgeCoefficient
 
 __all__ = ["Method", "METHODS", "DG_METHODS", "get_method", "SIPG_THRESHOLD", "PenaltyWarning", "check_penalty",
-           "penalty"]
+           "penalty", "Locking", "LOCKING", "LockingWarning", "check_locking"]
 
 SIPG_THRESHOLD = {1: 4.0, 2: 2.2, 3: 1.75, 4: 1.55}
 """Smallest coercive SIPG penalty as eta / (2 mu + lam), per order (p > 4: the p = 4 value).
@@ -52,6 +58,39 @@ B_h(v, v) / |||v|||_h^2 changes sign at eta / (2 mu + lam) = 3.3-4.0 (p = 1), 1.
 
 
 @dataclass(frozen=True)
+class Locking:
+    """Where a method locks at one degree p (an entry of :data:`LOCKING`): from Poisson's ratio ``nu`` on (the first
+    such nu of the measured grid) its relative energy error on a divergence-free contact solution is more than twice
+    its value at nu = 0.3 or converges at a rate below p - 1/2; ``growth``: that ratio at ``nu``, ``worst``: at
+    nu = 0.49999 (each the largest over the meshes measured)."""
+
+    nu: float
+    growth: float
+    worst: float
+
+
+LOCKING = MappingProxyType({
+    "sipg": (Locking(0.497, 2.35, 12.6), Locking(0.497, 2.45, 10.0), Locking(0.497, 2.34, 6.18), None),
+    "nipg": (None, None, None, None),
+    "bassi": (None, None, None, None),
+    "brezzi": (None, None, None, None),
+    "ldg": (Locking(0.4999, 2.29, 6.61), Locking(0.4997, 2.06, 7.69), Locking(0.4999, 2.99, 8.82),
+            Locking(0.4999, 2.62, 7.46)),
+    "cg": (Locking(0.49, 2.34, 11.3), Locking(0.49, 2.38, 9.45), Locking(0.49, 2.28, 5.82), None),
+})
+"""Where each method locks, per degree p = 1, 2, 3, 4 (None: not up to nu = 0.49999; p > 4: the p = 4 entry), with
+its default penalty: a :class:`Locking` or None.
+
+Measured by ``scripts/locking.py`` (results/locking.md) on the divergence-free contact solution of
+:func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured` (E = 1000), uniform meshes h = 1/4 ... 1/32
+(P1, P2) and 1/4 ... 1/16 (P3, P4), nu = 0.3, 0.45, 0.47, 0.49, 0.497, 0.499, 0.4997, 0.4999, 0.49999: a method locks
+from the first nu of that grid from which on its error grows more than twice its value at nu = 0.3 on some mesh or
+its rate falls below p - 1/2.  cg and SIPG at p = 1-3 (their rates fall to p - 1 at nu = 0.49999) and LDG (rates
+intact, errors 6.6-8.8 times larger) lock; NIPG, Bassi et al. and Brezzi et al. grow by at most 1.17 times, cg and
+SIPG at p = 4 by 1.84 and 1.94 times with the rate 3.96 (bounded growth, no locking)."""
+
+
+@dataclass(frozen=True)
 class Method:
     """One row of the table in the module docstring.
 
@@ -59,7 +98,8 @@ class Method:
     "lift" (sum_e eta (C r_e[u], r_e[v]), eta dimensionless); global_lift: adds (C r_0[u], r_0[v]);
     default_eta: the default eta in units of :meth:`eta_scale`; thresholds: the smallest stable eta
     per order p = 1, 2, ... (the last one for higher p) in units of :meth:`threshold_scale`, empty
-    if any eta > 0 is stable; conforming: u_h in H^1 (no terms on interior edges).
+    if any eta > 0 is stable; conforming: u_h in H^1 (no terms on interior edges); locking: where it locks as
+    nu -> 1/2, one :class:`Locking` or None per order p = 1, 2, ... (the last one for higher p; :data:`LOCKING`).
     """
 
     name: str
@@ -70,6 +110,7 @@ class Method:
     thresholds: tuple
     reference: str
     conforming: bool = False
+    locking: tuple = ()
 
     def eta_scale(self, law):
         """The unit of eta: mu for the edge penalties (eta is a stress), 1 for the liftings (``law``: anything
@@ -97,6 +138,16 @@ class Method:
             return ngs.IfPos(eta - threshold, eta, 1.5 * threshold)
         return 1.5 * threshold if eta <= threshold else eta
 
+    def locking_at(self, order):
+        """The :class:`Locking` of degree ``order`` (the last entry for higher degrees), None if it does not lock."""
+        return self.locking[min(int(order), len(self.locking)) - 1] if self.locking else None
+
+    def locks(self, nu, order=None):
+        """Whether this method locks at Poisson's ratio ``nu`` with elements of degree ``order`` (None: of some
+        degree), by :data:`LOCKING`."""
+        found = self.locking if order is None else (self.locking_at(order),)
+        return any(entry is not None and nu >= entry.nu for entry in found)
+
     def jump_weight(self, material, penalty):
         """The factor of p^2 / h_e ||[u]||_e^2 that the penalty amounts to (estimator term eta_3,
         coercivity), an :class:`~ngdgfric.dg.material.EdgeCoefficient`: the penalty itself for the edge
@@ -108,13 +159,14 @@ class Method:
 
 
 METHODS = MappingProxyType({
-    "sipg": Method("sipg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "B_h^(1), SIPG"),
-    "nipg": Method("nipg", -1, "edge", False, 30.0, (), "B_h^(2), NIPG"),
-    "bassi": Method("bassi", +1, "lift", False, 6.0, (3.0,), "B_h^(3), Bassi et al."),
-    "brezzi": Method("brezzi", +1, "lift", True, 1.0, (), "B_h^(4), Brezzi et al."),
-    "ldg": Method("ldg", +1, "edge", True, 30.0, (), "B_h^(5), LDG"),
+    "sipg": Method("sipg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "B_h^(1), SIPG",
+                   locking=LOCKING["sipg"]),
+    "nipg": Method("nipg", -1, "edge", False, 30.0, (), "B_h^(2), NIPG", locking=LOCKING["nipg"]),
+    "bassi": Method("bassi", +1, "lift", False, 6.0, (3.0,), "B_h^(3), Bassi et al.", locking=LOCKING["bassi"]),
+    "brezzi": Method("brezzi", +1, "lift", True, 1.0, (), "B_h^(4), Brezzi et al.", locking=LOCKING["brezzi"]),
+    "ldg": Method("ldg", +1, "edge", True, 30.0, (), "B_h^(5), LDG", locking=LOCKING["ldg"]),
     "cg": Method("cg", +1, "edge", False, 30.0, tuple(SIPG_THRESHOLD.values()), "conforming H^1, Nitsche on supports",
-                 conforming=True),
+                 conforming=True, locking=LOCKING["cg"]),
 })
 """Every method by name (read-only): the five DG methods of Section 3 and the conforming baseline ``cg``."""
 DG_METHODS = tuple(name for name, method in METHODS.items() if not method.conforming)
@@ -147,6 +199,34 @@ def check_penalty(law, method, eta, order, action="warn"):
     if action == "raise":
         raise ValueError(message)
     warn(message, PenaltyWarning)
+
+
+class LockingWarning(UserWarning):
+    """The chosen method locks at the problem's Poisson's ratio with the lowest element degree (:data:`LOCKING`,
+    measured in results/locking.md): its error is several times what a method that does not lock gives; the message
+    names what to use instead.  Silence it with the warning filters (``warnings.simplefilter("ignore",
+    ndf.LockingWarning)``)."""
+
+
+def check_locking(nu, method, order):
+    """Warn (:class:`LockingWarning`) where ``method`` locks at Poisson's ratio ``nu`` (the largest on the mesh)
+    with elements of degree ``order`` (the lowest), by :meth:`Method.locks`; the message names the measured
+    consequence (:class:`Locking`), the methods that do not lock at degree ``order`` at all (up to nu = 0.49999)
+    and the lowest degree at which ``method`` does not lock at ``nu``, if any."""
+    order = int(order)
+    if not method.locks(nu, order):
+        return
+    found = method.locking_at(order)
+    instead = [m.name for m in sorted(METHODS.values(), key=lambda m: m.symmetry != 1) if m.locking_at(order) is None]
+    higher = next((q for q in range(order + 1, len(method.locking) + 1) if not method.locks(nu, q)), None)
+    names = [f"'{name}'" for name in instead]
+    use = [f"method={names[0] if len(names) == 1 else ', '.join(names[:-1]) + ' or ' + names[-1]} "
+           f"({'it does' if len(names) == 1 else 'they do'} not lock up to nu = 0.49999)"] if names else []
+    use += [f"order >= {higher}"] if higher is not None else []
+    warn(f"{method.name} with elements of degree {order} locks at nu = {nu:.6g}: on a divergence-free contact "
+         f"solution its energy error grows to {found.growth:.3g} times its value at nu = 0.3 at nu = {found.nu:g} and "
+         f"to {found.worst:.3g} times at nu = 0.49999 (results/locking.md)."
+         + (f"  Use {', or '.join(use)}." if use else ""), LockingWarning)
 
 
 def penalty(method, material, eta, order):
