@@ -208,7 +208,7 @@ def _lifting_parts(disc, u, constants):
     method, problem, mesh = disc.method, disc.problem, disc.mesh
     if method.penalty != "lift" and not method.global_lift:
         return {}
-    ops = liftings(problem, disc.material, mesh, disc.V_plain, disc.orders)
+    ops = liftings(problem, disc.material, mesh, disc.V, disc.orders)
     kernel = ops.kernel(disc.penalty.boundary if method.penalty == "lift" else 0.0, float(method.global_lift))
     jumps = ops.moments_of(u.vec.FV().NumPy())
     if ops.data is not None:

@@ -17,7 +17,7 @@ def hp():
     ndf.meshes.refine(mesh, np.arange(mesh.ne) % 2 == 0)
     orders = np.random.default_rng(5).integers(1, 5, size=mesh.ne)
     disc = ndf.Discretization(p, mesh, method="sipg", order=orders)
-    facets = liftings(disc.problem, disc.material, mesh, disc.V_plain, orders).facets
+    facets = liftings(disc.problem, disc.material, mesh, disc.V, orders).facets
     return disc, ElementBlocks.of(orders, disc.V.ndof), neighbours(facets)[0]
 
 

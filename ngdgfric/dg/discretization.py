@@ -200,11 +200,10 @@ class Discretization:
         self.h_e = edge_length(mesh)
         self.h_penalty = penalty_length(mesh)
         self.dS = contact_measure(problem, mesh, self.contact_order)
-        # the trial space of the liftings' moments and the test space of the mixed contact forms (NGSolve crashes on
-        # mixed skeleton forms whose test space has facet couplings; H^1 has none to leave out)
-        self.V_plain = self.V if self.method.conforming else dg_space(mesh, order, dgjumps=False)
         self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
+        # the test space of the mixed contact forms (H^1 has no facet couplings to leave out)
+        self.V_plain = self.V if self.method.conforming else dg_space(mesh, order, dgjumps=False)
         self.timings["setup"] = time.perf_counter() - start
 
     def _largest_law(self):
@@ -224,7 +223,7 @@ class Discretization:
                                  self.h_penalty):
                 a += term
             a.Assemble()
-            A, lifted_load = lifting_terms(problem, self.material, mesh, self.V_plain, self.orders, self.method,
+            A, lifted_load = lifting_terms(problem, self.material, mesh, self.V, self.orders, self.method,
                                            self.penalty.boundary, a.mat)
             f = ngs.LinearForm(self.V)
             for term in load_terms(problem, self.material, mesh, v, self.method, self.penalty, self.p,

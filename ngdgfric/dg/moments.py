@@ -23,11 +23,6 @@ from .forms import has_dirichlet_data, normal_part
 
 __all__ = ["Liftings", "liftings", "csr"]
 
-# the moments' tensor components are xx, yy, xy:
-STRAIN = np.array([1.0, 1.0, 2.0])  # sigma : tau = sum_c STRAIN_c sigma_c tau_c in the components xx, yy, xy
-TRACE = np.array([1.0, 1.0, 0.0])  # tr sigma = sum_c TRACE_c sigma_c
-
-
 @dataclass
 class Liftings:
     """The lifting operators of one discretisation in moment form (module docstring).
@@ -49,19 +44,15 @@ class Liftings:
     q: int
 
     def kernel(self, local=0.0, total=1.0):
-        """The tensor kernels (ne, 3, 3 q, 3, 3 q) over (local edge, a; component) reordered as (ne, 9 q, 9 q) rows
-        (component, local edge, a): ``total`` times the kernel of r_0 plus ``local`` times its diagonal edge blocks
-        (those of the r_e)."""
+        """The tensor kernels, (ne, 9 q, 9 q) with rows and columns (component, local edge, a): ``total`` times the
+        kernel of r_0 plus ``local`` times its diagonal edge blocks (those of the r_e); from the scalar kernels by
+        (C r, r) = 2 mu r : r + lam tr(r)^2, r : r = r_xx^2 + r_yy^2 + 2 r_xy^2, tr r = r_xx + r_yy."""
         ne, q = len(self.facets), self.q
-        scalar = []
-        for kernel in (self.mu_kernel, self.lam_kernel):
-            k = total * kernel
-            if local:
-                blocks = kernel.reshape(ne, 3, q, 3, q) * np.eye(3)[None, :, None, :, None]
-                k = k + local * blocks.reshape(ne, 3 * q, 3 * q)
-            scalar.append(k)
-        tensor = np.einsum("c,cd,tij->tcidj", STRAIN, np.eye(3), scalar[0]) + \
-            np.einsum("c,d,tij->tcidj", TRACE, TRACE, scalar[1])
+        mu, lam = (total * k + local * (k.reshape(ne, 3, q, 3, q) * np.eye(3)[None, :, None, :, None]).reshape(k.shape)
+                   for k in (self.mu_kernel, self.lam_kernel))
+        tensor = np.zeros((ne, 3, 3 * q, 3, 3 * q))
+        tensor[:, 0, :, 0], tensor[:, 1, :, 1], tensor[:, 2, :, 2] = mu + lam, mu + lam, 2 * mu
+        tensor[:, 0, :, 1] = tensor[:, 1, :, 0] = lam
         return tensor.reshape(ne, 9 * q, 9 * q)
 
     def moments_of(self, vector):
@@ -85,8 +76,8 @@ class Liftings:
 
 
 def liftings(problem, material, mesh, V, orders):
-    """The :class:`Liftings` of V_h (``V``: its space without facet couplings, element degrees ``orders``; Sigma_h
-    of the largest) on ``mesh``."""
+    """The :class:`Liftings` of V_h (``V``: its space, element degrees ``orders``; Sigma_h of the largest) on
+    ``mesh``."""
     order = int(np.max(orders))
     q = order + 1
     facet_space = ngs.FacetFESpace(mesh, order=order)
