@@ -35,8 +35,10 @@ def test_augmented_matrix(problem):
     n, m = A.shape[0], B.shape[0]
     K = np.zeros((n + m, n + m))
     K[np.repeat(np.arange(n + m), np.diff(indptr)), cols] = values
-    full = np.block([[A, B.T], [B, np.zeros((m, m))]])
+    full = np.block([[np.zeros((m, m)), B], [B.T, A]])  # the trace rows first
     assert np.array_equal(K, np.triu(full) if disc.symmetric else full)
+    rows = np.repeat(np.arange(n + m), np.diff(indptr))
+    assert np.array_equal(rows[rows == cols], np.arange(n + m))  # every diagonal entry stored, the zeros too
     assert all(np.all(np.diff(cols[indptr[i]:indptr[i + 1]]) > 0) for i in range(n + m))  # sorted rows
 
 

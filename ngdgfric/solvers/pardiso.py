@@ -1,13 +1,26 @@
 """MKL PARDISO through ctypes: a sparse factorisation that returns a Schur complement.
 
-The contact solver (:mod:`ngdgfric.solvers.condensation`) needs the Schur complement of the last ``m``
-rows of a sparse matrix K, computed by one partial factorisation (PARDISO's ``iparm[35] = 2``:
-the other rows are eliminated first, the dense m x m Schur complement is returned), and solves
-with the eliminated block through the forward (phase 331) and backward (phase 333) substitutions
-of that factorisation.  NGSolve's own direct solvers (sparsecholesky, umfpack) have no Schur
-complement; PARDISO comes with the ``mkl`` wheel from PyPI (x86_64), which NGSolve's wheel also
-finds at run time.  :func:`available` says whether it is there; without it the contact solver
-takes a slower path with NGSolve's solvers (same results).
+The contact solver (:mod:`ngdgfric.solvers.condensation`) needs the Schur complement of the first ``m``
+rows of a sparse matrix K, computed by one partial factorisation (PARDISO's ``iparm[35] = 1``:
+the other rows are eliminated, the dense m x m Schur complement is returned), and solves with the
+eliminated block through the forward (phase 331) and backward (phase 333) substitutions of that
+factorisation.  NGSolve's own direct solvers (sparsecholesky, umfpack) have no Schur complement;
+PARDISO comes with the ``mkl`` wheel from PyPI (x86_64), which NGSolve's wheel also finds at run
+time.  :func:`available` says whether it is there; without it the contact solver takes a slower path
+with NGSolve's solvers (same results).
+
+**Matrix types** (measured on the matrices of Example 6.2, h = 1/16, one MKL thread, CPU seconds
+of analysis + factorisation, 2026-12): a symmetric K whose eliminated block is positive definite
+(the DG matrix A of SIPG, Bassi, Brezzi, LDG and cg with a coercive penalty) is factorised by
+Cholesky (PARDISO's type 2): 0.96 s at p = 7 (36,864 DOFs) against 1.22 s with the symmetric
+indefinite type -2 (Bunch-Kaufman pivots; the numerical phase alone 0.50 s against 0.74 s), with
+the same fill.  A nonsymmetric K (NIPG) is PARDISO's type 11.  ``iparm[35] = 1`` computes the Schur
+complement without factorising it: the Schur block of K is -B A^-1 B^T, negative definite, and
+with ``iparm[35] = 2`` PARDISO also factorises it, which for type 2 fails with error -4; the
+partial substitutions 331 and 333 work after either (checked against dense linear algebra in
+tests/test_pardiso.py).  Block storage (``iparm[36] < 0``, VBSR) crashed the process together with
+a Schur complement; minimum degree ordering (``iparm[1] = 0``) gave the same factor as the default
+nested dissection when a Schur complement is asked for.
 
 Reference: Intel oneMKL Developer Reference, "pardiso" and "pardiso iparm Parameter"
 (iparm[35], phases 331-333); PETSc's ``mkl_pardiso.c`` uses the same sequence.
@@ -23,7 +36,7 @@ from ..errors import SolverError
 __all__ = ["available", "SchurFactorization", "PardisoError", "PHASES"]
 
 _LIBRARY = None
-PHASES = {12: "analysis and factorisation", 331: "forward substitution", 332: "diagonal substitution",
+PHASES = {12: "analysis and factorisation", 331: "forward substitution",
           333: "backward substitution", -1: "release of memory"}
 ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering problem", -4: "zero pivot",
           -5: "unclassified (internal) error", -6: "reordering failed", -7: "diagonal matrix is singular",
@@ -73,14 +86,15 @@ def _pointer(array):
 
 
 class SchurFactorization:
-    """PARDISO factorisation of a square CSR matrix K with the Schur complement of its last rows.
+    """PARDISO factorisation of a square CSR matrix K with the Schur complement of its first rows.
 
     indptr, indices, data: K in CSR (0-based, column indices sorted in each row); for
     ``symmetric`` only the upper triangle, diagonal included (also where it is zero).
-    n_schur: the last ``n_schur`` rows and columns form the Schur block.  ``symmetric``: K is
-    real symmetric (PARDISO's symmetric indefinite type -2, Bunch-Kaufman pivots), else real
-    nonsymmetric (type 11).  Pivots of the eliminated block below 1e-13 times the largest are
-    perturbed (iparm[9] = 13), so that block must be nonsingular, as a coercive B_h is.
+    n_schur: the first ``n_schur`` rows and columns form the Schur block S; the others, I, are
+    eliminated.  ``symmetric``: K is real symmetric and K_II positive definite (Cholesky, PARDISO's
+    type 2; PardisoError with code -4 if K_II is not), else K is real nonsymmetric (type 11; pivots
+    of K_II below 1e-13 times the largest are perturbed, iparm[9] = 13, so K_II must be
+    nonsingular, as a coercive B_h is).
 
     After construction ``schur`` holds K_SS - K_SI K_II^-1 K_IS (dense, n_schur x n_schur) and
     :meth:`solve_eliminated` solves with K_II.
@@ -98,22 +112,20 @@ class SchurFactorization:
         self._indptr = np.ascontiguousarray(indptr, dtype=np.int32)
         self._indices = np.ascontiguousarray(indices, dtype=np.int32)
         self._data = np.ascontiguousarray(data, dtype=np.float64)
-        self._mtype = np.array([-2 if symmetric else 11], dtype=np.int32)
+        self._mtype = np.array([2 if symmetric else 11], dtype=np.int32)
         self._pt = np.zeros(64, dtype=np.int64)
         self._iparm = np.zeros(64, dtype=np.int32)
         lib.pardisoinit(_pointer(self._pt), _pointer(self._mtype), _pointer(self._iparm))
         self._iparm[7] = 0    # no iterative refinement (partial solves cannot refine)
-        self._iparm[9] = 13   # pivot perturbation 1e-13
-        self._iparm[12] = 0   # no weighted matching (keeps the Schur rows last)
+        self._iparm[9] = 13   # pivot perturbation 1e-13 (type 11)
+        self._iparm[12] = 0   # no weighted matching (keeps the Schur rows together)
         self._iparm[34] = 1   # 0-based indices
-        self._iparm[35] = 2   # Schur complement, factorisation kept for partial solves
+        self._iparm[35] = 1   # Schur complement, not factorised (module docstring)
         self._perm = np.zeros(self.n, dtype=np.int32)
-        self._perm[self.n - self.n_schur:] = 1
+        self._perm[:self.n_schur] = 1
         self.schur = np.zeros((self.n_schur, self.n_schur))
         self._released = False
         self._call(12, x=self.schur)  # analysis + numerical factorisation + Schur complement
-        if not symmetric:  # returned row by row
-            self.schur = np.ascontiguousarray(self.schur)
 
     def _call(self, phase, b=None, x=None, nrhs=1):
         error = np.zeros(1, dtype=np.int32)
@@ -137,20 +149,16 @@ class SchurFactorization:
         Schur system would have (forward substitution, phase 331), and x_I from the backward
         substitution (phase 333) with the Schur part of the solution set to ``x_schur``.
         """
-        m = self.n - self.n_schur
+        m = self.n_schur
         b = np.zeros(self.n)
-        b[:m] = b_eliminated
+        b[m:] = b_eliminated
         x = np.zeros(self.n)
         self._call(331, b=b, x=x)
-        r_schur = x[m:].copy()
-        if self._mtype[0] == -2:  # symmetric indefinite: D^-1 between the triangular solves
-            y = np.zeros(self.n)
-            self._call(332, b=x, x=y)
-            x = y
-        x[m:] = x_schur
+        r_schur = x[:m].copy()
+        x[:m] = x_schur
         out = np.zeros(self.n)
         self._call(333, b=x, x=out)
-        return out[:m], r_schur
+        return out[m:], r_schur
 
     def release(self):
         """Free PARDISO's memory (also done when the object is garbage collected)."""
