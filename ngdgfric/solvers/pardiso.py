@@ -14,7 +14,11 @@ of analysis + factorisation, 2026-12): a symmetric K whose eliminated block is p
 (the DG matrix A of SIPG, Bassi, Brezzi, LDG and cg with a coercive penalty) is factorised by
 Cholesky (PARDISO's type 2): 0.96 s at p = 7 (36,864 DOFs) against 1.22 s with the symmetric
 indefinite type -2 (Bunch-Kaufman pivots; the numerical phase alone 0.50 s against 0.74 s), with
-the same fill.  A nonsymmetric K (NIPG) is PARDISO's type 11.  ``iparm[35] = 1`` computes the Schur
+the same fill.  A nonsymmetric K (NIPG) is PARDISO's type 11.  Its structurally symmetric type 1 was 10 %
+faster for NIPG (1.76 s against 1.96 s at p = 7, the same factors: its analysis skips forming the pattern
+of K + K^T) but factorised a matrix whose pattern is not symmetric silently wrong (a 5x error in the Schur
+complement) or crashed the process, and checking the pattern costs a sort of K's entries: not used.
+``iparm[35] = 1`` computes the Schur
 complement without factorising it: the Schur block of K is -B A^-1 B^T, negative definite, and
 with ``iparm[35] = 2`` PARDISO also factorises it, which for type 2 fails with error -4; the
 partial substitutions 331 and 333 work after either (checked against dense linear algebra in
@@ -28,6 +32,7 @@ Reference: Intel oneMKL Developer Reference, "pardiso" and "pardiso iparm Parame
 
 import ctypes
 import importlib.metadata
+import time
 
 import numpy as np
 
@@ -36,8 +41,8 @@ from ..errors import SolverError
 __all__ = ["available", "SchurFactorization", "PardisoError", "PHASES"]
 
 _LIBRARY = None
-PHASES = {12: "analysis and factorisation", 331: "forward substitution",
-          333: "backward substitution", -1: "release of memory"}
+PHASES = {11: "analysis", 22: "numerical factorisation", 331: "forward substitution", 333: "backward substitution",
+          -1: "release of memory"}
 ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering problem", -4: "zero pivot",
           -5: "unclassified (internal) error", -6: "reordering failed", -7: "diagonal matrix is singular",
           -8: "32-bit integer overflow", -9: "not enough memory for OOC", -10: "error opening OOC files",
@@ -96,8 +101,10 @@ class SchurFactorization:
     of K_II below 1e-13 times the largest are perturbed, iparm[9] = 13, so K_II must be
     nonsingular, as a coercive B_h is).
 
-    After construction ``schur`` holds K_SS - K_SI K_II^-1 K_IS (dense, n_schur x n_schur) and
-    :meth:`solve_eliminated` solves with K_II.
+    After construction ``schur`` holds K_SS - K_SI K_II^-1 K_IS (dense, n_schur x n_schur),
+    :meth:`solve_eliminated` solves with K_II, and ``seconds`` holds the wall-clock seconds of the
+    ``analysis`` (PARDISO's phase 11: ordering, symbolic factorisation) and of the numerical
+    ``factorisation`` with the Schur complement (phase 22).
     """
 
     def __init__(self, indptr, indices, data, n_schur, symmetric):
@@ -125,7 +132,11 @@ class SchurFactorization:
         self._perm[:self.n_schur] = 1
         self.schur = np.zeros((self.n_schur, self.n_schur))
         self._released = False
-        self._call(12, x=self.schur)  # analysis + numerical factorisation + Schur complement
+        self.seconds = {}
+        for phase, name in ((11, "analysis"), (22, "factorisation")):
+            start = time.perf_counter()
+            self._call(phase, x=self.schur)
+            self.seconds[name] = time.perf_counter() - start
 
     def _call(self, phase, b=None, x=None, nrhs=1):
         error = np.zeros(1, dtype=np.int32)
