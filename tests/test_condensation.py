@@ -56,6 +56,33 @@ def test_delassus_operator_and_recovery(problem, linear_solver):
     assert np.allclose(condensation.correction(df), -np.linalg.solve(A, B.T @ df), atol=1e-14 * np.abs(u).max())
 
 
+@pytest.mark.skipif(not pardiso.available(), reason="needs MKL PARDISO")
+def test_cholesky_and_lu_give_the_same_condensation(problem):
+    """For a symmetric method PARDISO's Cholesky of the upper triangle (the contact solver's choice) and its LU of
+    the whole matrix agree to round-off: W, w0 and a recovered displacement."""
+    disc, A, B, F = problem
+    if not disc.symmetric:
+        pytest.skip("NIPG has no Cholesky")
+    cholesky, lu = (Condensation(disc.A, disc.F, disc.traces, symmetric, "pardiso") for symmetric in (True, False))
+    assert np.allclose(cholesky.W, lu.W, rtol=0, atol=1e-12 * np.abs(lu.W).max())
+    assert np.allclose(cholesky.w0, lu.w0, rtol=0, atol=1e-12 * np.abs(lu.w0).max())
+    f = np.random.default_rng(1).standard_normal(B.shape[0])
+    u = lu.displacement(f)
+    assert np.allclose(cholesky.displacement(f), u, rtol=0, atol=1e-12 * np.abs(u).max())
+
+
+@pytest.mark.skipif(not pardiso.available(), reason="needs MKL PARDISO")
+def test_a_penalty_below_coercivity_is_refused_by_the_factorisation():
+    """SIPG with eta = 0.05 mu (far below its threshold) has an indefinite A: Cholesky stops with a SolverError
+    naming the penalty.  (The symmetric indefinite factorisation used before solved it: 7 Newton steps to a
+    meaningless u.)"""
+    p = ndf.example_6_1()
+    disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4), method="sipg", order=2, eta=0.05 * p.mu,
+                              penalty_check="ignore")
+    with pytest.raises(ndf.SolverError, match="coercive.*penalty eta"):
+        Condensation(disc.A, disc.F, disc.traces, disc.symmetric, "pardiso")
+
+
 def test_unknown_linear_solver_is_rejected(problem):
     disc = problem[0]
     with pytest.raises(ValueError, match="linear_solver"):

@@ -43,7 +43,7 @@ __all__ = ["available", "SchurFactorization", "PardisoError", "PHASES"]
 _LIBRARY = None
 PHASES = {11: "analysis", 22: "numerical factorisation", 331: "forward substitution", 333: "backward substitution",
           -1: "release of memory"}
-ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering problem", -4: "zero pivot",
+ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering problem", -4: "zero or negative pivot",
           -5: "unclassified (internal) error", -6: "reordering failed", -7: "diagonal matrix is singular",
           -8: "32-bit integer overflow", -9: "not enough memory for OOC", -10: "error opening OOC files",
           -11: "read/write error with OOC files", -12: "pardiso_64 called from 32-bit library"}
