@@ -71,6 +71,39 @@ def test_symmetric_mode_needs_a_positive_definite_eliminated_block():
     assert np.allclose(factorization.schur, -W, atol=1e-12 * np.abs(W).max())
 
 
+class ThreadSpy:
+    """MKL's library, recording MKL's thread count for this thread at every PARDISO call."""
+
+    def __init__(self, real):
+        self.real, self.seen = real, []
+        self.pardisoinit, self.MKL_Set_Num_Threads_Local = real.pardisoinit, real.MKL_Set_Num_Threads_Local
+
+    def pardiso(self, *args):
+        self.seen.append(self.real.MKL_Get_Max_Threads())
+        self.real.pardiso(*args)
+
+
+@pytest.mark.parametrize("size", [50, pardiso.PARALLEL_FROM + 10])
+def test_small_systems_run_on_one_mkl_thread_and_the_setting_comes_back(monkeypatch, size):
+    real = pardiso._library()
+    spy = ThreadSpy(real)
+    monkeypatch.setattr(pardiso, "_library", lambda: spy)
+    everywhere = real.MKL_Get_Max_Threads()
+    K = sparse_identity_saddle(size)
+    factorization = pardiso.SchurFactorization(*K, 1, True)
+    factorization.solve_eliminated(np.ones(size - 1), np.zeros(1))
+    assert factorization.schur[0, 0] == pytest.approx(-1.0, rel=1e-14)  # -B B^T for B = e_1^T
+    assert spy.seen == [1 if size < pardiso.PARALLEL_FROM else everywhere] * 4  # analysis, factorisation, 331, 333
+    assert real.MKL_Get_Max_Threads() == everywhere
+
+
+def sparse_identity_saddle(size):
+    """Upper triangle of K = [[0, e_1^T], [e_1, I]] (size x size) in CSR: Schur complement -1."""
+    cols = np.concatenate([[0, 1], np.arange(1, size)])
+    indptr = np.concatenate([[0], 2 + np.arange(size)])
+    return indptr, cols, np.concatenate([[0.0, 1.0], np.ones(size - 1)])
+
+
 def test_bad_schur_size_is_rejected():
     with pytest.raises(ValueError, match="n_schur"):
         pardiso.SchurFactorization(*csr_of(np.eye(3), True), 3, True)
@@ -81,7 +114,7 @@ class FailingPardiso:
 
     def __init__(self, real, phase, code):
         self.real, self.phase, self.code = real, phase, code
-        self.pardisoinit = real.pardisoinit
+        self.pardisoinit, self.MKL_Set_Num_Threads_Local = real.pardisoinit, real.MKL_Set_Num_Threads_Local
 
     def pardiso(self, *args):
         self.real.pardiso(*args)
