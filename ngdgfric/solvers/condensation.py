@@ -15,8 +15,10 @@ comes back with one more substitution.  Two ways to get W:
   LU for NIPG); w0 comes from its forward substitution and u from its backward substitution
   (:class:`ngdgfric.solvers.pardiso.SchurFactorization`; costs in results/linear_solvers.md).
 * ``"ngsolve"``: A factorised by NGSolve (sparsecholesky for symmetric A, else umfpack) and W
-  assembled column by column from 2M back-substitutions: the same W, slower on large meshes.
-  Used when the ``mkl`` wheel is not installed.
+  assembled column by column from 2M back-substitutions: the same W, 3-11 times slower for SIPG on
+  Example 6.2 from 1,536 to 15,360 DOFs, p = 2-7 (best of 3, 2026-12; at p = 7, h = 1/16 sparsecholesky
+  alone took 2.5 s and the 256 back-substitutions 30 s, against 1.1 s for PARDISO's factorisation with the
+  Schur complement).  Used when the ``mkl`` wheel is not installed.
 
 The recovered u is improved by iterative refinement with A while its residual A u + B^T f - F is
 above 1e-13 ||F|| (condition numbers of A reach 1e8 for nu -> 1/2).

@@ -9,22 +9,29 @@ PARDISO comes with the ``mkl`` wheel from PyPI (x86_64), which NGSolve's wheel a
 time.  :func:`available` says whether it is there; without it the contact solver takes a slower path
 with NGSolve's solvers (same results).
 
-**Matrix types** (measured on the matrices of Example 6.2, h = 1/16, one MKL thread, CPU seconds
-of analysis + factorisation, 2026-12): a symmetric K whose eliminated block is positive definite
-(the DG matrix A of SIPG, Bassi, Brezzi, LDG and cg with a coercive penalty) is factorised by
-Cholesky (PARDISO's type 2): 0.96 s at p = 7 (36,864 DOFs) against 1.22 s with the symmetric
-indefinite type -2 (Bunch-Kaufman pivots; the numerical phase alone 0.50 s against 0.74 s), with
-the same fill.  A nonsymmetric K (NIPG) is PARDISO's type 11.  Its structurally symmetric type 1 was 10 %
-faster for NIPG (1.76 s against 1.96 s at p = 7, the same factors: its analysis skips forming the pattern
-of K + K^T) but factorised a matrix whose pattern is not symmetric silently wrong (a 5x error in the Schur
-complement) or crashed the process, and checking the pattern costs a sort of K's entries: not used.
-``iparm[35] = 1`` computes the Schur
-complement without factorising it: the Schur block of K is -B A^-1 B^T, negative definite, and
-with ``iparm[35] = 2`` PARDISO also factorises it, which for type 2 fails with error -4; the
-partial substitutions 331 and 333 work after either (checked against dense linear algebra in
-tests/test_pardiso.py).  Block storage (``iparm[36] < 0``, VBSR) crashed the process together with
-a Schur complement; minimum degree ordering (``iparm[1] = 0``) gave the same factor as the default
-nested dissection when a Schur complement is asked for.
+**What is used** (measured on the matrices of Example 6.2, h = 1/16, one MKL thread, CPU seconds of analysis +
+factorisation, best of 3, 2026-12, issue 38):
+
+* a symmetric K whose eliminated block is positive definite (the DG matrix A of SIPG, Bassi, Brezzi, LDG and
+  cg with a coercive penalty): Cholesky, PARDISO's type 2, 0.96 s at p = 7 (36,864 DOFs) against 1.22 s with
+  the symmetric indefinite type -2 used before (Bunch-Kaufman pivots; numerical phase 0.50 s against 0.74 s),
+  the same fill; a nonsymmetric K (NIPG): type 11;
+* ``iparm[35] = 1``: the Schur complement without factorising it.  K's Schur block is -B A^-1 B^T, negative
+  definite, and with ``iparm[35] = 2`` PARDISO also factorises it, which type 2 refuses (error -4); the partial
+  substitutions 331 and 333 work after either (checked against dense linear algebra in tests/test_pardiso.py);
+* one MKL thread for small systems (:func:`mkl_threads`).
+
+**Tried and not used** (same measurements): PARDISO's structurally symmetric type 1 for NIPG, 10 % faster
+(1.76 s against 1.96 s, the same factors: its analysis skips forming the pattern of K + K^T), factorised a
+matrix whose pattern is not symmetric silently wrong (a 5x error in the Schur complement) or crashed, and
+checking the pattern costs a sort of K's entries.  Block storage crashed together with a Schur complement,
+both BSR (``iparm[36] = 2``, the x and y components of a DOF as 2 x 2 blocks) and VBSR (``iparm[36] < 0``).
+Minimum degree ordering (``iparm[1] = 0``) gives the same factor as nested dissection once a Schur complement is
+asked for; the two-level factorisation (``iparm[23] = 1`` or 10) was no faster on two cores.  W from a plain
+Cholesky of A and 2M forward substitutions, W = Y^T Y with Y = L^-1 B^T: 1.09 s with minimum degree (the
+factorisation alone 0.69 s, the dense substitutions 0.25 s), 0.99 s with VBSR (analysis 0.16 s instead of
+0.34 s) but W 5e-11 away; marking B^T's rows as a sparse right-hand side (``iparm[30] = 2``) made the
+substitutions cheap (0.03 s) and the factorisation dearer (1.04 s).
 
 Reference: Intel oneMKL Developer Reference, "pardiso" and "pardiso iparm Parameter"
 (iparm[35], phases 331-333); PETSc's ``mkl_pardiso.c`` uses the same sequence.
