@@ -60,7 +60,7 @@ ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering pro
 class PardisoError(SolverError):
     """PARDISO returned an error code: a failure of the contact solver (a :class:`~ngdgfric.errors.SolverError`,
     exit code 1 of the command line).  ``phase``: PARDISO's phase number (None: the library is missing);
-    ``code``: its error code (oneMKL reference, "pardiso": -4 zero pivot, -2 out of memory, ...)."""
+    ``code``: its error code (oneMKL reference, "pardiso": -4 zero or negative pivot, -2 out of memory, ...)."""
 
     def __init__(self, message, phase=None, code=None):
         super().__init__(message, solver="MKL PARDISO")
