@@ -254,8 +254,8 @@ def level_line(level_record, solver):
     r = level_record
     orders = f"p {r['p_min']}..{r['p_max']}, " if r["p_max"] > r["p_min"] else ""
     return (f"level {r['level']:3d}: {r['ndof']:7d} dofs, {orders}eta_h = {r['eta_h']:.4e}, {solver} "
-            f"{r['iterations']} iterations, {r['solve_seconds']:.2f} s solve, "
-            f"{r['estimate_seconds'] + r['mark_refine_seconds']:.2f} s estimate+refine")
+            f"{r['iterations']} iterations, {r['solve_seconds']:.2f} s solve ({r['assemble_seconds']:.2f} s of it "
+            f"assembly), {r['estimate_seconds'] + r['mark_refine_seconds']:.2f} s estimate+refine")
 
 
 def _say_level(say, solver, level_record):

@@ -31,7 +31,7 @@ def example_6_2():
 # the paper's examples (also the names the command line takes instead of a file)
 EXAMPLES = {"6.1": example_6_1, "6.2": example_6_2}
 # the shipped scenes, by the stem of their file in ngdgfric/data (each file's comment describes it):
-# half_disk, block_with_hole, two_materials_symmetric, indentation
+# half_disk, block_with_hole, two_materials_symmetric, indentation, rubber_pad
 SCENES = tuple(name for name in shipped_files() if name not in PAPER_EXAMPLES)
 
 

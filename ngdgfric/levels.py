@@ -27,8 +27,8 @@ from .transfer import WarmStart, copy_orders, discontinuous, multiplier_snapshot
 __all__ = ["AdaptiveLoop", "FIELDS", "record", "target", "out_of_time", "settle", "too_large", "frozen_older_objects"]
 
 FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",
-          "iterations", "solve_seconds", "estimate_seconds", "mark_refine_seconds", "h_min", "min_angle",
-          "p_min", "p_max"]
+          "iterations", "solve_seconds", "assemble_seconds", "estimate_seconds", "mark_refine_seconds", "h_min",
+          "min_angle", "p_min", "p_max"]
 
 
 
@@ -134,7 +134,8 @@ def record(level, sol, est, state, seconds, tol):
     mesh = sol.mesh
     return dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta_h=est.eta_h,
                 **{k: math.sqrt(v) for k, v in est.terms_squared.items()}, eta_lin=sol.info.get("linearization", 0.0),
-                iterations=sol.iterations, solve_seconds=seconds["solve"], estimate_seconds=seconds["estimate"],
+                iterations=sol.iterations, solve_seconds=seconds["solve"], assemble_seconds=sol.timings["assemble"],
+                estimate_seconds=seconds["estimate"],
                 mark_refine_seconds=seconds["mark_refine"], h_min=float(element_diameters(mesh).min()),
                 min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()),
                 target=math.nan if tol is None else tol)

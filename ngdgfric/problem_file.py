@@ -65,7 +65,7 @@ Every datum (a vector datum component by component) is a number or a string expr
 bad expressions raise ValueError naming the file and key.
 
 Shipped problem files (:func:`example_file`): the paper's Examples 6.1 and 6.2 and the scenes
-``half_disk``, ``block_with_hole``, ``two_materials_symmetric`` and ``indentation``.
+``half_disk``, ``block_with_hole``, ``two_materials_symmetric``, ``indentation`` and ``rubber_pad``.
 """
 
 from pathlib import Path

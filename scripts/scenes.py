@@ -12,7 +12,9 @@ or against an hp reference computed here by hp-adaptive SIPG to a relative estim
 ``REFERENCE_RTOL``), its observed rate in h, the estimator eta_h and its effectivity eta_h / error, the
 KKT residuals of Lemma 3.1 against the round-off floor (``ndf.contact.rounding_residual``), Newton
 iterations and seconds.  Then ``ndf.adapt(problem, tol=rtol |||u|||)`` with its defaults (method chosen by
-the library) and its true error against tol.
+the library) and its true error against tol.  Last, the shipped rubber pad under a steel plate (regions, E ratio
+2e4, nu = 0.49, a hole, friction): adapt with rtol = 1e-3, its seconds of assembly, contact solve and estimate per
+level, and its true error against a finer adapt solution.
 
     python scripts/scenes.py [--quick] [--scene NAME ...] [--workers N] [--out DIR]
 """
@@ -51,6 +53,7 @@ SCENES = {"layers-pressure": layers_pressure, "layers-indented": layers_indented
 ORDERS = (1, 2, 3)
 RTOL = {"layers-cut": 0.1}  # adapt's target relative to |||u|||; 1e-2 elsewhere (h^(1/2) where a jump cuts elements)
 DEFAULT_RTOL = 1e-2
+PAD_RTOL = 1e-3  # the rubber pad's adapt target, relative to |||u_h|||
 ROUND_OFF = 1e-8  # relative errors below: the solution lies in V_h (round-off times the condition number)
 REFERENCE_RTOL, REFERENCE_MAX_NDOF = 1e-5, 400_000  # the hp references: eta_h <= 1e-5 |||u|||
 QUICK = dict(orders=(1,), methods=("sipg", "bassi"), levels=2, reference_rtol=1e-3, rtol=0.1)
@@ -156,6 +159,45 @@ def run_adapt(item):
     return row
 
 
+def run_pad(quick):
+    """The shipped rubber pad under a steel plate (``example_file("rubber_pad")``: two regions, E ratio 2e4, nu = 0.49
+    in the rubber, a circular hole, friction, a symmetry side, u_D): ``adapt(problem, rtol=PAD_RTOL)`` with its
+    defaults, per level the seconds of assembly, contact solve and estimate, and its true error against a finer
+    adapt solution of the same scene (rtol ten times smaller; a Reference file cannot hold curved elements)."""
+    problem = ndf.load_problem(ndf.example_file("rubber_pad"))
+    rtol = QUICK["rtol"] if quick else PAD_RTOL
+    start = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = ndf.adapt(problem, rtol=rtol, progress=None)
+        seconds = time.perf_counter() - start
+        finer = ndf.adapt(problem, rtol=rtol / 10, progress=None).solution
+    norm = ndf.energy_norm(finer)
+    error = ndf.energy_error(run.solution, finer)
+    levels = [dict(level=r["level"], ndof=r["ndof"], p_max=r["p_max"], assemble=r["assemble_seconds"],
+                   solve=r["solve_seconds"] - r["assemble_seconds"], estimate=r["estimate_seconds"],
+                   refine=r["mark_refine_seconds"]) for r in run.levels]
+    return dict(scene="rubber-pad", method=run.method, reason=run.method_reason, rtol=rtol, stopped=run.stopped,
+                seconds=seconds, ndof=run.solution.ndof, error=error, relative=error / norm,
+                finer_ndof=finer.ndof, levels=levels)
+
+
+def pad_section(pad):
+    """The report's section of :func:`run_pad`."""
+    total = {key: sum(level[key] for level in pad["levels"]) for key in ("assemble", "solve", "estimate", "refine")}
+    return ["## rubber-pad: `adapt(problem, rtol)` on a scene where DG is the right tool", "",
+            f"`ngdgfric adaptive rubber_pad.toml --rtol {pad['rtol']:g}` (the shipped scene, `ndf.example_file("
+            f"\"rubber_pad\")`): {pad['method']} ({pad['reason']}); stopped on {pad['stopped']} after "
+            f"{len(pad['levels'])} levels, {pad['ndof']} DOFs, {pad['seconds']:.1f} s; true error "
+            f"{pad['relative']:.3g} |||u||| against adapt's solution with rtol / 10 ({pad['finer_ndof']} DOFs), "
+            f"error / tol = {pad['relative'] / pad['rtol']:.3g}.  Seconds per level:", "",
+            markdown_table(["level", "DOFs", "p max", "assembly", "contact solve", "estimate", "mark + refine"],
+                           [(r["level"], r["ndof"], r["p_max"], f"{r['assemble']:.2f}", f"{r['solve']:.2f}",
+                             f"{r['estimate']:.2f}", f"{r['refine']:.2f}") for r in pad["levels"]]), "",
+            f"In all: assembly {total['assemble']:.1f} s, contact solve (factorisation included) {total['solve']:.1f} "
+            f"s, estimate {total['estimate']:.1f} s, mark and refine {total['refine']:.1f} s.", ""]
+
+
 def hertz_comparison(scene, solution):
     """Contact force P, half-width a and peak pressure p0 of ``solution`` (a Reference or Solution of the Hertz
     scene) against Hertz theory for the same P: a dict."""
@@ -220,7 +262,7 @@ def scene_table(name, rows):
     return markdown_table(header, lines)
 
 
-def write_report(out, rows, adapts, references, quick):
+def write_report(out, rows, adapts, references, quick, pad):
     failures = [r for r in rows if r["status"] != "solved"]
     solved = [r for r in rows if r["status"] == "solved"]
     worst_kkt = max(r["equilibrium"] / max(r["rounding"], 1e-14) for r in solved)
@@ -249,6 +291,7 @@ def write_report(out, rows, adapts, references, quick):
                                else "no") for a in adapts]), "",
               "\"exact\": the solution lies in V_h, the first mesh gives it to round-off and eta_h is at round-off "
               "too, so the loop stops at once (below tol / 10: nothing to adapt).", ""]
+    lines += pad_section(pad)
     hertz_rows = [a["hertz"] for a in adapts if "hertz" in a]
     if hertz_rows:
         h = hertz_rows[0]
@@ -300,9 +343,13 @@ def main(argv=None):
         say(f"adapt {row['scene']}: {row['stopped']} after {row['levels']} levels, error / tol = "
             f"{row['error_over_tol']:.3g}")
     write_csv(args.out / "scenes_adapt.csv", [{k: a[k] for k in ADAPT_FIELDS} for a in adapts], ADAPT_FIELDS)
-    write_report(args.out, rows, adapts, references, args.quick)
+    pad = run_pad(args.quick)
+    say(f"rubber pad: {pad['method']}, {len(pad['levels'])} levels, {pad['seconds']:.1f} s, error / tol = "
+        f"{pad['relative'] / pad['rtol']:.3g}")
+    write_csv(args.out / "scenes_pad.csv", pad["levels"])
+    write_report(args.out, rows, adapts, references, args.quick, pad)
     say(f"wrote {args.out / 'scenes.md'}")
-    return rows, adapts
+    return rows, adapts, pad
 
 
 if __name__ == "__main__":

@@ -35,7 +35,7 @@ def solve_by_command_line(path, tmp_path, monkeypatch, *options):
 
 
 def test_the_scenes_are_shipped_and_loadable_by_name():
-    assert set(SCENES) == {"half_disk", "block_with_hole", "two_materials_symmetric", "indentation"}
+    assert set(SCENES) == {"half_disk", "block_with_hole", "two_materials_symmetric", "indentation", "rubber_pad"}
     assert set(shipped_files()) == {"6.1", "6.2", *SCENES}
     for name in SCENES:
         assert example_file(name).name == f"{name}.toml"

@@ -149,6 +149,9 @@ def test_scenes(tmp_path):
     shape = [a for a in read_csv(tmp_path / "scenes_adapt.csv") if a["scene"] == "l-shape"][0]
     assert shape["stopped"] == "tol" and shape["error"] <= shape["tol"]
     assert shape["error_over_tol"] == pytest.approx(shape["error"] / shape["tol"], rel=1e-6)
+    pad = read_csv(tmp_path / "scenes_pad.csv")  # the rubber pad at rtol 0.1: assembly inside the solve time
+    assert len(pad) >= 1 and all(0 < r["assemble"] and 0 < r["solve"] for r in pad)
+    assert "rubber-pad" in (tmp_path / "scenes.md").read_text()
 
 
 def test_hertz(tmp_path):
