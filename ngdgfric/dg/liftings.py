@@ -135,7 +135,6 @@ def _edge_terms(ops, kernel, sides, other, across, pattern):
     inner = other >= 0
     edge_kernel = blocks.copy()
     edge_kernel[inner] += blocks[other[inner], across[inner]]
-    edge_kernel[~ops.used[ops.facets]] = 0.0
     weighted = {}
     for chosen, (n,) in _by_size(sizes):
         b = sides.get(3 * chosen[:, None] + np.arange(3), n)  # (count, 3, 3 q, 2 n)

@@ -23,22 +23,21 @@ from .forms import has_dirichlet_data, normal_part
 
 __all__ = ["Liftings", "liftings", "csr"]
 
+
 @dataclass
 class Liftings:
     """The lifting operators of one discretisation in moment form (module docstring).
 
     ``moments``: the NGSolve matrix B of u -> m[u] (rows: component c, facet, a; a facet space of degree ``q - 1``,
     components xx, yy, xy one after the other); ``facets``: the facet-space index of every element's three edges
-    (ne, 3); ``mu_kernel``, ``lam_kernel``: S_T of 2 mu and of lam, (ne, 3 q, 3 q) over (local edge, a);
-    ``used``: the facets of E_h^o and of the symmetry sides, those with moments (bool, one per facet);
-    ``data``: m[u_D] on the Dirichlet edges, (3, facets, q), None if u_D = 0; ``blocks``: the element blocks of
-    V_h (:class:`~ngdgfric.dg.blocks.ElementBlocks`)."""
+    (ne, 3); ``mu_kernel``, ``lam_kernel``: S_T of 2 mu and of lam, (ne, 3 q, 3 q) over (local edge, a), zero on
+    the edges of Gamma_F and Gamma_C (not in E_h^o); ``data``: m[u_D] on the Dirichlet edges, (3, facets, q), None
+    if u_D = 0; ``blocks``: the element blocks of V_h (:class:`~ngdgfric.dg.blocks.ElementBlocks`)."""
 
     moments: object
     facets: np.ndarray
     mu_kernel: np.ndarray
     lam_kernel: np.ndarray
-    used: np.ndarray
     data: object
     blocks: ElementBlocks
     q: int
@@ -86,33 +85,38 @@ def liftings(problem, material, mesh, V, orders):
                                                                           "contact")}
     boundary = sum(parts.values())
     with threads(V.ndof):
-        moments = _moment_matrix(problem, mesh, V, facet_space, parts)
+        moments = _moment_matrix(mesh, V, facet_space, parts["symmetry"] if problem.sides("symmetry") else None)
         weighted, facets = _element_facets(material, cells, facet_space, boundary, q)
         gram = _facet_blocks(facet_space, boundary, q)
-        mu_kernel, lam_kernel = _kernels(material, cells, weighted, gram, facets, q)
+        unused = parts["traction"].vec.FV().NumPy() + parts["contact"].vec.FV().NumPy() > 0.5
+        mu_kernel, lam_kernel = _kernels(material, cells, weighted, gram, facets, unused, q)
         data = _dirichlet_moments(problem, mesh, facet_space, parts["dirichlet"], q)
-    unsupported = parts["traction"].vec.FV().NumPy() + parts["contact"].vec.FV().NumPy()
-    used = unsupported < 0.5  # interior, Dirichlet and symmetry edges
-    return Liftings(moments, facets, mu_kernel, lam_kernel, used, data, ElementBlocks.of(orders, V.ndof), q)
+    return Liftings(moments, facets, mu_kernel, lam_kernel, data, ElementBlocks.of(orders, V.ndof), q)
 
 
-def _jump(u, n, parts):
-    """The tensor jump [u] = sym(u (x) n) of one side of an edge of E_h^o ((u . n) n (x) n on symmetry sides, 0 on
-    Gamma_F and Gamma_C), as its components (xx, yy, xy): both sides of an interior edge add up to sym([u] (x) n)."""
-    inside = 1 - parts["traction"] - parts["contact"] - parts["symmetry"]
-    w = inside * u + parts["symmetry"] * normal_part(u, n)
+def _tensor(w, n):
+    """The components (xx, yy, xy) of sym(w (x) n)."""
     return w[0] * n[0], w[1] * n[1], 0.5 * (w[0] * n[1] + w[1] * n[0])
 
 
-def _moment_matrix(problem, mesh, V, facet_space, parts):
-    """B: u -> m[u] (module docstring) as an NGSolve matrix from V_h to the facet space, components xx, yy, xy."""
+def _moment_matrix(mesh, V, facet_space, symmetry):
+    """B: u -> m[u] (module docstring) as an NGSolve matrix from V_h to the facet space, components xx, yy, xy: the
+    moments of sym(u (x) n) from every element's side of every edge (both sides of an interior edge add up to
+    sym([u] (x) n); the rows of Gamma_F and Gamma_C are left out by the kernels, :func:`_kernels`), on the symmetry
+    sides (``symmetry``: their facet indicator, None if there are none) those of sym((u . n) n (x) n).  An
+    indicator in the integrand doubles the assembly's cost, so the symmetry sides get a form of their own."""
     u, n = V.TrialFunction(), ngs.specialcf.normal(2)
     space = facet_space**3
-    form = ngs.BilinearForm(trialspace=V, testspace=space)
-    form += sum(j * psi for j, psi in zip(_jump(u, n, parts), space.TestFunction(), strict=True)) * \
-        ngs.dx(element_boundary=True)
-    form.Assemble()
-    return form.mat
+    jumps = [_tensor(u, n)] if symmetry is None else [_tensor(u, n), _tensor(symmetry * (normal_part(u, n) - u), n)]
+    forms = []
+    for jump in jumps:
+        form = ngs.BilinearForm(trialspace=V, testspace=space)
+        form += sum(j * psi for j, psi in zip(jump, space.TestFunction(), strict=True)) * ngs.dx(element_boundary=True)
+        form.Assemble()
+        forms.append(form)
+    if len(forms) > 1:
+        forms[0].mat.AsVector().data += forms[1].mat.AsVector()  # the same pattern
+    return forms[0].mat
 
 
 def _element_facets(material, cells, facet_space, boundary, q):
@@ -163,10 +167,11 @@ def _facet_blocks(facet_space, boundary, q):
     return np.linalg.inv(values[own].reshape(-1, q, q))
 
 
-def _kernels(material, cells, weighted, gram, facets, q):
-    """S_T of 2 mu and of lam (module docstring), (ne, 3 q, 3 q) each."""
+def _kernels(material, cells, weighted, gram, facets, unused, q):
+    """S_T of 2 mu and of lam (module docstring), (ne, 3 q, 3 q) each, without the edges ``unused`` (Gamma_F,
+    Gamma_C: bool per facet; their rows and columns are zero)."""
     ne = len(facets)
-    inverse_gram = gram[facets]  # (ne, 3, q, q)
+    inverse_gram = gram[facets] * ~unused[facets][:, :, None, None]  # (ne, 3, q, q)
     lifted = (weighted.reshape(ne, -1, 3, q).transpose(0, 2, 1, 3) @ inverse_gram).transpose(0, 2, 1, 3)
     lifted = lifted.reshape(ne, -1, 3 * q)
     mass = _element_mass(cells, 1.0)
