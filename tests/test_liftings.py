@@ -46,14 +46,14 @@ def _varying():  # E and nu vary inside the elements: degree-p fields, weights t
     return p, ndf.uniform_mesh(p, 1 / 4), 2
 
 
-def _layered():  # five geometric layers towards a corner, p = 4: elements 1/32 of the coarse ones
+def _layered():  # four geometric layers towards a corner, p = 3: elements 1/16 of the coarse ones
     from ngdgfric.hp import containing
 
     p = ndf.example_6_1()
     mesh = ndf.uniform_mesh(p, 0.5)
-    for _ in range(5):
+    for _ in range(4):
         refine(mesh, containing(mesh, p.geometry.corners[:1]), bisections=2)
-    return p, mesh, 4
+    return p, mesh, 3
 
 
 SCENES = {"bisected": _bisected, "hp": _hp, "symmetric": _symmetric, "curved": _curved, "varying": _varying,
@@ -67,7 +67,7 @@ def test_the_lifting_terms_are_those_of_the_definition(scene):
     built from the definition edge by edge (tests/reference_liftings.py) for Bassi et al., Brezzi et al. and LDG, to
     round-off (measured <= 1e-15 relative; tested at 1e-12): on a bisected Netgen mesh, with degrees 1..4 per
     element, with regions, an interface, a symmetry side and u_D, on curved elements, with a material that varies
-    inside the elements, and on five layers of elements down to 1/32 of the coarse ones."""
+    inside the elements, and on four layers of elements down to 1/16 of the coarse ones."""
     p, mesh, order = SCENES[scene]()
     parts = None
     for method in LIFTING_METHODS:
