@@ -246,20 +246,23 @@ def main(argv=None):
 
 
 def comparison(rows):
-    """Per case and target: adapt, the best baseline p, the best DG method, and the ratios to the baseline."""
+    """Per case and target: adapt, the best baseline p, the best DG method, SIPG's and Bassi et al.'s own adapt, and
+    the ratios adapt / baseline, best DG / baseline, SIPG / baseline and Bassi / SIPG (NaN where a run is missing)."""
     table, verdicts = [], []
     for (name, target), group in itertools.groupby(rows, key=lambda r: (r["case"], r["target"])):
         group = list(group)
         adapt = _fastest([r for r in group if r["run"] == "adapt"])
         base = _fastest([r for r in group if r["run"].startswith("baseline")])
         dg = _fastest([r for r in group if r["run"] in ndf.DG_METHODS])
-        ratio = adapt["seconds"] / base["seconds"] if adapt and base else math.nan
-        dg_ratio = dg["seconds"] / base["seconds"] if dg and base else math.nan
-        verdicts.append((name, target, ratio, dg_ratio))
+        sipg, bassi = (_fastest([r for r in group if r["run"] == m]) for m in ("sipg", "bassi"))
+        ratios = [a["seconds"] / b["seconds"] if a and b else math.nan
+                  for a, b in ((adapt, base), (dg, base), (sipg, base), (bassi, sipg))]
+        verdicts.append((name, target, *ratios))
         show = lambda r: "-" if r is None else f"{r['seconds']:.2f} ({r['ndof']}, {r['levels']})"  # noqa: E731
         table.append([name, f"{group[0]['relative']:g}" + ("" if name in ndf.examples.EXAMPLES else " rel."),
                       show(adapt), "-" if base is None else f"{base['run'][-2:]}: {show(base)}",
-                      "-" if dg is None else f"{dg['run']}: {show(dg)}", fmt(ratio, ".2f"), fmt(dg_ratio, ".2f")])
+                      "-" if dg is None else f"{dg['run']}: {show(dg)}", show(sipg), show(bassi),
+                      *(fmt(ratio, ".2f") for ratio in ratios)])
     return table, verdicts
 
 
@@ -273,7 +276,8 @@ def report(rows, stops, out):
     table, verdicts = comparison(rows)
     lines += findings(rows, verdicts)
     lines += [markdown_table(["case", "target", "adapt s (DOFs, levels)", "baseline: best p, s (DOFs, levels)",
-                              "best DG method, s (DOFs, levels)", "adapt / baseline", "DG / baseline"], table), ""]
+                              "best DG method, s (DOFs, levels)", "sipg", "bassi", "adapt / baseline",
+                              "DG / baseline", "SIPG / baseline", "Bassi / SIPG"], table), ""]
     lines += stopping_section(stops)
     lines += ["All runs, each at its first level below the target:", "",
               markdown_table(["case", "run", "target", "s", "DOFs", "levels", "true error"],
@@ -285,26 +289,21 @@ def report(rows, stops, out):
 
 
 def findings(rows, verdicts):
-    """The Markdown lines summing up the ratios to the baseline (none without a finite ratio)."""
-    finite = [v for v in verdicts if math.isfinite(v[2])]
-    if not finite:
-        return []
-    worst = max(finite, key=lambda v: v[2])
-    lines = ["## Findings", "",
-             f"- adapt / baseline: at most {worst[2]:.2f} ({worst[0]}, target {worst[1]:.3g}); at or below 1 in "
-             f"{sum(v[2] <= 1 for v in finite)} of {len(finite)} (case, target) pairs; median "
-             f"{sorted(v[2] for v in finite)[len(finite) // 2]:.2f}."]
-    dg = [v for v in verdicts if math.isfinite(v[3])]
-    if dg:
-        worst_dg = max(dg, key=lambda v: v[3])
-        lines.append(f"- best DG method / baseline: at most {worst_dg[3]:.2f} ({worst_dg[0]}, target "
-                     f"{worst_dg[1]:.3g}); within 2 in {sum(v[3] <= 2 for v in dg)} of {len(dg)}.")
+    """The Markdown lines summing up the ratios (none without a finite ratio) and the DG runs without a result."""
+    lines = ["## Findings", ""]
+    for column, text, bound in ((2, "adapt / baseline", 1), (3, "best DG method / baseline", 2),
+                                (4, "adapt(method='sipg') / baseline", 2), (5, "adapt(method='bassi') / SIPG's", 1.5)):
+        finite = [v for v in verdicts if math.isfinite(v[column])]
+        if finite:
+            worst = max(finite, key=lambda v: v[column])
+            lines.append(f"- {text}: at most {worst[column]:.2f} ({worst[0]}, target {worst[1]:.3g}); at or below "
+                         f"{bound:g} in {sum(v[column] <= bound for v in finite)} of {len(finite)} (case, target) "
+                         f"pairs; median {sorted(v[column] for v in finite)[len(finite) // 2]:.2f}.")
     missing = [f"{method} on {name}" for name in dict.fromkeys(r["case"] for r in rows) for method in ndf.DG_METHODS
                if not any(r["case"] == name and r["run"] == method for r in rows)]
-    if missing:
-        lines.append(f"- DG runs without a result (the contact solver failed, or stopped by hand after 7 minutes, "
-                     f"see the issue's closing note): {', '.join(missing)}.")
-    return lines + [""]
+    lines.append(f"- DG runs without a result (a SolverError, named in the run's output): "
+                 f"{', '.join(missing) if missing else 'none'}.")
+    return lines + [""] if len(lines) > 2 else []
 
 
 def stopping_section(stops):
