@@ -244,12 +244,6 @@ def findings(table):
     failed = [r for r in table if r["status"] != "solved"]
     for r in failed:
         out.append(f"- {r['geometry']}, {r['method']} P{r['p']}: {r['status']}")
-    if any("not diagonal" in r["status"] for r in failed):
-        out.append("- The lifting methods (Bassi, Brezzi, LDG) stop for p >= 2 on curved meshes: "
-                   "ngdgfric/liftings.py inverts the mass matrix of the lifting space Sigma_h as a diagonal "
-                   "matrix (orthogonal basis), which it is only on affine elements; on curved elements it is "
-                   "block diagonal (one dense block per element and component).  A core issue, reported; "
-                   "p = 1 (straight elements) is unaffected.")
     straight = rates("annulus, straight edges")
     for r in straight:
         curved = [c for c in rates("annulus, curved") if c["method"] == r["method"] and c["p"] == r["p"]]
