@@ -17,6 +17,8 @@ import numpy as np
 
 from .checks import estimated_bytes
 from .contact import transitions
+from .dg.discretization import space
+from .dg.methods import get_method
 from .hp import HPState, hp_refine
 from .marking import dorfler_mark, landing_theta
 from .meshes import element_diameters, minimum_angle, refine
@@ -109,8 +111,12 @@ class AdaptiveLoop:
                        seconds)
 
     def too_large(self, limits, refinement):
-        """:func:`too_large` for this mesh and state."""
-        return too_large(self.mesh, self.state, limits, self.max_order is not None, self._refine, refinement)
+        """:func:`too_large` for this mesh and state, counting the DOFs of the method's V_h (the conforming
+        baseline's are about half the DG count on the same mesh and orders)."""
+        method = get_method(self.solve_options["method"])
+        count = None if not method.conforming else lambda mesh, state: space(
+            self.problem, mesh, self.order if self.max_order is None else state.orders, method).ndof
+        return too_large(self.mesh, self.state, limits, self.max_order is not None, self._refine, refinement, count)
 
     def refine(self, refinement):
         """Carry the solution over, then refine the mesh in place (h or hp) and update the state."""
@@ -181,7 +187,7 @@ def timed(seconds, key, function, *args, **kwargs):
     return result
 
 
-def too_large(mesh, state, limits, hp, refine_mesh, refinement):
+def too_large(mesh, state, limits, hp, refine_mesh, refinement, count=None):
     """"max_ndof" if the refined mesh would have more than ``limits["max_ndof"]`` DOFs, "memory" if its solve
     would need more than ``limits["max_bytes"]`` (the memory model of :func:`ngdgfric.checks.check_size`),
     else None.
@@ -190,12 +196,15 @@ def too_large(mesh, state, limits, hp, refine_mesh, refinement):
     passes) and raising p_T to p_T + 1 at most doubles its n_T = (p_T + 1)(p_T + 2) DOFs (so at most
     quadruples its memory n_T (1000 + 270 n_T)); near the limits the refinement is done on a copy
     of the mesh (Netgen's copy keeps the bisection data, so the copy refines exactly as the mesh would).
+    ``count``: callable(mesh, state) -> the DOFs of the method's V_h there (None: the DG count ``state.ndof``,
+    which bounds the conforming one from above, so the first test holds for both).
     """
     max_ndof, max_bytes = limits["max_ndof"], limits["max_bytes"]
     growth, memory_growth = (32, 64) if hp else (4, 4)
     if state.ndof * growth <= max_ndof and estimated_bytes(state.orders) * memory_growth <= max_bytes:
         return None
-    refined = refine_mesh(ngs.Mesh(mesh.ngmesh.Copy()), state, **refinement)
-    if refined.ndof > max_ndof:
+    copy = ngs.Mesh(mesh.ngmesh.Copy())
+    refined = refine_mesh(copy, state, **refinement)
+    if (refined.ndof if count is None else count(copy, refined)) > max_ndof:
         return "max_ndof"
     return "memory" if estimated_bytes(refined.orders) > max_bytes else None

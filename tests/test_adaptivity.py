@@ -55,6 +55,16 @@ def test_adapt_stops_before_exceeding_max_ndof():
     assert len(run.levels) < 50
 
 
+def test_max_ndof_counts_the_conforming_dofs_for_cg():
+    run = ndf.adapt(ndf.example_6_2(), method="cg", order=2, hp=False, max_levels=50, max_ndof=3000, progress=None)
+    last = run.levels[-1]
+    assert last["ndof"] <= 3000 and run.stopped == "max_ndof"
+    assert last["elements"] * 12 > 3000  # the DG count of this mesh at p = 2, (p + 1)(p + 2) per element: not the one
+    further = ndf.adapt(ndf.example_6_2(), method="cg", order=2, hp=False, max_levels=len(run.levels) + 1,
+                        progress=None)
+    assert further.levels[-1]["ndof"] > 3000  # the next level would have exceeded the budget
+
+
 def test_interrupted_run_keeps_finished_levels(tmp_path):
     path = tmp_path / "levels.csv"
     code = ("import ngdgfric as ndf; "

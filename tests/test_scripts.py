@@ -240,13 +240,40 @@ def test_bench_assembly(tmp_path):
 
 
 def test_work_precision(tmp_path):
-    run("work_precision", tmp_path, "--example", "6.2", "--cache", str(tmp_path / "cache"))
-    rows = read_csv(tmp_path / "work_precision_6_2.csv")
-    for name, group in _groups(rows, ("run",)):
-        assert all(b["ndof"] > a["ndof"] for a, b in zip(group, group[1:], strict=False)), name
-        assert len(group) == 1 or group[-1]["error"] < group[0]["error"], name  # refining reduces the true error
-        assert all(1 < r["eta_h"] / r["error"] for r in group), name
-    for name in ("work_precision_6_2.png", "work_precision_6_2_dofs.png", "work_precision.md"):
+    fronts = run("work_precision", tmp_path, "--example", "6.2")
+    rows = read_csv(tmp_path / "work_precision.csv", labels=("example", "method", "strategy"))
+    assert {r["method"] for r in rows} == {"sipg", "cg", "baseline", "adapt default"}
+    runs = _groups([r for r in rows if r["method"] in ("sipg", "cg")], ("method", "strategy", "p"))
+    assert len(runs) == 2 * (4 + 3 + 1)  # uniform p = 1-4, h-adaptive p = 1-3, hp-adaptive
+    for (method, strategy, p), group in runs:
+        assert all(r["ndof"] <= 6000 for r in group), (method, strategy, p)  # --quick's DOF budget, cg's own DOFs
+        assert all(b["ndof"] > a["ndof"] and b["error"] < a["error"] for a, b in zip(group, group[1:], strict=False))
+        assert all(1 < r["eta_h"] / r["error"] < 5 for r in group)  # the default estimator bounds the true error
+        if strategy != "uniform":  # cumulative seconds
+            assert all(b["seconds"] > a["seconds"] for a, b in zip(group, group[1:], strict=False))
+    by_run = dict(runs)
+    for method in ("sipg", "cg"):  # each method's front beats its uniform P1 meshes by far at a fraction of the DOFs
+        uniform = by_run[method, "uniform", 1]
+        assert len(uniform) >= 4 and by_run[method, "hp", 4][-1]["error"] < 0.2 * uniform[-1]["error"]
+        # P1 on uniform meshes: the singularities of the contact ends limit the rate in N to well below 1/2
+        rate = -np.polyfit(np.log([r["ndof"] for r in uniform[1:]]), np.log([r["error"] for r in uniform[1:]]), 1)[0]
+        assert 0.15 < rate < 0.5, (method, rate)
+    # the fronts: by increasing seconds the error falls, each a measured point, none beaten by another of its runs
+    for name, best in fronts["6.2"].items():
+        mine = [r for r in rows if r["method"] == name]
+        assert best and all(b["seconds"] > a["seconds"] and b["error"] < a["error"]
+                            for a, b in zip(best, best[1:], strict=False)), name
+        for point in best:
+            assert not any(r["seconds"] <= point["seconds"] and r["error"] < point["error"] for r in mine), name
+        assert all(any(f["seconds"] <= r["seconds"] and f["error"] <= r["error"] for f in best) for r in mine), name
+    # adapt(problem, tol=0.1) with its defaults: the conforming hp loop, one of cg's hp levels, below the tolerance
+    default, = (r for r in rows if r["method"] == "adapt default")
+    assert default["strategy"] == "hp (cg)" and default["error"] < default["eta_h"] <= 0.1
+    assert default["ndof"] in [r["ndof"] for r in by_run["cg", "hp", 4]]
+    report = (tmp_path / "work_precision.md").read_text()
+    assert f"Regenerate: `python benchmarks/work_precision.py --quick --out {tmp_path} --example 6.2`" in report
+    assert "| 0.1 | baseline | p = " in report and "Failed runs: none." in report
+    for name in ("work_precision.png", "work_precision_dofs.png"):
         assert (tmp_path / name).stat().st_size > 0
 
 

@@ -17,6 +17,8 @@ def test_uniform_strategy_stops_at_the_dof_budget(example_and_reference):
     records = strategy_run(problem, "uniform", reference=reference, max_ndof=1500)
     assert [r["ndof"] for r in records] == [48, 192, 768]  # h = 2^-1, 2^-2, 2^-3; 2^-4 would have 3072
     assert all(r["seconds"] > 0 for r in records)
+    conforming = strategy_run(problem, "uniform", method="cg", reference=reference, max_ndof=1500, progress=None)
+    assert [r["ndof"] for r in conforming] == [18, 50, 162, 578]  # 2 (1/h + 1)^2: its own DOFs, not a DG count
 
 
 @pytest.mark.parametrize("strategy, order", [("uniform", 1), ("h", 1), ("hp", 2)])

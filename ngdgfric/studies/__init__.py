@@ -3,7 +3,7 @@
 :mod:`~ngdgfric.studies.uniform`: uniform meshes h = 2^-k and consecutive differences (Tables 6.1, 6.2);
 :mod:`~ngdgfric.studies.strategies`: uniform, h- and hp-refinement measured against a reference;
 :mod:`~ngdgfric.studies.measures`: observed rates, slopes and relative differences;
-:mod:`~ngdgfric.studies.cases`: single cases of the stability and work-precision studies, run through
+:mod:`~ngdgfric.studies.cases`: single cases of the stability study, run through
 :mod:`~ngdgfric.studies.runner` (dask.distributed, cached on disk);
 :mod:`~ngdgfric.studies.manufactured`: manufactured solutions; :mod:`~ngdgfric.studies.paper`: the
 paper's printed tables.

@@ -1,4 +1,4 @@
-"""Single cases of the stability and work-precision studies: plain dict in, plain dict out.
+"""Single cases of the stability study (scripts/stability.py): plain dict in, plain dict out.
 
 Each function builds everything from the case's parameters, so it can run in any dask worker
 (:mod:`ngdgfric.studies.runner`).  A solver that fails is a result, not an error: ``status`` records it.
@@ -24,10 +24,9 @@ from ..reference import energy_error, energy_norm, load_reference
 from ..solution import solve
 from ..solvers.uzawa import UzawaOptions, default_rho, uzawa
 from .manufactured import elasticity_manufactured
-from .strategies import strategy_run
 
 __all__ = ["penalty_value", "energy_gram", "coercivity", "penalty_threshold", "threshold_case", "penalty_case",
-           "locking_case", "compliance_case", "friction_case", "rho_case", "precision_case"]
+           "locking_case", "compliance_case", "friction_case", "rho_case"]
 
 
 def penalty_value(problem, method, ratio):
@@ -146,22 +145,6 @@ def rho_case(case):
     except SolverError as error:
         status, iterations = _failed(error), len(error.history)
     return dict(case, rho=rho, status=status, iterations=iterations, seconds=time.perf_counter() - start)
-
-
-def precision_case(case):
-    """case: example, method, order, strategy, solver, max_ndof, reference.  The records of
-    :func:`ngdgfric.studies.strategy_run` (DOFs, eta_h with the paper's weights, true error, seconds per
-    level)."""
-    problem = example(case["example"])
-    reference = load_reference(case["reference"], problem)
-    try:
-        records = strategy_run(problem, case["strategy"], method=case["method"], order=case["order"],
-                               solver=case["solver"], reference=reference, max_ndof=case["max_ndof"],
-                               max_order=case.get("max_order", 8), variant="paper")
-        status = "converged"
-    except SolverError as error:
-        records, status = [], _failed(error)
-    return dict(case, status=status, records=records)
 
 
 def penalty_threshold(problem, mesh, method, order, low=1e-2, high=1e3, steps=14):

@@ -4,7 +4,8 @@
 import time
 
 from ..adaptivity import adapt
-from ..dg.spaces import dg_ndof
+from ..dg.discretization import space
+from ..dg.methods import get_method
 from ..estimator import deprecated_weights, estimate
 from ..meshes import uniform_mesh
 from ..progress import log, reporter
@@ -20,10 +21,10 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
                  max_levels=60, max_order=6, progress=log, keep=None, variant=None, weights=None, **options):
     """Records (ndof, eta_h, error, seconds, iterations per level) of one refinement strategy.
 
-    ``strategy``: "uniform" (uniform meshes h = 2^-1, 2^-2, ... up to ``max_ndof``; ``seconds`` is
-    the cold solve on that mesh alone: a user who knows h solves once), "h" (the adaptive loop of
+    ``strategy``: "uniform" (uniform meshes h = 2^-1, 2^-2, ... up to ``max_ndof`` DOFs of ``method``'s V_h;
+    ``seconds`` is the cold solve on that mesh alone: a user who knows h solves once), "h" (the adaptive loop of
     Section 6 in degree ``order``) or "hp" (:func:`ngdgfric.adapt` with ``hp=True`` from ``order``
-    up to ``max_order``); for both adaptive strategies ``seconds`` is the cumulative time of
+    up to ``max_order``, None: adapt's default); for both adaptive strategies ``seconds`` is the cumulative time of
     solve + estimate + mark + refine up to that level.  ``error``: |||u_ref - u_h|||_h against a
     :class:`ngdgfric.Reference` (None without one); its evaluation is not timed.  ``keep``: as in
     :func:`ngdgfric.adapt` (adaptive strategies); ``variant``: the estimator's (:func:`ngdgfric.estimate`);
@@ -43,7 +44,7 @@ def strategy_run(problem, strategy, method="sipg", order=1, solver="newton", ref
         k = 1
         while len(records) < max_levels:
             mesh = uniform_mesh(problem, 2.0**-k)
-            if dg_ndof(order, mesh.ne) > max_ndof and records:
+            if space(problem, mesh, order, get_method(method)).ndof > max_ndof and records:
                 break
             start = time.perf_counter()
             sol = solve(problem, mesh, method=method, order=order, solver=solver, **options)
