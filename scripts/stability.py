@@ -78,12 +78,52 @@ def ok(row):
     return row["status"] == "converged"
 
 
+LOCKS = 2.0  # a method locks where its error is more than twice its value at nu = 0.3 (results/locking.md's test)
+
+
+def failure(section, row, rows):
+    """Whose failure a case shows: the method's (its linear part is not coercive, so Section 3's solution may not
+    exist and the error is not bounded; or it locks: error more than LOCKS times its value at nu = 0.3), the
+    solver's (a problem with a coercive linear part and m_t = 0 has exactly one solution, Lemma 3.1, so a
+    SolverError there is the solver's), or '-' for neither."""
+    if section == "penalty" and row["lam_min"] <= 0:
+        return "method: not coercive"
+    if section == "locking" and ok(row):
+        growth = _growth([r for r in rows if ok(r)], row["method"], row["order"], row["nu"])
+        if growth > LOCKS:
+            return f"method: locks (x{growth:.1f})"
+    if not ok(row):
+        return "solver: rho beyond 2/L" if section == "rho" and row["factor"] * 1.5 >= 2 else "solver"
+    return "-"
+
+
+def failures_section(results):
+    """Markdown lines: every failure, the method's or the solver's."""
+    rows = [(section, r, failure(section, r, results[section])) for section in ("penalty", "locking", "compliance",
+                                                                                 "friction", "rho")
+            for r in results[section]]
+    method = [(s, r, f) for s, r, f in rows if f.startswith("method")]
+    solver = [(s, r, f) for s, r, f in rows if f.startswith("solver")]
+    unexplained = [(s, r, f) for s, r, f in solver if f == "solver"]
+    lines = ["## Whose failure: the method's or the solver's", "",
+             f"{len(rows)} cases: {len(method)} failures of the method (not coercive, or locking), {len(solver)} of "
+             f"the solver, of which {len(unexplained)} on a case with a unique solution and a step the theory "
+             "allows: " + (", ".join(f"{s} {_label(r)}" for s, r, _ in unexplained) or "none") + ".", ""]
+    return lines
+
+
+def _label(row):
+    """A case's parameters in a few words."""
+    keys = ("method", "order", "ratio", "nu", "c_n", "c_tau", "solver", "factor")
+    return " ".join(f"{k}={row[k]:.3g}" if isinstance(row[k], float) else f"{k}={row[k]}" for k in keys if k in row)
+
+
 def report(results, speedup):
     lines = ["# Stability: where each method fails", "",
              "Example 6.1 unless said otherwise; uniform meshes; P1-P3; Newton unless said otherwise.  Every number",
              "below comes from `stability_<section>.csv`.  ![stability](stability.png)", ""]
     lines += thresholds_section(results["threshold"]) + penalty_section(results["penalty"])
-    lines += locking_section(results["locking"]) + extremes_section(results)
+    lines += locking_section(results["locking"]) + extremes_section(results) + failures_section(results)
     if speedup:
         lines += ["## Parallel speed-up (dask.distributed LocalCluster)", "",
                   "The locking section (small cases: dask's start-up and scheduling are a visible share), without",
@@ -121,9 +161,10 @@ def penalty_section(penalty):
     lines = []
     lines += ["## Penalty sweep: coercivity, error against the reference, Newton iterations", "",
               "h = 1/8 for the solve; error |||u_ref - u_h|||_h against results/reference_6_1.npz.", "",
-              markdown_table(["method", "p", "eta/mu", "lambda_min", "error", "Newton its", "status"],
+              markdown_table(["method", "p", "eta/mu", "lambda_min", "error", "Newton its", "status", "failure"],
                              [[r["method"], r["order"], fmt(r["ratio"]), fmt(r["lam_min"]), fmt(r["error"]),
-                               fmt(r["iterations"]), r["status"][:50]] for r in penalty]), ""]
+                               fmt(r["iterations"]), r["status"][:50], failure("penalty", r, penalty)]
+                              for r in penalty]), ""]
     failed = [r for r in penalty if not ok(r)]
     unstable = [r for r in penalty if r["lam_min"] <= 0]
     coercive_failures = [r for r in failed if r["lam_min"] > 0]
@@ -151,8 +192,12 @@ def locking_section(locking):
                               for m in sorted({r["method"] for r in locking})
                               for p in sorted({r["order"] for r in locking})]), ""]
     pairs = sorted({(r["method"], r["order"]) for r in locking})
-    lines += [f"- Error growth nu = 0.3 -> {max(r['nu'] for r in locking)}: " + ", ".join(
-        f"{m} P{p} x{_growth(locking, m, p):.1f}" for m, p in pairs) + ".", ""]
+    last = max(r["nu"] for r in locking)
+    lines += [f"- Error growth nu = 0.3 -> {last}: " + ", ".join(
+        f"{m} P{p} x{_growth(locking, m, p, last):.1f}" for m, p in pairs) + ".",
+              f"- Locking (error more than {LOCKS:g} times its value at nu = 0.3), from the smallest such nu: " + (
+                  ", ".join(f"{m} P{p} from nu = {_locks_from(locking, m, p)}" for m, p in pairs
+                            if _locks_from(locking, m, p) is not None) or "none") + ".", ""]
     return lines
 
 
@@ -161,22 +206,23 @@ def extremes_section(results):
     lines = []
     lines += ["## Stiff compliance (towards Signorini)", "",
               markdown_table(["c_n", "solver", "iterations", "seconds", "max penetration", "eta_h", "cond(A + c_n N)",
-                              "status"],
+                              "status", "failure"],
                              [[fmt(r["c_n"]), r["solver"], fmt(r.get("iterations")), fmt(r["seconds"]),
-                               fmt(r.get("penetration")), fmt(r.get("eta_h")), fmt(r["condition"]), r["status"][:40]]
-                              for r in results["compliance"]]), ""]
+                               fmt(r.get("penetration")), fmt(r.get("eta_h")), fmt(r["condition"]), r["status"][:40],
+                               failure("compliance", r, results["compliance"])] for r in results["compliance"]]), ""]
     lines += ["## Friction extremes", "",
               markdown_table(["c_tau", "solver", "iterations", "seconds", "stick share", "max |u_tau|",
-                              "complementarity", "status"],
+                              "complementarity", "status", "failure"],
                              [[fmt(r["c_tau"]), r["solver"], fmt(r.get("iterations")), fmt(r["seconds"]),
                                fmt(r.get("stick_fraction")), fmt(r.get("max_slip")), fmt(r.get("complementarity")),
-                               r["status"][:40]] for r in results["friction"]]), ""]
+                               r["status"][:40], failure("friction", r, results["friction"])]
+                              for r in results["friction"]]), ""]
     lines += ["## Uzawa's step rho", "",
               "rho = factor x the default 1.5/L (L: largest eigenvalue of the linearised Uzawa map, power iteration);",
               "projected gradient theory: convergence for rho < 2/L, i.e. factor < 1.33.", "",
-              markdown_table(["factor", "rho", "iterations", "seconds", "status"],
-                             [[fmt(r["factor"]), fmt(r["rho"]), r["iterations"], fmt(r["seconds"]), r["status"][:70]]
-                              for r in results["rho"]]), ""]
+              markdown_table(["factor", "rho", "iterations", "seconds", "status", "failure"],
+                             [[fmt(r["factor"]), fmt(r["rho"]), r["iterations"], fmt(r["seconds"]), r["status"][:70],
+                               failure("rho", r, results["rho"])] for r in results["rho"]]), ""]
     return lines
 
 
@@ -188,9 +234,18 @@ def _error_range(rows):
     return f"{min(errors):.3g} ... {max(errors):.3g}" if errors else "-"
 
 
-def _growth(rows, method, order):
+def _locks_from(rows, method, order):
+    """The smallest nu at which (method, order) locks (:func:`failure`), or None."""
+    locked = [r["nu"] for r in rows if (r["method"], r["order"]) == (method, order)
+              and failure("locking", r, rows).startswith("method")]
+    return min(locked, default=None)
+
+
+def _growth(rows, method, order, nu):
+    """The relative error of (method, order) at nu over its value at the smallest nu of the study (0.3)."""
     chosen = sorted((r for r in rows if r["method"] == method and r["order"] == order), key=lambda r: r["nu"])
-    return chosen[-1]["relative_error"] / chosen[0]["relative_error"]
+    at = next(r for r in chosen if r["nu"] == nu)
+    return at["relative_error"] / chosen[0]["relative_error"]
 
 
 def plot(results, path):

@@ -108,6 +108,14 @@ def test_stability(tmp_path):
     sipg = [r for r in read_csv(tmp_path / "stability_threshold.csv") if r["method"] == "sipg"]
     assert sipg and all(1 < r["threshold_2mu_lam"] < 4.0 for r in sipg)  # below ngdgfric.dg.methods.SIPG_THRESHOLD
     assert (tmp_path / "stability.png").stat().st_size > 0
+    # whose failure: SIPG P1 on Example 6.1 at eta = 0.1 mu is not coercive, at 1000 mu it is (threshold 21.5 mu,
+    # results/stability.md), Uzawa with 4x the default rho (= 6/L) is beyond 2/L; the coercive cases with a
+    # convergent step are solved, none left to the solver
+    module = importlib.import_module("stability")
+    kinds = {(r["method"], r["ratio"]): module.failure("penalty", r, results["penalty"]) for r in results["penalty"]}
+    assert kinds[("sipg", 0.1)] == "method: not coercive" and kinds[("sipg", 1000.0)] == "-"
+    assert [module.failure("rho", r, results["rho"]) for r in results["rho"]] == ["-", "solver: rho beyond 2/L"]
+    assert "of which 0 on a case with a unique solution" in (tmp_path / "stability.md").read_text()
 
 
 def test_locking(tmp_path):
