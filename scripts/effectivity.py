@@ -1,6 +1,6 @@
 """Effectivity of the estimator: eta_h / |||u - u_h|||_h, in energy units and as printed in the paper.
 
-Cases (all five methods, p = 1..4, uniform and h-adaptive levels):
+Cases (the five DG methods and the conforming baseline cg, p = 1..4, uniform and h-adaptive levels):
 
 * ``divergence-free``: :func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured` (contact and
   no-contact, stick and slip zones, div u = 0, data independent of nu) at E = 1, 1e3, 1e6 (c_n
@@ -24,7 +24,7 @@ import time
 
 from common import RESULTS, command_line, in_processes, run_script, save_figure, say, script_parser, write_csv
 
-from ngdgfric.dg.methods import DG_METHODS
+from ngdgfric.dg.methods import METHODS
 from ngdgfric.files import write_text
 from ngdgfric.output import markdown_table
 
@@ -49,9 +49,10 @@ def tasks(quick):
         return [dict(family="divergence-free", E=1e3, nu=0.3, method="sipg", order=1, mode=mode, levels=2)
                 for mode in ("uniform", "adaptive")] + [
                 dict(family="divergence-free", E=1.0, nu=0.4999, method="brezzi", order=2, mode="uniform", levels=2),
-                dict(family="6.2", E=None, nu=None, method="nipg", order=1, mode="uniform", levels=2)]
+                dict(family="6.2", E=None, nu=None, method="nipg", order=1, mode="uniform", levels=2),
+                dict(family="6.2", E=None, nu=None, method="cg", order=2, mode="uniform", levels=2)]
     out = []
-    for method in DG_METHODS:
+    for method in METHODS:
         for order in ORDERS:
             for E in YOUNG:
                 for nu in POISSON:
@@ -214,9 +215,9 @@ def plot(rows, path):
 
     ratio = locking(rows)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    colors = {method: f"C{k}" for k, method in enumerate(DG_METHODS)}
+    colors = {method: f"C{k}" for k, method in enumerate(METHODS)}
     for ax, families in zip(axes, (("divergence-free",), ("6.1", "6.2")), strict=True):
-        for method in DG_METHODS:
+        for method in METHODS:
             group = [r for r in rows if r["family"] in families and r["method"] == method]
             for scope, marker in ((True, "o"), (False, "x")):
                 part = [r for r in group if in_scope(r, ratio) == scope]

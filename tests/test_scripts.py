@@ -137,7 +137,7 @@ def test_locking(tmp_path):
 def test_effectivity(tmp_path):
     run("effectivity", tmp_path, "--workers", "1")
     rows = read_csv(tmp_path / "effectivity.csv")
-    assert {r["family"] for r in rows} == {"divergence-free", "6.2"}
+    assert {r["family"] for r in rows} == {"divergence-free", "6.2"} and "cg" in {r["method"] for r in rows}
     for row in rows:
         assert row["effectivity"] == pytest.approx(row["eta_h"] / row["error"], rel=1e-6)
         assert 1 < row["effectivity"] < 10  # the energy-unit estimator is an upper estimate within a band
