@@ -73,6 +73,8 @@ def parse(argv=None):
     parser.add_argument("--dg", nargs="*", choices=ndf.DG_METHODS, default=list(ndf.DG_METHODS),
                         help="the DG methods whose own adapt runs are timed (default: all five)")
     parser.add_argument("--append", action="store_true", help="add the rows to those of the CSVs in --out")
+    parser.add_argument("--dg-only", action="store_true",
+                        help="only the DG methods' own adapt runs (--dg), added to the rows of the CSVs in --out")
     parser.add_argument("--stops-only", action="store_true",
                         help="only the stopping runs adapt(problem, tol); the target rows are read from "
                              "time_to_accuracy.csv in --out")
@@ -166,8 +168,9 @@ def first_mesh(name, problem):
     return SCENES[SCENE_CASES[name]]().mesh(0)
 
 
-def measure(name, repeat, quick, dg_methods):
-    """The rows of one case: adapt, the baseline per p, each DG method; best of ``repeat`` for the first two."""
+def measure(name, repeat, quick, dg_methods, dg_only=False):
+    """The rows of one case: adapt, the baseline per p, each DG method; best of ``repeat`` for the first two.
+    ``dg_only``: the DG methods' rows alone."""
     problem, reference, targets, scale = case(name)
     if quick:
         targets = targets[:2]
@@ -178,7 +181,7 @@ def measure(name, repeat, quick, dg_methods):
             if (label, target) not in runs or result[0] < runs[label, target][0]:
                 runs[label, target] = result
 
-    for _ in range(repeat):  # alternating: adapt, then the baseline at every p
+    for _ in range(0 if dg_only else repeat):  # alternating: adapt, then the baseline at every p
         keep_best("adapt", _traced(name, "adapt", adapt_history(problem, reference, targets)))
         for order in BASELINE_ORDERS[:1] if quick else BASELINE_ORDERS:
             keep_best(f"baseline P{order}", _traced(name, f"baseline P{order}",
@@ -223,18 +226,19 @@ def main(argv=None):
     args.out.mkdir(parents=True, exist_ok=True)
     names = args.case or (["6.2"] if args.quick else ["6.1", "6.2", *SCENE_CASES])
     csv_path, stops_path = args.out / "time_to_accuracy.csv", args.out / "time_to_accuracy_stops.csv"
-    rows = read_rows(csv_path) if args.report or args.append or args.stops_only else []
-    stops = read_rows(stops_path) if args.report or args.append else []
+    rows = read_rows(csv_path) if args.report or args.append or args.stops_only or args.dg_only else []
+    stops = read_rows(stops_path) if args.report or args.append or args.dg_only else []
     if args.report:
         report(rows, stops, args.out)
         plot(rows, args.out / "time_to_accuracy.png")
         return rows, stops
     for name in names:
         if not args.stops_only:
-            rows += measure(name, 1 if args.quick else args.repeat, args.quick, args.dg)
+            rows += measure(name, 1 if args.quick else args.repeat, args.quick, args.dg, args.dg_only)
             write_csv(csv_path, rows, FIELDS)
             report(rows, stops, args.out)
-        for tol in [] if name not in ndf.examples.EXAMPLES else STOP_TOLERANCES[:1] if args.quick else STOP_TOLERANCES:
+        tolerances = STOP_TOLERANCES[:1] if args.quick else STOP_TOLERANCES
+        for tol in [] if name not in ndf.examples.EXAMPLES or args.dg_only else tolerances:
             stops.append(stopping(name, tol))
             s = stops[-1]
             say(f"{name} adapt(tol={tol:g}): {s.get('levels')} levels, {fmt(s['loop_seconds'], '.2f')} s = "
@@ -301,7 +305,8 @@ def findings(rows, verdicts):
                          f"pairs; median {sorted(v[column] for v in finite)[len(finite) // 2]:.2f}.")
     missing = [f"{method} on {name}" for name in dict.fromkeys(r["case"] for r in rows) for method in ndf.DG_METHODS
                if not any(r["case"] == name and r["run"] == method for r in rows)]
-    lines.append(f"- DG runs without a result (a SolverError, named in the run's output): "
+    lines.append(f"- DG runs without a result at any target (not run, see --dg, or their solver failed before the "
+                 "first target: a SolverError, named in the run's output): "
                  f"{', '.join(missing) if missing else 'none'}.")
     return lines + [""] if len(lines) > 2 else []
 
