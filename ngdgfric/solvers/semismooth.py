@@ -52,8 +52,9 @@ problem meets the stopping test, so the subproblems only steer it).  The proxima
 nonexpansive, so which of the optimal forces is returned depends continuously on the data and the
 start; the multiplier lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration
 Example 6.1 adapted to tol = 5e-4 with E x (1 +- 1e-13) gave final eta_h differing by 3e-3 relative
-(now 4e-7).  Measured on the captured levels of Example 6.1 with energy (M = 945 ... 1926): 20-27
-Newton steps in all where the plain iteration took 42, 44, 83 and failed.  (Also tried: mu_0 = 1e-2,
+(now 4e-7).  Measured on the captured levels of Example 6.1 with energy (M = 945 ... 1926), when each
+subproblem had the whole remaining budget: 20-27 Newton steps in all where the plain iteration took 42,
+44, 83 and failed (not re-measured with the budget of 10).  (Also tried: mu_0 = 1e-2,
 1e-1 or mu / 10 per step: 19-33 steps; a smaller r in the stick/slip decision needed fewer steps only
 because it loosened the stopping test at sticking points.)  NIPG, levels 14-17 of the run above (M =
 1320 ... 1992): 23, 35, 32, 45 steps (4, 10, 13, 38 s) where the plain iteration took 96, 71, 39 steps
