@@ -48,7 +48,11 @@ problem's own iteration from f_k; mu_0 = 1e-3, mu_{k+1} = mu_k / 100 (the steps 
 outer iteration converges superlinearly: Luque, SIAM J. Control Optim. 22, 1984).  A subproblem not
 solved within ``PROXIMAL_BUDGET`` = 10 iterations, or whose globalisation gives up, is continued from
 where it stopped with 10 mu_k (an inexact proximal step: the iteration stops as soon as the original
-problem meets the stopping test, so the subproblems only steer it).  The proximal map is
+problem meets the stopping test, so the subproblems only steer it).  If the proximal method fails, the
+plain iteration follows (then, without energy, the continuation): on random NIPG-like problems with 3 of 8
+points per edge redundant (M = 240, tests/reduced_problems.py) the proximal method failed on all 8 tried,
+the old order (plain iteration, then the continuation) solved 23 of 24, and with the fallback all 20
+tried were solved, the one of the old order's failures among them.  The proximal map is
 nonexpansive, so which of the optimal forces is returned depends continuously on the data and the
 start; the multiplier lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration
 Example 6.1 adapted to tol = 5e-4 with E x (1 +- 1e-13) gave final eta_h differing by 3e-3 relative
@@ -97,8 +101,8 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     "continuation s = ...", "proximal mu = ..."); ``penetrating``, ``stick``: set sizes at the end;
     ``residual``; ``least_squares_solves``: the singular Newton systems solved by least squares so far on
     ``problem`` and its variants (:func:`~ngdgfric.solvers.reduced.dense_solve`).  Redundant problems with
-    m_t = 0 go through the proximal point method; without energy, a failed iteration is followed by a
-    continuation (module docstring).
+    m_t = 0 go through the proximal point method, and if that fails the plain iteration; without energy, a
+    failed iteration is followed by a continuation (module docstring).
     Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations, and
     :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
     ``budget``: the continuation's iterations in all, as a multiple of maxit (None: no limit but its step).
@@ -116,10 +120,17 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
 
 def _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol=None, deadline=None, counted=0):
     """:func:`solve` without the continuation: the proximal point method where the forces are not unique and the
-    problem is monotone (redundant points, m_t = 0, with or without energy), else :func:`iterate`."""
+    problem is monotone (redundant points, m_t = 0, with or without energy), and if that fails the plain
+    :func:`iterate` from f (which solved problems where the proximal subproblems kept failing: random W with
+    3 of 8 points per edge redundant); else :func:`iterate`."""
     if problem.redundant and not problem.quasi_variational:
-        return _proximal(problem, problem.project(f) if problem.energy_merit else f, solver_tol, maxit, progress,
-                         energy_tol, deadline, counted)
+        try:
+            return _proximal(problem, problem.project(f) if problem.energy_merit else f, solver_tol, maxit,
+                             progress, energy_tol, deadline, counted)
+        except TimeLimitError:
+            raise
+        except SolverError as error:
+            counted += max(len(error.history), 1)
     return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline)
 
 
