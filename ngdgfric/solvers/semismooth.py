@@ -46,9 +46,10 @@ whose symmetric part is positive semidefinite):
 a problem of the same class with unique forces and a well-conditioned Newton system, solved by the
 problem's own iteration from f_k; mu_0 = 1e-3, mu_{k+1} = mu_k / 100 (the steps 1 / mu_k grow, so the
 outer iteration converges superlinearly: Luque, SIAM J. Control Optim. 22, 1984).  A subproblem not
-solved within ``PROXIMAL_BUDGET`` = 10 iterations, or whose globalisation gives up, is continued from
-where it stopped with 10 mu_k (an inexact proximal step: the iteration stops as soon as the original
-problem meets the stopping test, so the subproblems only steer it).  If the proximal method fails, the
+solved within ``PROXIMAL_BUDGET`` = 10 iterations (without energy; with energy within the remaining
+maxit), or whose globalisation gives up, is continued from where it stopped with 10 mu_k (an inexact
+proximal step: the iteration stops as soon as the original problem meets the stopping test, so the
+subproblems only steer it).  If the proximal method fails, the
 plain iteration follows (then, without energy, the continuation): on random NIPG-like problems with 3 of 8
 points per edge redundant (M = 240, tests/reduced_problems.py) the proximal method failed on all 8 tried,
 the old order (plain iteration, then the continuation) solved 23 of 24, and with the fallback all 20
@@ -56,9 +57,10 @@ tried were solved, the one of the old order's failures among them.  The proximal
 nonexpansive, so which of the optimal forces is returned depends continuously on the data and the
 start; the multiplier lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration
 Example 6.1 adapted to tol = 5e-4 with E x (1 +- 1e-13) gave final eta_h differing by 3e-3 relative
-(now 4e-7).  Measured on the captured levels of Example 6.1 with energy (M = 945 ... 1926), when each
-subproblem had the whole remaining budget: 20-27 Newton steps in all where the plain iteration took 42,
-44, 83 and failed (not re-measured with the budget of 10).  (Also tried: mu_0 = 1e-2,
+(now 4e-7).  Measured on the captured levels of Example 6.1 with energy (M = 945 ... 1926), each subproblem
+with the whole remaining budget: 20-27 Newton steps in all where the plain iteration took 42, 44, 83 and
+failed.  (A budget of 10 there too made hp SIPG on Example 6.1, tol = 1e-4, run past 22 levels with eta_h
+rising to 5e-3, against 14 levels and 26 s.)  (Also tried: mu_0 = 1e-2,
 1e-1 or mu / 10 per step: 19-33 steps; a smaller r in the stick/slip decision needed fewer steps only
 because it loosened the stopping test at sticking points.)  NIPG, levels 14-17 of the run above (M =
 1320 ... 1992): 23, 35, 32, 45 steps (4, 10, 13, 38 s) where the plain iteration took 96, 71, 39 steps
@@ -74,7 +76,8 @@ from .complementary_energy import SIGMA, energy_step
 __all__ = ["solve", "iterate", "merit", "SIGMA"]
 
 PROXIMAL_START, PROXIMAL_DECREASE = 1e-3, 100.0  # mu_0 and mu_k / mu_{k+1} of the proximal point method
-# a proximal subproblem not solved within PROXIMAL_BUDGET iterations is continued with mu x PROXIMAL_INCREASE
+# without energy (NIPG), a proximal subproblem not solved within PROXIMAL_BUDGET iterations is continued with
+# mu x PROXIMAL_INCREASE
 PROXIMAL_BUDGET, PROXIMAL_INCREASE = 10, 10.0
 # m_t > 0: the inner solves T(f) stop at INNER x the outer relative KKT residual, at most INNER_LOOSEST, at least
 # the outer solver_tol
@@ -327,7 +330,10 @@ def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None
                                      w0=problem.w0 + mu * problem.diagonal * f, redundant=False)
         steps.append(f"proximal mu = {mu:g}")
         try:
-            f, info = iterate(subproblem, f, solver_tol, min(PROXIMAL_BUDGET, maxit - iterations), progress,
+            # without energy at most PROXIMAL_BUDGET steps per subproblem; with energy the whole remaining budget
+            # (the budget of 10 there made hp SIPG on Example 6.1 pick other forces: eta_h rose to 5e-3 at level 18)
+            budget = maxit - iterations if problem.energy_merit else min(PROXIMAL_BUDGET, maxit - iterations)
+            f, info = iterate(subproblem, f, solver_tol, budget, progress,
                               energy_tol, outer=problem, counted=counted + iterations, deadline=deadline,
                               unfinished=True)
         except TimeLimitError:
