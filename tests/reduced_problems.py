@@ -33,6 +33,27 @@ def random_problem(seed, M=12, symmetric=True, redundant=False, c_n=1e3, c_tau=5
     return ReducedContact(**data), (A, B, F)
 
 
+def redundant_edges_problem(seed, edges=30, q=8, k=5, c_tau=3.0, skew=1.0):
+    """A NIPG-like problem with the redundancy of hp meshes: q points per edge whose traces (normal and tangential)
+    are polynomials of k < q coefficients, W = B A^-1 B^T from a random coercive A with a skew part ``skew``."""
+    rng = np.random.default_rng(seed)
+    M = edges * q
+    n = 6 * M
+    A = rng.standard_normal((n, n)) / np.sqrt(n)
+    A = A @ A.T + 0.05 * np.eye(n)
+    S = rng.standard_normal((n, n)) / np.sqrt(n)
+    A = A + skew * 0.5 * (S - S.T)
+    V = np.vander(np.linspace(-1, 1, q), k, increasing=True)
+    B = np.zeros((2 * M, n))
+    for e in range(edges):
+        for component in range(2):
+            B[component * M + e * q: component * M + (e + 1) * q] = V @ rng.standard_normal((k, n))
+    F = rng.standard_normal(n) * 10
+    return ReducedContact(W=B @ np.linalg.solve(A, B.T), w0=B @ np.linalg.solve(A, F), omega=np.full(M, 1 / q),
+                          g_a=np.zeros(M), c_n=np.full(M, 1e3), c_tau=np.full(M, c_tau), m_n=1.0, m_t=0.0,
+                          symmetric=skew == 0, redundant=True)
+
+
 def law_violation(reduced, f):
     """The relative KKT residual at f, and max |lam_tau| - 1."""
     s = reduced.evaluate(f)

@@ -1,6 +1,7 @@
 """The default solver (condensation onto Gamma_C + semismooth Newton at the points) where methods fail."""
 
 import dataclasses
+from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
@@ -213,6 +214,24 @@ def test_hp_mesh_with_redundant_contact_points_is_solved_by_the_proximal_point_m
     assert any(step.startswith("proximal") for step in sol.info["steps"])
     assert_kkt_at_roundoff(sol)
     assert max_rel_diff(sol, ndf.solve(p, mesh, order=orders, solver="uzawa", solver_tol=1e-12)) <= 1e-7
+
+
+@pytest.mark.slow
+def test_nipg_on_a_graded_hp_mesh_with_redundant_points_is_solved_by_the_proximal_point_method():
+    """Level 12 of adapt(example_6_1(), method="nipg", tol=1e-4) before this fix (57,434 DOFs, p 4..7, M = 992
+    contact points, W singular: p_T < 7 on contact elements), solved from zero.  The plain NIPG iteration (merit,
+    1e-8 on the sticking diagonal) stalled at a relative KKT residual of 3.6e-9 (sticking points flipping
+    between stick and slip in W's kernel; SolverError after 100 iterations and the continuation, 50 s); the
+    proximal point method converged in 33 Newton steps (12 s): the bound of 60 leaves a factor 1.8."""
+    p = ndf.example_6_1()
+    folder = Path(__file__).parent / "data" / "nipg_hp"
+    mesh = ngs.Mesh(str(folder / "mesh.vol.gz"))
+    orders = np.load(folder / "orders.npz")["orders"].astype(int)
+    sol = ndf.solve(p, mesh, method="nipg", order=orders)
+    assert sol.discretization.traces.redundant
+    assert sol.info["steps"][0].startswith("proximal")
+    assert sol.info["converged"] and sol.iterations <= 60
+    assert_kkt_at_roundoff(sol)
 
 
 @pytest.mark.parametrize("method", ["sipg", "nipg", "brezzi"])

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-from reduced_problems import law_violation, random_problem
+from reduced_problems import law_violation, random_problem, redundant_edges_problem
 
 import ngdgfric as ndf
 from ngdgfric.solvers.semismooth import solve
@@ -43,6 +43,16 @@ def test_redundant_points_converge_and_the_traces_are_unique():
     assert law_violation(reduced, f)[0] <= 1e-10
     other, _ = solve(reduced, f0=f + 1.0, solver_tol=1e-12)
     assert np.allclose(reduced.traces(f), reduced.traces(other), atol=1e-9 * np.abs(reduced.traces(f)).max())
+
+
+def test_nonsymmetric_redundant_points_are_solved_when_the_proximal_method_fails():
+    """A random NIPG-like problem with 3 of 8 points per edge redundant (M = 240): the proximal point method alone
+    failed on it (as on every such problem tried); the plain iteration after it solves it."""
+    reduced = redundant_edges_problem(8)
+    f, info = solve(reduced, solver_tol=1e-13)
+    assert info["converged"]  # the stopping test, with its round-off allowance (the residual itself was 1.1e-9)
+    assert law_violation(reduced, f)[1] <= 1e-14
+    assert not any(step.startswith("continuation") for step in info["steps"])
 
 
 @pytest.mark.parametrize("redundant", [False, True])

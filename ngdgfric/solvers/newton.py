@@ -7,9 +7,10 @@ The nonlinearity of (3.3)-(3.4) lives at the M Gauss points of Gamma_C.  The sol
    (:class:`ngdgfric.solvers.condensation.Condensation`);
 2. solves the contact laws at the points for the forces f with a globalised semismooth Newton
    method on the dense 2M x 2M problem (:class:`ngdgfric.solvers.reduced.ReducedContact`,
-   :func:`ngdgfric.solvers.semismooth.solve`: energy descent for the symmetric methods with m_t = 0, inside a
-   proximal point method where W is singular (redundant points on hp meshes), a merit function with
-   Levenberg-Marquardt safeguards for NIPG and m_t > 0; stopping test on the KKT residual of Lemma 3.1);
+   :func:`ngdgfric.solvers.semismooth.solve`: energy descent for the symmetric methods with m_t = 0, a merit
+   function with Levenberg-Marquardt safeguards for NIPG and m_t > 0, both inside a proximal point method
+   where W is singular and m_t = 0 (redundant points on hp meshes); stopping test on the KKT residual of
+   Lemma 3.1);
 3. recovers u = A^-1 (F - B^T f) by one substitution, and the multiplier lam_tau = f_t / beta
    (beta = c_tau (u_n - g_a)_+^{m_t} omega; lam_tau = sign(u_tau) where beta = 0).  The traces of the
    computed u differ from w0 - W f by the solve's round-off times cond(A), which a stiff compliance

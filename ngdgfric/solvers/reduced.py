@@ -29,10 +29,10 @@ point W_tt |G_t| = |u_tau|, the complementarity of (3.4)), relative to the large
 its terms; it matters for stiff compliance, c_n -> 1e10).
 
 **Redundant points** (``redundant``: an element with two edges on Gamma_C, or p_T < p on hp
-meshes): W is singular and the forces at those points are not unique (the displacement is).  With
-energy the proximal point method of :mod:`ngdgfric.solvers.semismooth` handles them; without energy (NIPG,
-m_t > 0) the sticking rows of J get 1e-8 on the diagonal instead (r W_qq = 1 there), which leaves the
-solutions unchanged (d = 0 iff G = 0) and picks a small step in the kernel.
+meshes): W is singular and the forces at those points are not unique (the displacement is).  For
+m_t = 0 (with or without energy) the proximal point method of :mod:`ngdgfric.solvers.semismooth` handles
+them; for m_t > 0 the sticking rows of J get 1e-8 on the diagonal instead (r W_qq = 1 there), which
+leaves the solutions unchanged (d = 0 iff G = 0) and picks a small step in the kernel.
 """
 
 import numpy as np

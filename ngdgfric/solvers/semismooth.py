@@ -27,27 +27,45 @@ three globalisations, and two outer loops around them:
   s = 1e-6, then s multiplied by 4 (the factor squared after a success, square-rooted after a
   failure) up to 1, so the solution branch is followed from the contractive regime of small c_tau.
 
-**Proximal point method** (redundant points with energy, :mod:`ngdgfric.solvers.reduced`).  With W singular
-the energy method stalls: whole groups of points are degenerate (stick and slip both hold for some
-of the optimal forces) and the Newton iterates wander along the set of minimisers (captured final hp
-level of Example 6.1, M = 1926: the stick set swinging by 200 points, no convergence in 100
-iterations; 83 iterations on the level before).  So such a problem is solved by the proximal point
-method (Rockafellar, SIAM J. Control Optim. 14, 1976):
+**Proximal point method** (redundant points, m_t = 0, :mod:`ngdgfric.solvers.reduced`).  With W singular
+whole groups of points are degenerate (stick and slip both hold for some of the optimal forces) and the
+Newton iterates wander along the set of solutions: with energy, the captured final hp level of Example
+6.1, M = 1926: the stick set swinging by 200 points, no convergence in 100 iterations (83 on the level
+before); without energy (NIPG), level 17 of ``adapt(example_6_1(), method="nipg", tol=1e-4)``, M = 1992:
+W has 1472 of its 3984 singular values below 1e-10 times the largest, 542 of them in the block of the
+sticking points; the Newton steps (1e-8 on the sticking diagonal) stay in that kernel, 20-30 points at
+|f_t + r w_t| = beta within 1e-9 flip between stick and slip at every step and the KKT residual stays
+at 2e-8 ... 3e-9 from iteration 25 to 100 (the dense Newton systems are solved to a relative residual
+of 8e-15: not round-off).  So such a problem is solved by the proximal point method (Rockafellar, SIAM
+J. Control Optim. 14, 1976, for maximal monotone operators, so also for the non-symmetric W of NIPG,
+whose symmetric part is positive semidefinite):
 
-    f_{k+1} = argmin_K Theta(f) + mu_k/2 (f - f_k).D (f - f_k),    D = diag(W),
+    with energy:  f_{k+1} = argmin_K Theta(f) + mu_k/2 (f - f_k).D (f - f_k),    D = diag(W),
+    in general:   f_{k+1} solves the laws with W + mu_k D and w0 + mu_k D f_k,
 
-each a problem of this class with W + mu_k D and w0 + mu_k D f_k (strictly convex: unique forces,
-a well-conditioned Newton system), solved by the energy method from f_k; mu_0 = 1e-3, mu_{k+1} =
-mu_k / 100 (the steps 1 / mu_k grow, so the outer iteration converges superlinearly: Luque, SIAM J.
-Control Optim. 22, 1984), back to 10 mu_k after an inner failure.  The iteration stops as soon as
-the original problem meets the stopping test.  The proximal map is nonexpansive, so which of the
-optimal forces is returned depends continuously on the data and the start; the multiplier
-lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration Example 6.1 adapted to
-tol = 5e-4 with E x (1 +- 1e-13) gave final eta_h differing by 3e-3 relative (now 4e-7).
-Measured on the captured levels of Example 6.1 (M = 945 ... 1926): 20-27 Newton steps in all where
-the plain iteration took 42, 44, 83 and failed.  (Also tried: mu_0 = 1e-2, 1e-1 or mu / 10 per
-step: 19-33 steps; a smaller r in the stick/slip decision needed fewer steps only because it
-loosened the stopping test at sticking points.)
+a problem of the same class with unique forces and a well-conditioned Newton system, solved by the
+problem's own iteration from f_k; mu_0 = 1e-3, mu_{k+1} = mu_k / 100 (the steps 1 / mu_k grow, so the
+outer iteration converges superlinearly: Luque, SIAM J. Control Optim. 22, 1984).  A subproblem not
+solved within ``PROXIMAL_BUDGET`` = 10 iterations (without energy; with energy within the remaining
+maxit), or whose globalisation gives up, is continued from where it stopped with 10 mu_k (an inexact
+proximal step: the iteration stops as soon as the original problem meets the stopping test, so the
+subproblems only steer it).  If the proximal method fails, the
+plain iteration follows (then, without energy, the continuation): on random NIPG-like problems with 3 of 8
+points per edge redundant (M = 240, tests/reduced_problems.py) the proximal method failed on all 8 tried,
+the old order (plain iteration, then the continuation) solved 23 of 24, and with the fallback all 20
+tried were solved, the one of the old order's failures among them.  The proximal map is
+nonexpansive, so which of the optimal forces is returned depends continuously on the data and the
+start; the multiplier lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration
+Example 6.1 adapted to tol = 5e-4 with E x (1 +- 1e-13) gave final eta_h differing by 3e-3 relative
+(now 4e-7).  Measured on the captured levels of Example 6.1 with energy (M = 945 ... 1926), each subproblem
+with the whole remaining budget: 20-27 Newton steps in all where the plain iteration took 42, 44, 83 and
+failed.  (A budget of 10 there too made hp SIPG on Example 6.1, tol = 1e-4, run past 22 levels with eta_h
+rising to 5e-3, against 14 levels and 26 s.)  (Also tried: mu_0 = 1e-2,
+1e-1 or mu / 10 per step: 19-33 steps; a smaller r in the stick/slip decision needed fewer steps only
+because it loosened the stopping test at sticking points.)  NIPG, levels 14-17 of the run above (M =
+1320 ... 1992): 23, 35, 32, 45 steps (4, 10, 13, 38 s) where the plain iteration took 96, 71, 39 steps
+and failed after 100 (170 s); with the whole remaining budget per subproblem instead of 10: 35, 26, 90,
+42 steps (17-85 s).
 """
 
 import numpy as np
@@ -58,6 +76,9 @@ from .complementary_energy import SIGMA, energy_step
 __all__ = ["solve", "iterate", "merit", "SIGMA"]
 
 PROXIMAL_START, PROXIMAL_DECREASE = 1e-3, 100.0  # mu_0 and mu_k / mu_{k+1} of the proximal point method
+# without energy (NIPG), a proximal subproblem not solved within PROXIMAL_BUDGET iterations is continued with
+# mu x PROXIMAL_INCREASE
+PROXIMAL_BUDGET, PROXIMAL_INCREASE = 10, 10.0
 # m_t > 0: the inner solves T(f) stop at INNER x the outer relative KKT residual, at most INNER_LOOSEST, at least
 # the outer solver_tol
 INNER, INNER_LOOSEST = 1e-3, 1e-8
@@ -83,23 +104,37 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     "continuation s = ...", "proximal mu = ..."); ``penetrating``, ``stick``: set sizes at the end;
     ``residual``; ``least_squares_solves``: the singular Newton systems solved by least squares so far on
     ``problem`` and its variants (:func:`~ngdgfric.solvers.reduced.dense_solve`).  Redundant problems with
-    energy go through the proximal point method; without energy, a failed iteration is followed by a
-    continuation (module docstring).
+    m_t = 0 go through the proximal point method, and if that fails the plain iteration; without energy, a
+    failed iteration is followed by a continuation (module docstring).
     Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations, and
     :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
     ``budget``: the continuation's iterations in all, as a multiple of maxit (None: no limit but its step).
     """
     f = np.zeros(2 * problem.M) if f0 is None else np.asarray(f0, dtype=float).copy()
-    if problem.energy_merit and problem.regularization > 0:
-        return _proximal(problem, problem.project(f), solver_tol, maxit, progress, energy_tol, deadline)
     try:
-        return iterate(problem, f, solver_tol, maxit, progress, energy_tol, deadline=deadline)
+        return _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol, deadline)
     except TimeLimitError:
         raise
     except SolverError as error:
         if problem.energy_merit:
             raise
         return _continuation(problem, solver_tol, maxit, progress, error, deadline, budget)
+
+
+def _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol=None, deadline=None, counted=0):
+    """:func:`solve` without the continuation: the proximal point method where the forces are not unique and the
+    problem is monotone (redundant points, m_t = 0, with or without energy), and if that fails the plain
+    :func:`iterate` from f (which solved problems where the proximal subproblems kept failing: random W with
+    3 of 8 points per edge redundant); else :func:`iterate`."""
+    if problem.redundant and not problem.quasi_variational:
+        try:
+            return _proximal(problem, problem.project(f) if problem.energy_merit else f, solver_tol, maxit,
+                             progress, energy_tol, deadline, counted)
+        except TimeLimitError:
+            raise
+        except SolverError as error:
+            counted += max(len(error.history), 1)
+    return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline)
 
 
 def _info(problem, s, solver_tol, iterations, history, initial, steps):
@@ -110,11 +145,13 @@ def _info(problem, s, solver_tol, iterations, history, initial, steps):
                 least_squares_solves=problem.diagnostics["least_squares_solves"])
 
 
-def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None, counted=0, deadline=None):
+def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None, counted=0, deadline=None,
+            unfinished=False):
     """The iteration of :func:`solve` from f, with the globalisation of the problem's kind (module docstring).
     ``outer``: the problem whose stopping test also ends it and whose KKT residual is recorded (a
     proximal subproblem's original problem); default ``problem``.  ``counted``: iterations done before
-    (for the numbers in the progress messages); ``deadline``: as in :func:`solve`."""
+    (for the numbers in the progress messages); ``deadline``: as in :func:`solve`.  ``unfinished``: after
+    ``maxit`` iterations return the last f (``info["converged"]`` False) instead of raising SolverError."""
     if problem.energy_merit:
         f = problem.project(f)
     outer = problem if outer is None else outer
@@ -124,7 +161,7 @@ def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None
     initial = problem.residual(s)
     for k in range(maxit + 1):
         outer_done = outer is not problem and outer.done(outer.evaluate(s.f), solver_tol, energy_tol)
-        if outer_done or problem.done(s, solver_tol, energy_tol):
+        if outer_done or problem.done(s, solver_tol, energy_tol) or (k == maxit and unfinished):
             return s.f, _info(problem, s, solver_tol, k, history, initial, steps)
         if k == maxit:
             break
@@ -254,8 +291,8 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None, bu
     while done < 1:
         s = next_value() if done >= 0 else 0.0
         try:
-            f, info = iterate(_homotopy(problem, s), f.copy(), solver_tol, maxit, progress, counted=iterations,
-                              deadline=deadline)
+            f, info = _solve_directly(_homotopy(problem, s), f.copy(), solver_tol, maxit, progress,
+                                      deadline=deadline, counted=iterations)
         except TimeLimitError:
             raise
         except SolverError as failure:
@@ -279,8 +316,9 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None, bu
     return f, info
 
 
-def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None):
-    """The proximal point method of the module docstring (redundant points, with energy), from f."""
+def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None, counted=0):
+    """The proximal point method of the module docstring (redundant points, m_t = 0), from f.  ``counted``:
+    iterations done before (for the progress messages)."""
     mu, iterations, history, steps = PROXIMAL_START, 0, [], []
     initial = problem.residual(problem.evaluate(f))
     while not problem.done(problem.evaluate(f), solver_tol, energy_tol):
@@ -292,17 +330,22 @@ def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None
                                      w0=problem.w0 + mu * problem.diagonal * f, redundant=False)
         steps.append(f"proximal mu = {mu:g}")
         try:
-            f, info = iterate(subproblem, f, solver_tol, maxit - iterations, progress, energy_tol, outer=problem,
-                              counted=iterations, deadline=deadline)
+            # without energy at most PROXIMAL_BUDGET steps per subproblem; with energy the whole remaining budget
+            # (the budget of 10 there made hp SIPG on Example 6.1 pick other forces: eta_h rose to 5e-3 at level 18)
+            budget = maxit - iterations if problem.energy_merit else min(PROXIMAL_BUDGET, maxit - iterations)
+            f, info = iterate(subproblem, f, solver_tol, budget, progress,
+                              energy_tol, outer=problem, counted=counted + iterations, deadline=deadline,
+                              unfinished=True)
         except TimeLimitError:
             raise
-        except SolverError as error:
-            iterations += len(error.history)
+        except SolverError as error:  # its globalisation gave up: restart from the centre, each attempt counted
+            iterations += max(len(error.history), 1)
             history += error.history
-            mu *= 10.0
+            mu *= PROXIMAL_INCREASE
             continue
         iterations += info["iterations"]
         history += info["history"]
         steps += info["steps"]
-        mu /= PROXIMAL_DECREASE
+        solved = subproblem.done(subproblem.evaluate(f), solver_tol, energy_tol)
+        mu = mu / PROXIMAL_DECREASE if solved else mu * PROXIMAL_INCREASE
     return f, _info(problem, problem.evaluate(f), solver_tol, iterations, history, initial, steps)
