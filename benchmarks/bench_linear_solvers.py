@@ -2,16 +2,14 @@
 
 The contact solver condenses the DG system onto the contact Gauss points (W = B A^-1 B^T,
 :mod:`ngdgfric.solvers.condensation`), so it needs either a sparse factorisation that returns a Schur
-complement, or 2M back-substitutions.  For the matrices A of Example 6.1 at low order (SIPG symmetric, NIPG
-nonsymmetric, 1e5-4e5 DOFs) and of Example 6.2 at p = 7 (h = 1/16, 36,864 DOFs, 279 nonzeros per row: issue 38)
-this script times, best of ``--repeat`` runs in one process:
+complement, or 2M back-substitutions.  For the matrices A of Example 6.1 (SIPG symmetric, NIPG
+nonsymmetric, 1e5-4e5 DOFs) this script times, best of ``--repeat`` runs in one process:
 
 * NGSolve's own direct solvers: sparsecholesky (symmetric), umfpack; and NGSolve's PARDISO
   interface (present when the ``mkl`` wheel is installed);
 * scipy's SuperLU (``scipy.sparse.linalg.splu``) and ``pypardiso``, if installed;
-* MKL PARDISO with the Schur complement of the trace block of [[0, B], [B^T, A]]
-  (:class:`ngdgfric.solvers.pardiso.SchurFactorization`: Cholesky for SIPG, LU for NIPG), as the contact
-  solver uses it, its analysis phase (ordering, symbolic factorisation) reported apart;
+* MKL PARDISO with the Schur complement of the trace block of [[A, B^T], [B, 0]]
+  (:class:`ngdgfric.solvers.pardiso.SchurFactorization`), as the contact solver uses it;
 * the same W from back-substitutions with NGSolve's fastest factorisation (the path without mkl),
   timed on 64 columns and scaled to 2M;
 
@@ -39,9 +37,8 @@ from ngdgfric.threads import threads
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
 from common import command_line, run_script, say, script_parser, write_csv  # noqa: E402
 
-CASES = [("6.1", "sipg", 1, 7), ("6.1", "sipg", 2, 7), ("6.1", "nipg", 1, 7), ("6.1", "nipg", 2, 6),
-         ("6.2", "sipg", 7, 4), ("6.2", "nipg", 7, 4)]
-QUICK = [("6.1", "sipg", 1, 4), ("6.1", "nipg", 1, 4), ("6.2", "sipg", 4, 2)]
+CASES = [("sipg", 1, 7), ("sipg", 2, 7), ("nipg", 1, 7), ("nipg", 2, 6)]
+QUICK = [("sipg", 1, 4), ("nipg", 1, 4)]
 PACKAGES = ["ngsolve", "mkl", "intel-openmp", "tbb", "scipy", "pypardiso", "python-mumps", "mumpspy"]
 
 
@@ -123,15 +120,14 @@ def pardiso_schur(disc):
         factorization.solve_eliminated(F, np.zeros(2 * traces.M))
         solve = time.perf_counter() - start
         factorization.release()
-        return dict(factor=factor, solve=solve, analysis=factorization.seconds["analysis"])
+        return dict(factor=factor, solve=solve)
     return run
 
 
 def delassus_by_backsubstitution(disc, kind, columns=64):
-    """W from back-substitutions: factorisation + 2M solves, timed on ``columns`` of them (all if 2M is fewer)."""
+    """W from back-substitutions: factorisation + 2M solves, timed on ``columns`` of them."""
     import ngsolve as ngs
     traces = disc.traces
-    columns = min(columns, 2 * traces.M)
 
     def run():
         with threads(disc.V.ndof):
@@ -177,11 +173,11 @@ def importable(module):
 def main(argv=None):
     args = parse(argv)
     cases, repeat = (QUICK, 1) if args.quick else (CASES, args.repeat)
+    problem = ndf.example_6_1()
     have_scipy = importable("scipy") == "yes"
     have_pypardiso = have_scipy and importable("pypardiso") == "yes"
     rows = []
-    for example, method, order, k in cases:
-        problem = ndf.example(example)
+    for method, order, k in cases:
         mesh = ndf.uniform_mesh(problem, 2.0**-k)
         disc = ndf.Discretization(problem, mesh, method=method, order=order)
         symmetric = disc.symmetric
@@ -202,14 +198,12 @@ def main(argv=None):
         for name, run in solvers:
             times = best_of(repeat, run)
             floor = floor or times["factor"] + times["solve"]
-            row = dict(example=example, method=method, order=order, h=f"2^-{k}", ndof=disc.V.ndof,
-                       nonzeros_per_row=disc.A.nze / disc.V.ndof, symmetric=symmetric,
-                       contact_unknowns=2 * disc.traces.M, solver=name, factor=times["factor"],
-                       analysis=times.get("analysis"), solve=times["solve"],
+            row = dict(method=method, order=order, h=f"2^-{k}", ndof=disc.V.ndof, symmetric=symmetric,
+                       contact_unknowns=2 * disc.traces.M, solver=name, factor=times["factor"], solve=times["solve"],
                        schur=name.startswith("PARDISO + Schur") or name.startswith("W by"),
                        ratio=(times["factor"] + times["solve"]) / floor)
             rows.append(row)
-            say(f"{example} {method} P{order} h = 2^-{k} ({disc.V.ndof} dofs): {name}: factor {times['factor']:.3f} s, "
+            say(f"{method} P{order} h = 2^-{k} ({disc.V.ndof} dofs): {name}: factor {times['factor']:.3f} s, "
                 f"solve {times['solve']:.4f} s, {row['ratio']:.2f} x NGSolve's fastest")
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "linear_solvers.csv", rows)
@@ -223,17 +217,15 @@ def main(argv=None):
 def report(rows, packages, imports):
     def summary(kind, name):
         subset = [r for r in rows if r["solver"].startswith(name) and r["symmetric"] == (kind == "symmetric")]
-        return ", ".join(f"{r['ratio']:.2f} ({r['example']} {r['method']} P{r['order']}, {r['ndof']} dofs)"
-                         for r in subset) or "-"
+        return ", ".join(f"{r['ratio']:.2f} ({r['method']} P{r['order']}, {r['ndof']} dofs)" for r in subset) or "-"
 
     lines = ["# Sparse direct solvers for the contact solver", "",
              f"Regenerate: `{command_line()}` (run alone: timings on a busy machine are meaningless).", "",
-             "Matrices A of Examples 6.1 and 6.2 (uniform meshes, eta = 30 mu).  Times: best of the runs in one "
-             "process, 2 cores; 'ratio' is factor + one solve over NGSolve's fastest (sparsecholesky for the "
-             "symmetric SIPG matrix, umfpack for NIPG).  'Schur' rows also give the Delassus operator W of the 2M "
+             "Matrices A of Example 6.1 (uniform meshes, eta = 30 mu).  Times: best of the runs in one process, "
+             "2 cores; 'ratio' is factor + one solve over NGSolve's fastest (sparsecholesky for the symmetric "
+             "SIPG matrix, umfpack for NIPG).  'Schur' rows also give the Delassus operator W of the 2M "
              "contact unknowns (`contact unknowns`); the back-substitution row is the path without mkl "
-             "(64 columns timed, scaled to 2M).  'analysis s': the part of 'factor s' that PARDISO's analysis "
-             "(ordering, symbolic factorisation) took.", "",
+             "(64 columns timed, scaled to 2M).", "",
              "## Summary (computed)", "",
              "- PARDISO factorisation with the Schur complement (what the contact solver needs), relative to "
              f"NGSolve's fastest plain factorisation + solve: symmetric {summary('symmetric', 'PARDISO + Schur')}; "
@@ -244,13 +236,11 @@ def report(rows, packages, imports):
              f"nonsymmetric {summary('nonsymmetric', 'NGSolve pardiso')}.",
              f"- scipy SuperLU: symmetric {summary('symmetric', 'scipy')}; "
              f"nonsymmetric {summary('nonsymmetric', 'scipy')}.",
-             "", markdown_table(["example", "method", "p", "h", "DOFs", "nonzeros / row", "contact unknowns",
-                                 "solver", "factor s", "analysis s", "solve s", "ratio", "Schur / W"],
-                                [[r["example"], r["method"], r["order"], r["h"], r["ndof"],
-                                  f"{r['nonzeros_per_row']:.0f}", r["contact_unknowns"], r["solver"],
-                                  f"{r['factor']:.3f}", "-" if r["analysis"] is None else f"{r['analysis']:.3f}",
-                                  f"{r['solve']:.4f}", f"{r['ratio']:.2f}", "yes" if r["schur"] else "no"]
-                                 for r in rows]), "",
+             "", markdown_table(["method", "p", "h", "DOFs", "contact unknowns", "solver", "factor s", "solve s",
+                                 "ratio", "Schur / W"],
+                                [[r["method"], r["order"], r["h"], r["ndof"], r["contact_unknowns"], r["solver"],
+                                  f"{r['factor']:.3f}", f"{r['solve']:.4f}", f"{r['ratio']:.2f}",
+                                  "yes" if r["schur"] else "no"] for r in rows]), "",
              "## What each needs (measured in this environment)", "",
              markdown_table(["package", "version", "installed MB"],
                             [[name, *(("-", "not installed") if info is None else (info[0], f"{info[1]:.0f}"))]
@@ -259,8 +249,7 @@ def report(rows, packages, imports):
              "- NGSolve's solvers (sparsecholesky, umfpack) come with the ngsolve wheel; no Schur complement.",
              "- MKL PARDISO comes with the `mkl` wheel (x86_64 Linux and Windows; it pulls intel-openmp, tbb and "
              "umf); NGSolve's wheel finds it at run time, and `ngdgfric.solvers.pardiso` calls its Schur-complement "
-             "mode through ctypes (Cholesky for the symmetric methods).  pypardiso wraps the same library without the "
-             "Schur complement.",
+             "mode through ctypes.  pypardiso wraps the same library without the Schur complement.",
              "- scipy's SuperLU: no Schur complement, and not a dependency of ngdgfric.",
              "- MUMPS (Schur complement via ICNTL(19)): on PyPI only python-mumps 0.0.2 has a wheel, built "
              "against NumPy 1.x (it does not import with the NumPy 2 that ngsolve uses; see the import table); "

@@ -67,8 +67,7 @@ def blas_threads(count=None):
     from NGSolve's TaskManager, and inside Newton each sparse back-substitution took 30-40 ms
     instead of 3-4 ms (Example 6.1, P2, 24576 DOFs).  Small dense work (12 x 12 blocks, batched
     Vandermonde solves) gains nothing from BLAS threads; large dense solves get all cores back in
-    :func:`dense_threads`.  MKL's threads (PARDISO's) are set per PARDISO call, one below :data:`PARALLEL_FROM`
-    unknowns (:func:`ngdgfric.solvers.pardiso.mkl_threads`).
+    :func:`dense_threads`.  MKL (PARDISO's) is left alone.
     """
     with _openblas().limit(limits=default_blas_threads() if count is None else count):
         yield

@@ -168,9 +168,8 @@ def penalty_section(penalty):
     failed = [r for r in penalty if not ok(r)]
     unstable = [r for r in penalty if r["lam_min"] <= 0]
     coercive_failures = [r for r in failed if r["lam_min"] > 0]
-    lines += [f"- {len(unstable)} of {len(penalty)} cases are not coercive (lambda_min <= 0); the solve failed on "
-              f"{sum(not ok(r) for r in unstable)} of them (the symmetric methods' Cholesky refuses an indefinite A; "
-              "Newton stops after 30 iterations), and the others' errors are "
+    lines += [f"- {len(unstable)} of {len(penalty)} cases are not coercive (lambda_min <= 0); Newton failed on "
+              f"{sum(not ok(r) for r in unstable)} of them (30 iterations), and the others' errors are "
               f"{_error_range(unstable)} against {_error_range([r for r in penalty if r['lam_min'] > 0 and ok(r)])} "
               "for the coercive cases.",
               f"- {len(coercive_failures)} coercive cases failed: " + (", ".join(

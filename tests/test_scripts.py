@@ -216,12 +216,9 @@ def test_bench_linear_solvers(tmp_path):
     rows = read_csv(tmp_path / "linear_solvers.csv")
     assert {r["symmetric"] for r in rows} == {"True", "False"}
     assert any(r["schur"] == "True" for r in rows)  # W one way or the other
-    assert {r["example"] for r in rows} == {"6.1", "6.2"}
-    for case, group in _groups(rows, ("example", "method", "order", "h")):
+    for case, group in _groups(rows, ("method", "order", "h")):
         assert len({r["ndof"] for r in group}) == 1, case  # every solver factors the same matrix
         assert min(r["ratio"] for r in group) > 0, case
-    schur = [r for r in rows if r["solver"].startswith("PARDISO + Schur")]
-    assert schur and all(0 < r["analysis"] < r["factor"] for r in schur)  # the analysis is part of the factorisation
 
 
 def test_bench_assembly(tmp_path):

@@ -9,16 +9,13 @@ of contact mechanics (a 2M x 2M dense matrix, M = (p + 1) x edges on Gamma_C); o
 the contact problem is a small dense one (:mod:`ngdgfric.solvers.reduced`), and u = A^-1 (F - B^T f)
 comes back with one more substitution.  Two ways to get W:
 
-* ``"pardiso"``: the matrix K = [[0, B], [B^T, A]] factorised by MKL PARDISO with the Schur
-  complement of its trace block, -B A^-1 B^T = -W, in one partial factorisation (Cholesky of A for the
-  symmetric methods, which needs A positive definite, as NGSolve's sparsecholesky of the other path does;
-  LU for NIPG); w0 comes from its forward substitution and u from its backward substitution
-  (:class:`ngdgfric.solvers.pardiso.SchurFactorization`; costs in results/linear_solvers.md).
+* ``"pardiso"``: the matrix K = [[A, B^T], [B, 0]] factorised by MKL PARDISO with the Schur
+  complement of its trace block, K_SS - B A^-1 B^T = -W, in one partial factorisation (it costs
+  1.3-2 factorisations of A, measured in results/linear_solvers.md); w0 comes from its forward
+  substitution and u from its backward substitution (:class:`ngdgfric.solvers.pardiso.SchurFactorization`).
 * ``"ngsolve"``: A factorised by NGSolve (sparsecholesky for symmetric A, else umfpack) and W
-  assembled column by column from 2M back-substitutions: the same W, 3-11 times slower for SIPG on
-  Example 6.2 from 1,536 to 15,360 DOFs, p = 2-7 (best of 3, 2026-12; at p = 7, h = 1/16 sparsecholesky
-  alone took 2.5 s and the 256 back-substitutions 30 s, against 1.1 s for PARDISO's factorisation with the
-  Schur complement).  Used when the ``mkl`` wheel is not installed.
+  assembled column by column from 2M back-substitutions: the same W, slower on large meshes.
+  Used when the ``mkl`` wheel is not installed.
 
 The recovered u is improved by iterative refinement with A while its residual A u + B^T f - F is
 above 1e-13 ||F|| (condition numbers of A reach 1e8 for nu -> 1/2).
@@ -44,55 +41,46 @@ def default_linear_solver():
     return "pardiso" if pardiso.available() else "ngsolve"
 
 
-def _trace_rows(traces, m):
-    """CSR (int64 indptr, int32 columns, values) of the first rows [0, B] of K: each trace row's zero diagonal,
-    then B's entries of that row, their columns shifted by m = 2M."""
-    order = np.lexsort((traces.cols, traces.rows))
-    indptr = np.zeros(m + 1, dtype=np.int64)
-    np.cumsum(np.bincount(traces.rows, minlength=m) + 1, out=indptr[1:])
-    cols, values = np.empty(indptr[-1], dtype=np.int32), np.zeros(indptr[-1])
-    cols[indptr[:-1]] = np.arange(m)
-    after_diagonal = np.ones(indptr[-1], dtype=bool)
-    after_diagonal[indptr[:-1]] = False
-    cols[after_diagonal], values[after_diagonal] = m + traces.cols[order], traces.values[order]
-    return indptr, cols, values
+def _csr(mat):
+    values, cols, rowptr = mat.CSR()
+    return np.array(rowptr, dtype=np.int64), np.array(cols, dtype=np.int64), np.array(values)
 
 
-def _upper_triangle(rowptr, cols, values):
-    """CSR of the upper triangle (diagonal included) of a CSR matrix with sorted rows."""
-    rows = np.repeat(np.arange(len(rowptr) - 1, dtype=cols.dtype), np.diff(rowptr))
-    upper = cols >= rows
-    indptr = np.zeros_like(rowptr)
-    np.cumsum(np.bincount(rows[upper], minlength=len(rowptr) - 1), out=indptr[1:])
-    return indptr, np.compress(upper, cols), np.compress(upper, values)
+def _stack_rows(n_rows, parts):
+    """CSR arrays of the sum of COO ``parts`` (rows, cols, values), each sorted by row and then
+    column, where in every row all columns of a later part are larger than those of earlier parts
+    (so the concatenation per row is sorted).  Linear time, no sort."""
+    counts = [np.bincount(rows, minlength=n_rows) for rows, _, _ in parts]
+    indptr = np.zeros(n_rows + 1, dtype=np.int64)
+    np.cumsum(np.sum(counts, axis=0), out=indptr[1:])
+    total = int(indptr[-1])
+    cols_out, values_out = np.empty(total, dtype=np.int64), np.empty(total)
+    offset = indptr[:-1].copy()
+    for (rows, cols, values), count in zip(parts, counts, strict=True):
+        first = np.zeros(n_rows + 1, dtype=np.int64)
+        np.cumsum(count, out=first[1:])
+        position = offset[rows] + np.arange(len(rows)) - first[rows]
+        cols_out[position], values_out[position] = cols, values
+        offset += count
+    return indptr, cols_out, values_out
 
 
 def augmented_matrix(A, traces, symmetric):
-    """K = [[0, B], [B^T, A]] in CSR (int64 indptr, int32 columns), the 2M trace rows first (the Schur block of
-    :class:`~ngdgfric.solvers.pardiso.SchurFactorization`), its zero diagonal stored; upper triangle only if
-    ``symmetric``.
-
-    With the trace rows first, K's upper triangle is the rows [0, B] followed by A's upper triangle with its
-    columns shifted by 2M, two concatenations; the nonsymmetric K inserts B^T's few entries at the starts of
-    A's rows.  p = 7 on Example 6.2, h = 1/16 (10.3 million entries of A), best of 5, CPU seconds, 2026-12:
-    SIPG 0.135 s, NIPG 0.090 s, against 0.224 s and 0.261 s with the trace rows last (a merge per row; its
-    first call in a process took up to 1.4 s).
-    """
+    """K = [[A, B^T], [B, 0]] in CSR (upper triangle only if ``symmetric``), diagonal stored."""
     n, m = A.height, 2 * traces.M
-    values, cols, rowptr = A.CSR()
-    rowptr, cols, values = np.asarray(rowptr, dtype=np.int64), np.asarray(cols, dtype=np.int32), np.asarray(values)
+    rowptr, cols, values = _csr(A)
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(rowptr))
     if symmetric:
-        rowptr, cols, values = _upper_triangle(rowptr, cols, values)
-        cols = cols + np.int32(m)
-    else:
-        order = np.lexsort((traces.rows, traces.cols))  # B^T by rows of A
-        starts = rowptr[traces.cols[order]]
-        cols = np.insert(cols + np.int32(m), starts, traces.rows[order].astype(np.int32))
-        values = np.insert(values, starts, traces.values[order])
-        rowptr = rowptr + np.concatenate([[0], np.cumsum(np.bincount(traces.cols, minlength=n))])
-    top_indptr, top_cols, top_values = _trace_rows(traces, m)
-    return (np.concatenate([top_indptr, top_indptr[-1] + rowptr[1:]]), np.concatenate([top_cols, cols]),
-            np.concatenate([top_values, values]))
+        upper = cols >= rows
+        rows, cols, values = rows[upper], cols[upper], values[upper]
+    by_column = np.lexsort((traces.rows, traces.cols))  # B^T by rows of A
+    bt = (traces.cols[by_column], n + traces.rows[by_column], traces.values[by_column])
+    diagonal = (n + np.arange(m), n + np.arange(m), np.zeros(m))
+    if symmetric:
+        return _stack_rows(n + m, [(rows, cols, values), bt, diagonal])
+    by_row = np.lexsort((traces.cols, traces.rows))
+    b = (n + traces.rows[by_row], traces.cols[by_row], traces.values[by_row])
+    return _stack_rows(n + m, [(rows, cols, values), bt, b, diagonal])
 
 
 class Condensation:
