@@ -292,7 +292,8 @@ def report(rows, stops, out):
                              [[r["case"], r["run"], f"{r['target']:.3g}", f"{r['seconds']:.2f}", r["ndof"],
                                r["levels"], f"{r['error']:.3e}"] for r in rows]), "",
               "Regenerate: `python benchmarks/time_to_accuracy.py` (about 20 minutes on 2 cores: the examples 12 "
-              "min, the three scenes 4 min, NIPG's runs 3 min and up to DG_SECONDS on the wedge; `--case 6.2` for one case, `--dg nipg --dg-only` "
+              "min, the three scenes 4 min, NIPG's runs 3 min and up to DG_SECONDS on the wedge; `--case 6.2` for one "
+              "case, `--dg nipg --dg-only` "
               "for one method's runs added to the CSVs, `--stops-only` for the stopping runs alone)", ""]
     ndf.files.write_text(out / "time_to_accuracy.md", "\n".join(lines))
 
