@@ -112,6 +112,12 @@ def other_linear_solver(default, changed):
     return (default.info["linear_solver"], changed.info["linear_solver"]) == ("pardiso", "ngsolve")
 
 
+def full_space(default, changed):
+    if not pardiso.available():  # refused: the full space needs PARDISO
+        return isinstance(changed.error, ValueError) and "PARDISO" in str(changed.error)
+    return (default.info["linear_solver"], changed.info["linear_solver"]) == ("pardiso", "pardiso (full space)")
+
+
 def stops_early_with_a_state(default, changed):
     return changed.info["iterations"] == 0 and changed.info["state"] is not None and default.info["state"] is None
 
@@ -129,7 +135,7 @@ COMMON = dict(maxit=(2, stops_at_maxit), max_seconds=(1e-9, stops_at_time_limit)
 EFFECTS = {
     NewtonOptions: dict(COMMON, solver_tol=(1e-3, fewer_iterations), progress=("record", reports_progress()),
                         linear_solver=("ngsolve" if pardiso.available() else "pardiso", other_linear_solver),
-                        energy_tol=(1e3, stops_early_with_a_state)),
+                        energy_tol=(1e3, stops_early_with_a_state), formulation=("full-space", full_space)),
     UzawaOptions: dict(COMMON, solver_tol=(1e-4, fewer_iterations), progress=("record", reports_progress(100)),
                        rho=(0.005, uses_its_rho), kkt_tol=(1e-8, more_iterations)),
     FixedPointOptions: dict(COMMON, solver_tol=(1e-3, fewer_iterations), progress=("record", reports_progress()),

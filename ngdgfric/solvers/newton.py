@@ -38,14 +38,16 @@ from dataclasses import dataclass
 
 from ..errors import SolverWarning, deadline, warn
 from ..transfer import starting_point
-from . import semismooth
+from . import pardiso, semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
+from .fullspace import FULL_SPACE_POINTS, applicable, full_space_newton
 from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
 from .reduced import ReducedContact
 from .traces import ContactTraces
 
 __all__ = ["newton", "NewtonOptions", "NewtonState"]
 
+FORMULATIONS = ("auto", "condensed", "full-space")
 MAX_CONSISTENCY = 3  # re-solves after a recovery whose traces violate the laws (stiff compliance)
 
 
@@ -69,12 +71,16 @@ class NewtonOptions(SolverOptions):
 
     max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) once the solve has
         run this long (checked between iterations; the factorisation itself is not interrupted).
+
+    formulation: "auto" (the full space from :data:`~ngdgfric.solvers.fullspace.FULL_SPACE_POINTS` contact points
+        where it applies, else condensed), "condensed" (the Delassus operator, module docstring) or "full-space"
+        (:mod:`ngdgfric.solvers.fullspace`: symmetric methods, m_t = 0, MKL PARDISO, no ``energy_tol``).
     """
 
     solver = "newton"
     checks = dict(solver_tol=positive_number, maxit=positive_integer, progress=callback,
                   linear_solver=choice(*LINEAR_SOLVERS), energy_tol=optional(positive_number),
-                  max_seconds=optional(positive_number))
+                  max_seconds=optional(positive_number), formulation=choice(*FORMULATIONS))
 
     solver_tol: float = 1e-13
     maxit: int = 100
@@ -82,6 +88,7 @@ class NewtonOptions(SolverOptions):
     linear_solver: str = "auto"
     energy_tol: float | None = None
     max_seconds: float | None = None
+    formulation: str = "auto"
 
 
 class NewtonState:
@@ -200,7 +207,27 @@ def newton(disc, options=None, initial=None, problem=None):
     """
     options = NewtonOptions() if options is None else options
     traces = disc.traces if problem is None else ContactTraces(disc, problem)
+    if _full_space(disc, traces, options):
+        return full_space_newton(disc, traces, options, initial)
     state = NewtonState(disc, traces, options.linear_solver)
     if initial is not None:
         state.start_from(*initial)
     return state.run(options)
+
+
+def _full_space(disc, traces, options):
+    """Whether :func:`newton` takes the full-space iteration (``options.formulation``); ValueError for "full-space"
+    where it does not apply."""
+    if options.formulation == "condensed":
+        return False
+    reasons = [reason for reason, missing in (
+        ("B_h is not symmetric (NIPG)" if applicable(True, traces) else "it needs a symmetric B_h and m_t = 0",
+         not applicable(disc.symmetric, traces)),
+        ("energy_tol needs the resumable condensed solve", options.energy_tol is not None),
+        ("it needs MKL PARDISO (pip install mkl)", not pardiso.available() or options.linear_solver == "ngsolve"))
+        if missing]
+    if options.formulation == "full-space":
+        if reasons:
+            raise ValueError(f"formulation='full-space' does not apply here: {'; '.join(reasons)}")
+        return True
+    return not reasons and traces.M >= FULL_SPACE_POINTS

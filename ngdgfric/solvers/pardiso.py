@@ -20,10 +20,11 @@ import numpy as np
 
 from ..errors import SolverError
 
-__all__ = ["available", "SchurFactorization", "PardisoError", "PHASES"]
+__all__ = ["available", "SchurFactorization", "Factorization", "PardisoError", "PHASES"]
 
 _LIBRARY = None
-PHASES = {12: "analysis and factorisation", 331: "forward substitution", 332: "diagonal substitution",
+PHASES = {11: "analysis", 12: "analysis and factorisation", 22: "numerical factorisation",
+          33: "solve", 331: "forward substitution", 332: "diagonal substitution",
           333: "backward substitution", -1: "release of memory"}
 ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering problem", -4: "zero pivot",
           -5: "unclassified (internal) error", -6: "reordering failed", -7: "diagonal matrix is singular",
@@ -163,3 +164,63 @@ class SchurFactorization:
             self.release()
         except Exception:  # interpreter shutdown
             pass
+
+
+class Factorization:
+    """PARDISO factorisation of a real symmetric indefinite matrix K in CSR (upper triangle, diagonal stored,
+    0-based, sorted columns) whose values change while its pattern stays: one analysis (phase 11), a numerical
+    factorisation per set of values (:meth:`factor`, phase 22) and solves with any number of right-hand sides
+    (:meth:`solve`, phase 33).  For the full-space contact solver (:mod:`ngdgfric.solvers.fullspace`), whose
+    Newton matrices are saddle-point matrices [[A, B^T], [B, -C]] with C >= 0: Bunch-Kaufman pivots (type -2),
+    pivots below 1e-8 perturbed (iparm[9] = 8), no iterative refinement (the Newton iteration refines).  Without
+    weighted matching and scaling (iparm[10] = iparm[12] = 0): with them the analysis took 0.52 s instead of 0.24 s
+    and the factorisations 0.063 s instead of 0.054 s (long strip, cg P4, 105,042 unknowns, M = 2,500), and the
+    solutions agreed with the condensed solver's to the same 1e-12."""
+
+    def __init__(self, indptr, indices, data):
+        lib = _library()
+        if lib is None:
+            raise PardisoError("MKL PARDISO is not available: pip install mkl")
+        self._lib = lib
+        self.n = len(indptr) - 1
+        self._indptr = np.ascontiguousarray(indptr, dtype=np.int32)
+        self._indices = np.ascontiguousarray(indices, dtype=np.int32)
+        self._data = np.ascontiguousarray(data, dtype=np.float64)
+        self._mtype = np.array([-2], dtype=np.int32)
+        self._pt = np.zeros(64, dtype=np.int64)
+        self._iparm = np.zeros(64, dtype=np.int32)
+        lib.pardisoinit(_pointer(self._pt), _pointer(self._mtype), _pointer(self._iparm))
+        self._iparm[7] = 0    # no iterative refinement: the Newton iteration refines
+        self._iparm[9] = 8    # pivot perturbation 1e-8
+        self._iparm[10] = 0   # no scaling
+        self._iparm[12] = 0   # no weighted matching
+        self._iparm[34] = 1   # 0-based indices
+        self._perm = np.zeros(self.n, dtype=np.int32)
+        self._released = False
+        self.factorizations = 0
+        self._call(11)
+
+    _call = SchurFactorization._call
+    release = SchurFactorization.release
+    __del__ = SchurFactorization.__del__
+
+    @property
+    def memory_bytes(self):
+        """PARDISO's peak memory so far: the larger of the analysis' peak and the permanent plus factorisation memory
+        (iparm[14], iparm[15] + iparm[16], reported in kB)."""
+        return 1024 * max(int(self._iparm[14]), int(self._iparm[15]) + int(self._iparm[16]))
+
+    def factor(self, data):
+        """Numerical factorisation with the values ``data`` (same pattern)."""
+        self._data[:] = data
+        self._call(22)
+        self.factorizations += 1
+
+    def solve(self, b):
+        """K^-1 b for b of shape (n,) or (n, k) (k right-hand sides)."""
+        b = np.asarray(b, dtype=np.float64)
+        columns = 1 if b.ndim == 1 else b.shape[1]
+        rhs = np.asfortranarray(b.reshape(self.n, columns))
+        x = np.zeros_like(rhs, order="F")
+        self._call(33, b=rhs, x=x, nrhs=columns)
+        return x.reshape(b.shape)

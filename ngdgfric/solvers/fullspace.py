@@ -1,0 +1,325 @@
+"""The contact solver for many contact points: semismooth Newton on the whole system, no Delassus operator.
+
+The condensed solver (:mod:`ngdgfric.solvers.newton`) forms the dense 2M x 2M Delassus operator W = B A^-1 B^T
+and solves dense Newton systems with one row per active point: memory 32 M^2 bytes and time of order M^3, so
+a long contact side at high order (M = 10,000 points: 3.2 GB for W alone) is out of its reach.  Here the
+unknowns are u and the contact forces f together, (3.3)-(3.4) written as
+
+    A u + B^T f = F,     G(B u, f) = 0   (the laws at the points, :mod:`ngdgfric.solvers.reduced`),
+
+and each Newton step solves the sparse saddle-point system
+
+    [[A, B_a^T], [B_a, -C]] [du; df_a] = [-(A u + B^T f - F) + B_i^T G_i; b_a],
+
+where the rows of the *active* points are kept (a penetrating point's normal row with C = 1 / N'(w_n), a
+sticking point's tangential row with C = 0, up to STICK_REGULARIZATION) and those of the others are eliminated
+(df_i = -G_i: no force without penetration, f_t = +- beta when slipping), their rows of B set to zero in the same
+pattern.  The pattern never changes: PARDISO analyses it once (:class:`ngdgfric.solvers.pardiso.Factorization`).
+The active set changes in every row on the first step from zero and by 1-20 rows per step after that (the ends of
+the contact and stick zones, where PDAS moves one point at a time), so a step factorises again only after a large
+change; otherwise it corrects the last factorisation for the changed rows by the Sherman-Morrison-Woodbury formula
+(:meth:`FullSpace._solve`: two solves per changed row, once), which costs a fraction of a factorisation (a
+factorisation took 5 solves at 105,042 unknowns, 4.8 at 410,082).  While the active set stays, a step is
+iterative refinement of the nonlinear system.  With the linear compliance law (m_n = 1) and m_t = 0 the laws are
+piecewise linear and the iteration is the primal-dual active set method (Hintermueller, Ito & Kunisch, SIAM J.
+Optim. 13, 2003): it ends one step after the active set is right.
+
+Scope: a symmetric B_h (every method but NIPG) and the reduced friction law m_t = 0, with m_n >= 1; anything else
+goes to the condensed solver.  r_q = R_FACTOR / d_q in the stick/slip decision (any r > 0 gives the same
+solutions) with d_q = sum_j B_qj^2 / A_jj, the Jacobi approximation of W_qq, and r divided by 10 whenever an active
+set comes back (a cycle); the stopping test is the condensed solver's with d_q in place of W_qq (:func:`kkt_residual`)
+and the margin JACOBI_MARGIN.  There is no globalisation: if the iteration has not converged within ``maxit``
+steps, a SolverError says so (the solutions agree with the condensed solver's to 1e-12 on the examples, all
+symmetric methods, hp levels with redundant points, stiff and nonlinear compliance: tests/test_fullspace.py).
+The cross-over with the condensed solver, FULL_SPACE_POINTS, and the costs: results/long_contact_side.md.
+"""
+
+import time
+
+import numpy as np
+
+from ..errors import SolverError, check_deadline, deadline
+from ..threads import threads
+from ..transfer import starting_point
+from .condensation import _csr
+from .pardiso import Factorization
+from .reduced import EPS, _positive_power
+
+__all__ = ["FullSpace", "applicable", "kkt_residual", "full_space_newton", "FULL_SPACE_POINTS"]
+
+R_FACTOR = 0.1
+"""r_q = R_FACTOR / d_q: d_q (Jacobi) falls 2-150 times below W_qq (measured on Example 6.1, SIPG P3, h = 1/8), and
+with r_q = 1 / d_q the stick/slip decisions of two points cycled there; from 0.3 / d_q down to 0.001 / d_q: 9 steps."""
+STICK_REGULARIZATION = 1e-8
+"""C = STICK_REGULARIZATION d_q on a sticking row instead of 0: the Newton matrix stays nonsingular where the rows of
+B of an element are dependent (redundant points: an element with two edges on Gamma_C, or p_T < p on hp meshes),
+and as the residual G_t = -r w_t is not regularised, the iteration still drives w_t to 0 (an inexact Newton step
+that picks a small step in the kernel, as the condensed solver's 1e-8 on its sticking diagonal)."""
+WOODBURY_ROWS, WOODBURY_RANK = 32, 256
+"""A Newton step factorises again when more than WOODBURY_ROWS trace rows would need new solves, or the rows changed
+since the factorisation pass WOODBURY_RANK (:meth:`FullSpace._solve`)."""
+JACOBI_MARGIN = 100.0
+"""The stopping test is d_q |G_q| <= solver_tol D / JACOBI_MARGIN: d_q falls 2-150 times below W_qq (see R_FACTOR), so
+that the condensed solver's test W_qq |G_q| <= solver_tol D holds too (with solver_tol 1e-13 and d_q alone the
+solutions of the two differed by 2.8e-10 |||u_h||| on a long strip, cg P1, M = 1000; with the margin 7e-13)."""
+FULL_SPACE_POINTS = 1000
+"""The number of contact points M from which ``formulation="auto"`` of :func:`ngdgfric.solvers.newton.newton` takes
+this solver (the cross-over measured in results/solver_benchmark.md)."""
+
+
+def applicable(symmetric, traces):
+    """Whether the full-space iteration covers the problem: B_h symmetric, m_t = 0 everywhere, m_n >= 1."""
+    return bool(symmetric and np.all(np.asarray(traces.m_t) == 0) and np.all(np.asarray(traces.m_n) >= 1))
+
+
+def kkt_residual(scale, G, w, penetrating, g_a):
+    """max_q d_q |G_q| / D: each point's residual force times the displacement it causes there (d_q ~ W_qq),
+    relative to the largest trace D (as :meth:`ngdgfric.solvers.reduced.ReducedContact.residual`)."""
+    gaps = EPS * np.abs(g_a[penetrating])
+    size = max(float(np.max(np.abs(w), initial=0.0)), float(np.max(gaps, initial=0.0)), np.finfo(float).tiny)
+    return float(np.max(scale * np.abs(G), initial=0.0)) / size
+
+
+class FullSpace:
+    """The Newton matrices of one discretisation (``A``, ``F``, :class:`~ngdgfric.solvers.traces.ContactTraces`
+    ``traces``) in one PARDISO pattern, and the iteration of the module docstring (:meth:`run`)."""
+
+    def __init__(self, A, F, traces):
+        start = time.perf_counter()
+        self.traces, self.n, self.M = traces, A.height, traces.M
+        self.A, self._F = A, F.FV().NumPy().copy()
+        m = 2 * self.M
+        rowptr, cols, values = _csr(A)
+        rows = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(rowptr))
+        diagonal_A = np.zeros(self.n)
+        on_diagonal = rows == cols
+        diagonal_A[rows[on_diagonal]] = values[on_diagonal]
+        upper = cols >= rows
+        rows, cols, values = rows[upper], cols[upper], values[upper]
+        # K in CSR, upper triangle: each row of A's upper part followed by its entries of B^T (columns n ...), then
+        # the trace rows with their diagonal alone
+        by_column = np.lexsort((traces.rows, traces.cols))  # B^T by rows of A
+        bt_rows = traces.cols[by_column]
+        count_A = np.bincount(rows, minlength=self.n + m)
+        count_B = np.bincount(bt_rows, minlength=self.n + m)
+        self.indptr = np.zeros(self.n + m + 1, dtype=np.int64)
+        np.cumsum(count_A + count_B + (np.arange(self.n + m) >= self.n), out=self.indptr[1:])
+        self._A_slot = self.indptr[rows] + np.arange(len(rows)) - (np.cumsum(count_A) - count_A)[rows]
+        self._B_slot = self.indptr[bt_rows] + count_A[bt_rows] + np.arange(len(bt_rows)) \
+            - (np.cumsum(count_B) - count_B)[bt_rows]
+        self._C_slot = self.indptr[self.n:-1]
+        self.indices = np.empty(self.indptr[-1], dtype=np.int64)
+        self.indices[self._A_slot], self.indices[self._C_slot] = cols, self.n + np.arange(m)
+        self.indices[self._B_slot] = self.n + traces.rows[by_column]
+        self._B_row, self._B_value = traces.rows[by_column], traces.values[by_column]
+        self.values = np.zeros(self.indptr[-1])
+        self.values[self._A_slot] = values
+        self.values[self._C_slot] = -1.0
+        self._B = (traces.rows, traces.cols, traces.values)
+        self.scale = np.bincount(traces.rows, weights=traces.values**2 / diagonal_A[traces.cols], minlength=m)
+        self.scale = np.maximum(self.scale, 1e-14 * np.max(self.scale, initial=1.0))  # d_q, the Jacobi W_qq
+        self.r = R_FACTOR / self.scale[self.M:]
+        self.factorization = Factorization(self.indptr, self.indices, self.values)
+        self._active = self._C = None  # the active set and C of the current factorisation
+        self._columns = {}  # K^-1 e_j and K^-1 (B_j^T, 0) per trace row j (:meth:`_solve`)
+        order = np.argsort(traces.rows, kind="stable")  # B by rows
+        self._row_start = np.searchsorted(traces.rows[order], np.arange(m + 1))
+        self._row_cols, self._row_values = traces.cols[order], traces.values[order]
+        self.setup_seconds = time.perf_counter() - start
+
+    def apply(self, u):
+        """B u."""
+        rows, cols, values = self._B
+        return np.bincount(rows, weights=values * u[cols], minlength=2 * self.M)
+
+    def apply_transpose(self, f):
+        """B^T f."""
+        rows, cols, values = self._B
+        return np.bincount(cols, weights=values * f[rows], minlength=self.n)
+
+    def _A_times(self, u):
+        vec = self.A.CreateColVector()
+        out = self.A.CreateColVector()
+        vec.FV().NumPy()[:] = u
+        with threads(len(u)):
+            out.data = self.A * vec
+        return out.FV().NumPy().copy()
+
+    def laws(self, u, f):
+        """(w, G, active rows, C on them, penetrating) at (u, f): the residual of the laws and the Newton matrix's
+        trace block (module docstring)."""
+        t, M = self.traces, self.M
+        w = self.apply(u)
+        gap = w[:M] - t.g_a
+        penetrating = (gap > 0) & (t.c_n > 0)
+        N = t.omega * t.c_n * _positive_power(gap, t.m_n)
+        dN = t.omega * t.c_n * np.asarray(t.m_n, dtype=float) * _positive_power(gap, np.asarray(t.m_n) - 1.0)
+        beta = t.omega * t.c_tau
+        z = f[M:] + self.r * w[M:]
+        stick = np.abs(z) < beta
+        sign = np.where(z >= 0, 1.0, -1.0)
+        G = np.concatenate([f[:M] - N, np.where(stick, -self.r * w[M:], f[M:] - sign * beta)])
+        normal_active = penetrating & (dN > 0)
+        active = np.concatenate([normal_active, stick])
+        C = np.concatenate([np.where(normal_active, 1.0 / np.where(normal_active, dN, 1.0), 1.0),
+                            np.where(stick, STICK_REGULARIZATION * self.scale[M:], 1.0)])
+        return w, G, active, C, penetrating, dN
+
+    def equilibrium(self, u, f):
+        """(A u + B^T f - F, whether its norm is at most 1e-10 (|F| + |B^T f|)): the linear equations' residual."""
+        forces = self.apply_transpose(f)
+        residual = self._A_times(u) + forces - self._F
+        size = np.linalg.norm(self._F) + np.linalg.norm(forces)
+        return residual, bool(np.linalg.norm(residual) <= 1e-10 * size)
+
+    def step(self, u, f, w, G, active, C, dN, residual):
+        """The Newton step (du, df) of the module docstring (:meth:`_solve`)."""
+        M = self.M
+        rhs_u = -residual + self.apply_transpose(np.where(active, 0.0, G))
+        normal = np.where(active[:M], G[:M] / np.where(active[:M], dN, 1.0), G[:M])
+        tangential = np.where(active[M:], -w[M:], G[M:])
+        x = self._solve(np.concatenate([rhs_u, normal, tangential]), active, C)
+        du, df = x[:self.n], x[self.n:]
+        return du, np.where(active, df, -G)
+
+    def _factor(self, active, C):
+        self.values[self._B_slot] = np.where(active[self._B_row], self._B_value, 0.0)
+        self.values[self._C_slot] = -C
+        self.factorization.factor(self.values)
+        self._active, self._C, self._columns = active.copy(), C.copy(), {}
+
+    def _solve(self, b, active, C):
+        """K(active, C)^-1 b from the factorisation of an earlier K(active_s, C_s) and the Sherman-Morrison-Woodbury
+        formula: the trace rows J where (active, C) differ change K by U Q U^T, U = [e_j (j in J), sigma_j (B_j^T, 0)
+        (j in J toggled, sigma_j = +1 switched on, -1 off)], Q = [[diag(C_s - C)_J, I], [I, 0]];
+        K_s^-1 e_j and K_s^-1 (B_j^T, 0) are kept per row, so a row costs two solves once.  A new factorisation
+        when more than WOODBURY_ROWS rows would need new solves or J passes WOODBURY_RANK rows.  (The active set
+        settles after one or two steps and then changes by 1-20 rows per step, at the ends of the contact and stick
+        zones: a factorisation costs 5 solves at 105,042 unknowns.)"""
+        changed = np.zeros(0, dtype=np.int64) if self._active is None else \
+            np.flatnonzero((active != self._active) | (C != self._C))
+        missing = [j for j in changed if j not in self._columns]
+        if self._active is None or len(missing) > WOODBURY_ROWS or len(changed) > WOODBURY_RANK:
+            self._factor(active, C)
+            return self.factorization.solve(b)
+        if missing:
+            block = np.zeros((self.n + 2 * self.M, 2 * len(missing)))
+            for k, j in enumerate(missing):
+                block[self.n + j, 2 * k] = 1.0
+                row = slice(self._row_start[j], self._row_start[j + 1])
+                block[self._row_cols[row], 2 * k + 1] = self._row_values[row]
+            solved = self.factorization.solve(block)  # Fortran order: its columns are contiguous
+            for k, j in enumerate(missing):
+                self._columns[j] = (solved[:, 2 * k], solved[:, 2 * k + 1])
+        y = self.factorization.solve(b)
+        if not changed.size:
+            return y
+        toggled = changed[active[changed] != self._active[changed]]
+        sign = np.where(active[toggled], 1.0, -1.0)
+        columns = [self._columns[j][0] for j in changed] + [self._columns[j][1] for j in toggled]
+        k, t = len(changed), len(toggled)
+        Q = np.zeros((k + t, k + t))  # sigma_j moved from U into Q
+        Q[np.arange(k), np.arange(k)] = self._C[changed] - C[changed]
+        position = np.searchsorted(changed, toggled)
+        Q[position, k + np.arange(t)] = Q[k + np.arange(t), position] = sign
+
+        def transpose_U(v):  # U^T v with the signs in Q
+            rows = [self._row_values[self._row_start[j]:self._row_start[j + 1]]
+                    @ v[self._row_cols[self._row_start[j]:self._row_start[j + 1]]] for j in toggled]
+            return np.concatenate([v[self.n + changed], np.asarray(rows, dtype=float).reshape(t)])
+
+        capacitance = np.eye(k + t) + Q @ np.column_stack([transpose_U(z) for z in columns])
+        coefficients = np.linalg.solve(capacitance, Q @ transpose_U(y))
+        for c, z in zip(coefficients, columns, strict=True):  # y - Z c without forming Z (n x (k + t))
+            y -= c * z
+        return y
+
+    def run(self, u, f, solver_tol, maxit, progress=None, max_seconds=None):
+        """Newton from (u, f) (numpy arrays); returns (u, f, info) with ``iterations``, ``factorizations``,
+        ``history`` (KKT residuals), ``residual``, ``converged``."""
+        until = deadline(max_seconds)
+        history, stalled, seen, previous = [], 0, {}, None
+        for iteration in range(maxit + 1):
+            w, G, active, C, penetrating, dN = self.laws(u, f)
+            balance, balanced = self.equilibrium(u, f)
+            residual = kkt_residual(self.scale, G, w, penetrating, self.traces.g_a) if balanced else np.inf
+            history.append(residual)
+            if progress is not None:
+                progress(f"full-space newton {iteration}: KKT residual {residual:.3e}, "
+                         f"{int(active.sum())} active rows")
+            same = previous is not None and np.array_equal(active, previous)
+            previous = active
+            key = active.tobytes()
+            if not same and key in seen:  # the active set cycles: a more cautious stick/slip decision
+                self.r *= 0.1
+                seen.clear()
+            seen[key] = iteration
+            if residual <= solver_tol / JACOBI_MARGIN:
+                break
+            if same and balanced and len(history) > 1 and residual > 0.5 * history[-2]:
+                stalled += 1  # the active set is right and refinement no longer helps: round-off
+                if stalled >= 2 and residual <= 1e3 * np.sqrt(EPS):
+                    break
+            if iteration == maxit:
+                raise SolverError(f"full-space semismooth Newton: no convergence in {maxit} iterations (KKT residual "
+                                  f"{residual:.2e}, the last ones {', '.join(f'{h:.1e}' for h in history[-4:])})",
+                                  solver="newton")
+            check_deadline(until, "newton", history, f"after {iteration} full-space iterations")
+            du, df = self.step(u, f, w, G, active, C, dN, balance)
+            u, f = u + du, f + df
+        return u, f, dict(iterations=iteration, factorizations=self.factorization.factorizations, history=history,
+                          residual=history[-1], converged=history[-1] <= solver_tol,
+                          penetrating=int(penetrating.sum()), stick=int(active[self.M:].sum()))
+
+    def start(self, u, lam_tau):
+        """(u, f) from a warm start: u, and the forces of the laws at its traces with the multiplier values
+        ``lam_tau`` at the points (N(w_n), beta lam_tau)."""
+        t, M = self.traces, self.M
+        w = self.apply(u)
+        normal = t.omega * t.c_n * _positive_power(w[:M] - t.g_a, t.m_n)
+        return u, np.concatenate([normal, t.omega * t.c_tau * np.clip(lam_tau, -1.0, 1.0)])
+
+    def multiplier(self, u, f):
+        """lam_tau at the points: f_t / beta where the point sticks, the slip direction where it slips (as
+        :meth:`ngdgfric.solvers.reduced.ReducedContact.multiplier`)."""
+        M, t = self.M, self.traces
+        w = self.apply(u)
+        beta = t.omega * t.c_tau
+        z = f[M:] + self.r * w[M:]
+        stick = np.abs(z) < beta
+        ratio = f[M:] / np.where(beta > 0, beta, 1.0)
+        return np.where(stick, np.clip(ratio, -1.0, 1.0), np.where(z != 0, np.sign(z), 0.0))
+
+    def linearization(self, u, f):
+        """eta_lin = (sum_q d_q G_q^2)^(1/2) (:meth:`ngdgfric.solvers.reduced.ReducedContact.linearization` with the
+        Jacobi d_q in place of W_qq)."""
+        _, G, _, _, _, _ = self.laws(u, f)
+        return float(np.sqrt(np.sum(self.scale * G * G)))
+
+
+def full_space_newton(disc, traces, options, initial=None):
+    """:func:`ngdgfric.solvers.newton.newton` in the full space (module docstring): (u, lam_tau, info) with the keys
+    of the condensed solver's info (``linear_solver`` "pardiso (full space)", ``state`` None: an inexact solve is
+    not resumed, so ``energy_tol`` is not taken here), and ``factorizations`` and ``factor_bytes`` (PARDISO's peak
+    memory)."""
+    start = time.perf_counter()
+    solver = FullSpace(disc.A, disc.F, traces)
+    if initial is None:
+        u, f = np.zeros(disc.V.ndof), np.zeros(2 * traces.M)
+    else:
+        u, f = solver.start(initial[0].vec.FV().NumPy().copy(), disc.gauss.values(initial[1]).ravel())
+    setup = time.perf_counter() - start
+    left = None if options.max_seconds is None else max(options.max_seconds - setup, 1e-9)
+    u_vec, f, info = solver.run(u, f, options.solver_tol, options.maxit, options.progress, left)
+    u, lam_tau = starting_point(disc)
+    u.vec.FV().NumPy()[:] = u_vec
+    disc.gauss.set_values(lam_tau, solver.multiplier(u_vec, f).reshape(-1, disc.gauss.q))
+    info["factor_bytes"] = solver.factorization.memory_bytes
+    solver.factorization.release()
+    info.update(initial_residual=info["history"][0], steps=["full space"] * info["iterations"],
+                linearization=solver.linearization(u_vec, f), contact_points=traces.M,
+                linear_solver="pardiso (full space)", refinements=0, consistency_steps=0, least_squares_solves=0,
+                clamped_points=0, state=None,
+                timings=dict(condense=setup, newton=time.perf_counter() - start - setup, recover=0.0,
+                             total=time.perf_counter() - start))
+    return u, lam_tau, info
