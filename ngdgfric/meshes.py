@@ -276,6 +276,19 @@ def facet_indicator(mesh, boundary):
     return indicator
 
 
+def boundary_elements(mesh, indicators):
+    """Boolean per element: True where one of its edges carries a 1 in one of the facet ``indicators``
+    (:func:`facet_indicator`)."""
+    edges = np.zeros(mesh.nedge, dtype=bool)
+    for indicator in indicators:
+        edges |= indicator.vec.FV().NumPy() > 0
+    marked = np.zeros(mesh.ne, dtype=bool)
+    for edge in np.flatnonzero(edges):
+        for element in mesh.edges[int(edge)].elements:
+            marked[element.nr] = True
+    return marked
+
+
 def triangle_corners(mesh):
     """(ne, 3, 2) corner coordinates of every triangle, in element order."""
     points, triangles = triangles_of(mesh.ngmesh)
