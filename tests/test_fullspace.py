@@ -120,3 +120,23 @@ def test_progress_reports_each_iteration():
     ndf.solve(problem, ndf.uniform_mesh(problem, 1 / 4), method="sipg", order=1, formulation="full-space",
               progress=lines.append)
     assert lines and all(line.startswith("full-space newton") for line in lines)
+
+
+def test_auto_falls_back_to_the_condensed_solver_when_the_full_space_fails(monkeypatch):
+    """"auto" above the threshold: a failed full-space iteration is taken over by the condensed solver, and says so."""
+    monkeypatch.setattr(ndf.solvers.newton, "FULL_SPACE_POINTS", 1)
+    problem = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(problem, 1 / 8)
+    reference = ndf.solve(problem, mesh, method="sipg", order=3, formulation="condensed")
+    sol = ndf.solve(problem, mesh, method="sipg", order=3, maxit=100)
+    assert sol.info["linear_solver"] == "pardiso (full space)" and "fallback" not in sol.info
+
+    def failing(*args, **kwargs):
+        raise ndf.SolverError("no convergence (forced)", solver="newton")
+
+    monkeypatch.setattr(ndf.solvers.newton, "full_space_newton", failing)
+    sol = ndf.solve(problem, mesh, method="sipg", order=3)
+    assert sol.info["linear_solver"] == "pardiso" and "forced" in sol.info["fallback"]
+    assert ndf.energy_norm(reference, sol.u) <= 1e-12 * ndf.energy_norm(reference)
+    with pytest.raises(ndf.SolverError, match="forced"):
+        ndf.solve(problem, mesh, method="sipg", order=3, formulation="full-space")

@@ -36,7 +36,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..errors import SolverWarning, deadline, warn
+from ..errors import SolverError, SolverWarning, TimeLimitError, deadline, warn
 from ..transfer import starting_point
 from . import pardiso, semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
@@ -49,6 +49,7 @@ __all__ = ["newton", "NewtonOptions", "NewtonState"]
 
 FORMULATIONS = ("auto", "condensed", "full-space")
 MAX_CONSISTENCY = 3  # re-solves after a recovery whose traces violate the laws (stiff compliance)
+FALLBACK_BYTES = 2e9  # formulation "auto": the condensed solver takes over a failed full-space solve if W fits in this
 
 
 @dataclass(frozen=True)
@@ -73,8 +74,10 @@ class NewtonOptions(SolverOptions):
         run this long (checked between iterations; the factorisation itself is not interrupted).
 
     formulation: "auto" (the full space from :data:`~ngdgfric.solvers.fullspace.FULL_SPACE_POINTS` contact points
-        where it applies, else condensed), "condensed" (the Delassus operator, module docstring) or "full-space"
-        (:mod:`ngdgfric.solvers.fullspace`: symmetric methods, m_t = 0, MKL PARDISO, no ``energy_tol``).
+        where it applies, else condensed; if the full-space iteration fails and W fits in FALLBACK_BYTES, the
+        condensed solver takes over and ``info["fallback"]`` says why), "condensed" (the Delassus operator, module
+        docstring) or "full-space" (:mod:`ngdgfric.solvers.fullspace`: symmetric methods, m_t = 0, MKL PARDISO, no
+        ``energy_tol``).
     """
 
     solver = "newton"
@@ -207,12 +210,23 @@ def newton(disc, options=None, initial=None, problem=None):
     """
     options = NewtonOptions() if options is None else options
     traces = disc.traces if problem is None else ContactTraces(disc, problem)
+    fallback = None
     if _full_space(disc, traces, options):
-        return full_space_newton(disc, traces, options, initial)
+        try:
+            return full_space_newton(disc, traces, options, initial)
+        except TimeLimitError:
+            raise
+        except SolverError as error:  # "auto" only: the condensed solver, where W fits, takes over
+            if options.formulation == "full-space" or 32.0 * traces.M**2 > FALLBACK_BYTES:
+                raise
+            fallback = f"the full space failed ({error}); solved condensed"
     state = NewtonState(disc, traces, options.linear_solver)
     if initial is not None:
         state.start_from(*initial)
-    return state.run(options)
+    u, lam_tau, info = state.run(options)
+    if fallback is not None:
+        info["fallback"] = fallback
+    return u, lam_tau, info
 
 
 def _full_space(disc, traces, options):
