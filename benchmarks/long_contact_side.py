@@ -113,13 +113,13 @@ def measure(problem, points, repeat, condensed_max):
 
 
 def main(argv=None):
-    parser = script_parser(__doc__, "M = 250 and 500, one run each (smoke test)")
+    parser = script_parser(__doc__, "M = 500 and 1000, one run each (smoke test)")
     parser.add_argument("--points", type=int, nargs="+", default=[250, 500, 1000, 2500, 5000, 10000])
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--condensed-max", type=int, default=2500,
                         help="run the condensed solver up to this many points (its W needs 32 M^2 bytes)")
     args = parser.parse_args(argv)
-    points = [250, 500] if args.quick else args.points
+    points = [500, 1000] if args.quick else args.points
     repeat = 1 if args.quick else args.repeat
     problem, rows = long_strip(), []
     for m in points:

@@ -211,6 +211,18 @@ def test_bench_solvers(tmp_path):
     assert (tmp_path / "solver_benchmark.png").stat().st_size > 0
 
 
+def test_long_contact_side(tmp_path):
+    """M = 504 (condensed by default) and 1000 (FULL_SPACE_POINTS: the full space, compared with the condensed
+    solver: 1.7e-14 in the full run)."""
+    run("long_contact_side", tmp_path)
+    rows = read_csv(tmp_path / "long_contact_side.csv", labels=("formulation",))
+    assert [(r["points"], r["formulation"]) for r in rows] == [(504, "pardiso"), (1000, "pardiso (full space)")]
+    assert rows[1]["difference"] <= 1e-12
+    for row in rows:
+        assert row["cold_ratio"] == pytest.approx(row["cold"] / row["linear"], rel=1e-6)
+    assert "| 1000 |" in (tmp_path / "long_contact_side.md").read_text()
+
+
 def test_bench_linear_solvers(tmp_path):
     run("bench_linear_solvers", tmp_path)
     rows = read_csv(tmp_path / "linear_solvers.csv")
