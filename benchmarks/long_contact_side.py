@@ -14,9 +14,10 @@ p = 4 contact points per edge) on grid meshes with 8 / h = M / 4 cells along Gam
 * condensed: the Delassus solver (``formulation="condensed"``) up to ``--condensed-max`` points, for the cross-over;
 
 best of ``--repeat`` runs in one process, with PARDISO's peak memory of the factorisation (its iparm[14..16]) and
-the Delassus operator's 32 M^2 bytes.  Writes results/long_contact_side.md and .csv.
+the Delassus operator's 32 M^2 bytes.  Writes results/long_contact_side.md and .csv.  Run through the solver
+benchmark:
 
-    python benchmarks/long_contact_side.py [--quick] [--points 2500 5000 10000] [--repeat 2]
+    python benchmarks/bench_solvers.py --long-side [--quick] [--points 2500 5000 10000] [--repeat 2]
 """
 
 import dataclasses
@@ -37,7 +38,7 @@ from ngdgfric.solvers.pardiso import Factorization
 from ngdgfric.transfer import interpolate, multiplier_snapshot
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
-from common import best, command_line, run_script, say, script_parser, write_csv  # noqa: E402
+from common import best, command_line, say, write_csv  # noqa: E402
 
 METHOD, ORDER = "cg", 4  # contact points per edge: ORDER (conforming)
 MAX_NDOF = 4_000_000  # M = 10,000: 1.6 million DOFs (the default memory model, made for DG, refuses them)
@@ -112,23 +113,27 @@ def measure(problem, points, repeat, condensed_max):
     return row, cold
 
 
-def main(argv=None):
-    parser = script_parser(__doc__, "M = 500 and 1000, one run each (smoke test)")
-    parser.add_argument("--points", type=int, nargs="+", default=[250, 500, 1000, 2500, 5000, 10000])
-    parser.add_argument("--repeat", type=int, default=2)
-    parser.add_argument("--condensed-max", type=int, default=2500,
-                        help="run the condensed solver up to this many points (its W needs 32 M^2 bytes)")
-    args = parser.parse_args(argv)
+def add_arguments(parser):
+    """The options of this case in the solver benchmark's parser."""
+    parser.add_argument("--points", type=int, nargs="+", default=[1000, 2500, 5000, 10000],
+                        help="--long-side: the numbers of contact points M")
+    parser.add_argument("--condensed-max", type=int, default=5000,
+                        help="--long-side: run the condensed solver up to this many points (its W needs 32 M^2 bytes)")
+
+
+def run(args):
+    """The rows of the long-side case for the parsed ``args`` of benchmarks/bench_solvers.py, written to
+    ``args.out``."""
     points = [500, 1000] if args.quick else args.points
     repeat = 1 if args.quick else args.repeat
     problem, rows = long_strip(), []
+    args.out.mkdir(parents=True, exist_ok=True)
     for m in points:
         row, _ = measure(problem, m, repeat, args.condensed_max)
         rows.append(row)
         say(f"M = {row['points']}: {row['ndof']} DOFs, contact {row['cold']:.2f} s ({row['cold_its']} its, "
             f"{row['cold_factorizations']} factorisations), warm {row['warm']:.2f} s, linear {row['linear']:.2f} s: "
             f"{row['cold_ratio']:.2f} / {row['warm_ratio']:.2f}; condensed {row.get('condensed', float('nan')):.2f} s")
-        args.out.mkdir(parents=True, exist_ok=True)
         write_csv(args.out / "long_contact_side.csv", rows, FIELDS)
         write_text(args.out / "long_contact_side.md", report(rows))
     return rows
@@ -157,7 +162,3 @@ def report(rows):
           f"{_f({'v': r['contact_bytes'] / 1e6}, 'v', '.0f')} / {r['linear_bytes'] / 1e6:.0f}",
           f"{r['delassus_bytes'] / 1e6:.0f}"] for r in rows]), ""]
     return "\n".join(lines)
-
-
-if __name__ == "__main__":
-    run_script(main)

@@ -214,7 +214,7 @@ def test_bench_solvers(tmp_path):
 def test_long_contact_side(tmp_path):
     """M = 504 (condensed by default) and 1000 (FULL_SPACE_POINTS: the full space, compared with the condensed
     solver: 1.7e-14 in the full run)."""
-    run("long_contact_side", tmp_path)
+    run("bench_solvers", tmp_path, "--long-side")
     rows = read_csv(tmp_path / "long_contact_side.csv", labels=("formulation",))
     assert [(r["points"], r["formulation"]) for r in rows] == [(504, "pardiso"), (1000, "pardiso (full space)")]
     assert rows[1]["difference"] <= 1e-12
