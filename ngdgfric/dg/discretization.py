@@ -22,8 +22,8 @@ from .liftings import lifting_terms
 from .material import Lame, Material, largest
 from .methods import check_locking, check_penalty, get_method, penalty
 
-__all__ = ["Discretization", "dg_space", "conforming_space", "conforming_ndof", "space", "polynomial_degrees", "edge_orders",
-           "contact_edges", "contact_elements", "check_order", "order_function"]
+__all__ = ["Discretization", "dg_space", "conforming_space", "conforming_ndof", "space", "polynomial_degrees",
+           "edge_orders", "contact_edges", "contact_elements", "check_order", "order_function"]
 
 
 def dg_space(mesh, order, dgjumps=True):
