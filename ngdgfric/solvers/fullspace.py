@@ -29,8 +29,10 @@ goes to the condensed solver.  r_q = R_FACTOR / d_q in the stick/slip decision (
 solutions) with d_q = sum_j B_qj^2 / A_jj, the Jacobi approximation of W_qq, and r divided by 10 whenever an active
 set comes back (a cycle); the stopping test is the condensed solver's with d_q in place of W_qq (:func:`kkt_residual`)
 and the margin JACOBI_MARGIN.  There is no globalisation: if the iteration has not converged within ``maxit``
-steps, a SolverError says so (the solutions agree with the condensed solver's to 1e-12 on the examples, all
-symmetric methods, hp levels with redundant points, stiff and nonlinear compliance: tests/test_fullspace.py).
+steps, or its active set has settled and refinement stalls above solver_tol, a SolverError says so (then
+``formulation="auto"`` hands the problem to the condensed solver).  The solutions agree with the condensed
+solver's to 1e-12 on the examples, all symmetric methods, hp levels with redundant points, stiff and nonlinear
+compliance (tests/test_fullspace.py).
 The cross-over with the condensed solver, FULL_SPACE_POINTS, and the costs: results/long_contact_side.md.
 """
 
@@ -138,6 +140,7 @@ class FullSpace:
         return np.bincount(cols, weights=values * f[rows], minlength=self.n)
 
     def _A_times(self, u):
+        """A u (numpy in and out)."""
         vec = self.A.CreateColVector()
         out = self.A.CreateColVector()
         vec.FV().NumPy()[:] = u
@@ -146,8 +149,8 @@ class FullSpace:
         return out.FV().NumPy().copy()
 
     def laws(self, u, f):
-        """(w, G, active rows, C on them, penetrating) at (u, f): the residual of the laws and the Newton matrix's
-        trace block (module docstring)."""
+        """(w, G, active rows, C, penetrating, N') at (u, f): the traces, the residual of the laws, the Newton
+        matrix's trace block (module docstring), the penetrating points and the compliance law's derivative."""
         t, M = self.traces, self.M
         w = self.apply(u)
         gap = w[:M] - t.g_a
@@ -258,8 +261,11 @@ class FullSpace:
                 break
             if same and balanced and len(history) > 1 and residual > 0.5 * history[-2]:
                 stalled += 1  # the active set is right and refinement no longer helps: round-off
-                if stalled >= 2 and residual <= 1e3 * np.sqrt(EPS):
-                    break
+                if stalled >= 2 and residual <= solver_tol:
+                    break  # the condensed solver's test without the margin
+                if stalled >= 2:
+                    raise SolverError(f"full-space semismooth Newton stalled at the KKT residual {residual:.2e} "
+                                      f"(solver_tol {solver_tol:.1e}) with its active set settled", solver="newton")
             if iteration == maxit:
                 raise SolverError(f"full-space semismooth Newton: no convergence in {maxit} iterations (KKT residual "
                                   f"{residual:.2e}, the last ones {', '.join(f'{h:.1e}' for h in history[-4:])})",
