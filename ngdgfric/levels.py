@@ -17,7 +17,7 @@ import numpy as np
 
 from .checks import estimated_bytes
 from .contact import transitions
-from .dg.discretization import conforming_ndof
+from .dg.discretization import space
 from .dg.methods import get_method
 from .hp import HPState, hp_refine
 from .marking import dorfler_mark, landing_theta
@@ -114,8 +114,8 @@ class AdaptiveLoop:
         """:func:`too_large` for this mesh and state, counting the DOFs of the method's V_h (the conforming
         baseline's are about half the DG count on the same mesh and orders)."""
         method = get_method(self.solve_options["method"])
-        count = None if not method.conforming else lambda mesh, state: conforming_ndof(
-            self.problem, mesh, self.order if self.max_order is None else state.orders)
+        count = None if not method.conforming else lambda mesh, state: space(
+            self.problem, mesh, self.order if self.max_order is None else state.orders, method).ndof
         return too_large(self.mesh, self.state, limits, self.max_order is not None, self._refine, refinement, count)
 
     def refine(self, refinement):

@@ -77,15 +77,3 @@ def test_hp_orders_and_lazily_built_contact_data():
     assert disc.V.ndof == dg_ndof(orders)
     assert disc.Q.ndof == 4 * (disc.order + 1)  # the multiplier has the largest degree on every contact edge
     assert disc.traces is disc.traces and disc.gauss is disc.gauss
-
-
-@pytest.mark.parametrize("hp", [False, True])
-def test_conforming_dofs_are_counted_without_the_space(hp):
-    """conforming_ndof (adapt's size check) against the space NGSolve builds: uniform p and an hp level whose contact
-    edges are raised."""
-    from ngdgfric.dg.discretization import conforming_ndof, space
-
-    problem = ndf.example_6_2()
-    mesh = ndf.uniform_mesh(problem, 1 / 4)
-    order = np.random.default_rng(1).integers(1, 6, mesh.ne) if hp else 3
-    assert conforming_ndof(problem, mesh, order) == space(problem, mesh, order, ndf.METHODS["cg"]).ndof

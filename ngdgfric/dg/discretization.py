@@ -22,8 +22,8 @@ from .liftings import lifting_terms
 from .material import Lame, Material, largest
 from .methods import check_locking, check_penalty, get_method, penalty
 
-__all__ = ["Discretization", "dg_space", "conforming_space", "conforming_ndof", "space", "polynomial_degrees",
-           "edge_orders", "contact_edges", "contact_elements", "check_order", "order_function"]
+__all__ = ["Discretization", "dg_space", "conforming_space", "space", "polynomial_degrees", "edge_orders",
+           "contact_edges", "contact_elements", "check_order", "order_function"]
 
 
 def dg_space(mesh, order, dgjumps=True):
@@ -106,15 +106,6 @@ def conforming_space(mesh, order, raised=()):
         scalar.SetOrder(ngs.NodeId(ngs.EDGE, int(nr)), int(edges[nr]))
     scalar.Update()
     return scalar**2
-
-
-def conforming_ndof(problem, mesh, order):
-    """dim of :func:`space` for the conforming baseline, counted without building it: two components of one DOF per
-    vertex, p_e - 1 per edge (:func:`edge_orders`, the edges on Gamma_C raised) and (p_T - 1)(p_T - 2) / 2 per
-    element."""
-    order = np.broadcast_to(np.asarray(order, dtype=np.int64), (mesh.ne,))
-    edges = edge_orders(mesh, order, contact_edges(problem, mesh) if np.any(order != order[0]) else ())
-    return int(2 * (mesh.nv + np.sum(edges - 1) + np.sum((order - 1) * (order - 2) // 2)))
 
 
 def space(problem, mesh, order, method, dgjumps=True):
