@@ -43,9 +43,9 @@ import numpy as np
 from ..errors import SolverError, check_deadline, deadline
 from ..threads import threads
 from ..transfer import starting_point
-from .condensation import _csr
+from .condensation import augmented_matrix
 from .pardiso import Factorization
-from .reduced import EPS, _positive_power
+from .reduced import law_forces, multiplier_of, point_state, trace_scale
 
 __all__ = ["FullSpace", "applicable", "kkt_residual", "full_space_newton", "FULL_SPACE_POINTS"]
 
@@ -74,12 +74,11 @@ def applicable(symmetric, traces):
     return bool(symmetric and np.all(np.asarray(traces.m_t) == 0) and np.all(np.asarray(traces.m_n) >= 1))
 
 
-def kkt_residual(scale, G, w, penetrating, g_a):
-    """max_q d_q |G_q| / D: each point's residual force times the displacement it causes there (d_q ~ W_qq),
-    relative to the largest trace D (as :meth:`ngdgfric.solvers.reduced.ReducedContact.residual`)."""
-    gaps = EPS * np.abs(g_a[penetrating])
-    size = max(float(np.max(np.abs(w), initial=0.0)), float(np.max(gaps, initial=0.0)), np.finfo(float).tiny)
-    return float(np.max(scale * np.abs(G), initial=0.0)) / size
+def kkt_residual(scale, s, g_a):
+    """max_q d_q |G_q| / D of the :class:`~ngdgfric.solvers.reduced.PointState` s: each point's residual force times
+    the displacement it causes there (d_q ~ W_qq), relative to the largest trace D
+    (:func:`~ngdgfric.solvers.reduced.trace_scale`, as :meth:`ngdgfric.solvers.reduced.ReducedContact.residual`)."""
+    return float(np.max(scale * np.abs(s.G), initial=0.0)) / trace_scale(s, g_a)
 
 
 class FullSpace:
@@ -91,33 +90,17 @@ class FullSpace:
         self.traces, self.n, self.M = traces, A.height, traces.M
         self.A, self._F = A, F.FV().NumPy().copy()
         m = 2 * self.M
-        rowptr, cols, values = _csr(A)
-        rows = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(rowptr))
-        diagonal_A = np.zeros(self.n)
-        on_diagonal = rows == cols
-        diagonal_A[rows[on_diagonal]] = values[on_diagonal]
-        upper = cols >= rows
-        rows, cols, values = rows[upper], cols[upper], values[upper]
-        # K in CSR, upper triangle: each row of A's upper part followed by its entries of B^T (columns n ...), then
-        # the trace rows with their diagonal alone
-        by_column = np.lexsort((traces.rows, traces.cols))  # B^T by rows of A
-        bt_rows = traces.cols[by_column]
-        count_A = np.bincount(rows, minlength=self.n + m)
-        count_B = np.bincount(bt_rows, minlength=self.n + m)
-        self.indptr = np.zeros(self.n + m + 1, dtype=np.int64)
-        np.cumsum(count_A + count_B + (np.arange(self.n + m) >= self.n), out=self.indptr[1:])
-        self._A_slot = self.indptr[rows] + np.arange(len(rows)) - (np.cumsum(count_A) - count_A)[rows]
-        self._B_slot = self.indptr[bt_rows] + count_A[bt_rows] + np.arange(len(bt_rows)) \
-            - (np.cumsum(count_B) - count_B)[bt_rows]
+        # K = [[A, B^T], [B, 0]], upper triangle, in the condensed solver's CSR (each row of A followed by its entries
+        # of B^T, then the trace rows with their diagonal alone); its values change here, its pattern does not
+        self.indptr, self.indices, self.values = augmented_matrix(A, traces, symmetric=True)
+        rows = np.repeat(np.arange(self.n + m), np.diff(self.indptr))
+        self._B_slot = np.flatnonzero((rows < self.n) & (self.indices >= self.n))
+        self._B_row, self._B_value = self.indices[self._B_slot] - self.n, self.values[self._B_slot].copy()
         self._C_slot = self.indptr[self.n:-1]
-        self.indices = np.empty(self.indptr[-1], dtype=np.int64)
-        self.indices[self._A_slot], self.indices[self._C_slot] = cols, self.n + np.arange(m)
-        self.indices[self._B_slot] = self.n + traces.rows[by_column]
-        self._B_row, self._B_value = traces.rows[by_column], traces.values[by_column]
-        self.values = np.zeros(self.indptr[-1])
-        self.values[self._A_slot] = values
         self.values[self._C_slot] = -1.0
-        self._B = (traces.rows, traces.cols, traces.values)
+        on_diagonal = (rows == self.indices) & (rows < self.n)
+        diagonal_A = np.zeros(self.n)
+        diagonal_A[rows[on_diagonal]] = self.values[on_diagonal]
         self.scale = np.bincount(traces.rows, weights=traces.values**2 / diagonal_A[traces.cols], minlength=m)
         self.scale = np.maximum(self.scale, 1e-14 * np.max(self.scale, initial=1.0))  # d_q, the Jacobi W_qq
         self.r = R_FACTOR / self.scale[self.M:]
@@ -129,16 +112,6 @@ class FullSpace:
         self._row_cols, self._row_values = traces.cols[order], traces.values[order]
         self.setup_seconds = time.perf_counter() - start
 
-    def apply(self, u):
-        """B u."""
-        rows, cols, values = self._B
-        return np.bincount(rows, weights=values * u[cols], minlength=2 * self.M)
-
-    def apply_transpose(self, f):
-        """B^T f."""
-        rows, cols, values = self._B
-        return np.bincount(cols, weights=values * f[rows], minlength=self.n)
-
     def _A_times(self, u):
         """A u (numpy in and out)."""
         vec = self.A.CreateColVector()
@@ -149,41 +122,31 @@ class FullSpace:
         return out.FV().NumPy().copy()
 
     def laws(self, u, f):
-        """(w, G, active rows, C, penetrating, N') at (u, f): the traces, the residual of the laws, the Newton
-        matrix's trace block (module docstring), the penetrating points and the compliance law's derivative."""
-        t, M = self.traces, self.M
-        w = self.apply(u)
-        gap = w[:M] - t.g_a
-        penetrating = (gap > 0) & (t.c_n > 0)
-        N = t.omega * t.c_n * _positive_power(gap, t.m_n)
-        dN = t.omega * t.c_n * np.asarray(t.m_n, dtype=float) * _positive_power(gap, np.asarray(t.m_n) - 1.0)
-        beta = t.omega * t.c_tau
-        z = f[M:] + self.r * w[M:]
-        stick = np.abs(z) < beta
-        sign = np.where(z >= 0, 1.0, -1.0)
-        G = np.concatenate([f[:M] - N, np.where(stick, -self.r * w[M:], f[M:] - sign * beta)])
-        normal_active = penetrating & (dN > 0)
-        active = np.concatenate([normal_active, stick])
-        C = np.concatenate([np.where(normal_active, 1.0 / np.where(normal_active, dN, 1.0), 1.0),
-                            np.where(stick, STICK_REGULARIZATION * self.scale[M:], 1.0)])
-        return w, G, active, C, penetrating, dN
+        """(the :class:`~ngdgfric.solvers.reduced.PointState` at (u, f), the active rows, C): the laws at the traces
+        B u (:func:`~ngdgfric.solvers.reduced.point_state`) and the Newton matrix's trace block (module docstring)."""
+        M, s = self.M, point_state(self.traces, f, self.traces.apply(u), self.r)
+        normal_active = s.penetrating & (s.dN > 0)
+        active = np.concatenate([normal_active, s.stick])
+        C = np.concatenate([np.where(normal_active, 1.0 / np.where(normal_active, s.dN, 1.0), 1.0),
+                            np.where(s.stick, STICK_REGULARIZATION * self.scale[M:], 1.0)])
+        return s, active, C
 
     def equilibrium(self, u, f):
         """(A u + B^T f - F, whether its norm is at most 1e-10 (|F| + |B^T f|)): the linear equations' residual."""
-        forces = self.apply_transpose(f)
+        forces = self.traces.apply_transpose(f)
         residual = self._A_times(u) + forces - self._F
         size = np.linalg.norm(self._F) + np.linalg.norm(forces)
         return residual, bool(np.linalg.norm(residual) <= 1e-10 * size)
 
-    def step(self, u, f, w, G, active, C, dN, residual):
-        """The Newton step (du, df) of the module docstring (:meth:`_solve`)."""
+    def step(self, s, active, C, residual):
+        """The Newton step (du, df) of the module docstring from the point state s (:meth:`_solve`)."""
         M = self.M
-        rhs_u = -residual + self.apply_transpose(np.where(active, 0.0, G))
-        normal = np.where(active[:M], G[:M] / np.where(active[:M], dN, 1.0), G[:M])
-        tangential = np.where(active[M:], -w[M:], G[M:])
+        rhs_u = -residual + self.traces.apply_transpose(np.where(active, 0.0, s.G))
+        normal = np.where(active[:M], s.G[:M] / np.where(active[:M], s.dN, 1.0), s.G[:M])
+        tangential = np.where(active[M:], -s.w[M:], s.G[M:])
         x = self._solve(np.concatenate([rhs_u, normal, tangential]), active, C)
         du, df = x[:self.n], x[self.n:]
-        return du, np.where(active, df, -G)
+        return du, np.where(active, df, -s.G)
 
     def _factor(self, active, C):
         self.values[self._B_slot] = np.where(active[self._B_row], self._B_value, 0.0)
@@ -243,9 +206,9 @@ class FullSpace:
         until = deadline(max_seconds)
         history, stalled, seen, previous = [], 0, {}, None
         for iteration in range(maxit + 1):
-            w, G, active, C, penetrating, dN = self.laws(u, f)
+            state, active, C = self.laws(u, f)
             balance, balanced = self.equilibrium(u, f)
-            residual = kkt_residual(self.scale, G, w, penetrating, self.traces.g_a) if balanced else np.inf
+            residual = kkt_residual(self.scale, state, self.traces.g_a) if balanced else np.inf
             history.append(residual)
             if progress is not None:
                 progress(f"full-space newton {iteration}: KKT residual {residual:.3e}, "
@@ -271,36 +234,18 @@ class FullSpace:
                                   f"{residual:.2e}, the last ones {', '.join(f'{h:.1e}' for h in history[-4:])})",
                                   solver="newton")
             check_deadline(until, "newton", history, f"after {iteration} full-space iterations")
-            du, df = self.step(u, f, w, G, active, C, dN, balance)
+            du, df = self.step(state, active, C, balance)
             u, f = u + du, f + df
         return u, f, dict(iterations=iteration, factorizations=self.factorization.factorizations, history=history,
                           residual=history[-1], converged=history[-1] <= solver_tol,
-                          penetrating=int(penetrating.sum()), stick=int(active[self.M:].sum()))
+                          penetrating=int(state.penetrating.sum()), stick=int(state.stick.sum()))
 
-    def start(self, u, lam_tau):
-        """(u, f) from a warm start: u, and the forces of the laws at its traces with the multiplier values
-        ``lam_tau`` at the points (N(w_n), beta lam_tau)."""
-        t, M = self.traces, self.M
-        w = self.apply(u)
-        normal = t.omega * t.c_n * _positive_power(w[:M] - t.g_a, t.m_n)
-        return u, np.concatenate([normal, t.omega * t.c_tau * np.clip(lam_tau, -1.0, 1.0)])
-
-    def multiplier(self, u, f):
-        """lam_tau at the points: f_t / beta where the point sticks, the slip direction where it slips (as
-        :meth:`ngdgfric.solvers.reduced.ReducedContact.multiplier`)."""
-        M, t = self.M, self.traces
-        w = self.apply(u)
-        beta = t.omega * t.c_tau
-        z = f[M:] + self.r * w[M:]
-        stick = np.abs(z) < beta
-        ratio = f[M:] / np.where(beta > 0, beta, 1.0)
-        return np.where(stick, np.clip(ratio, -1.0, 1.0), np.where(z != 0, np.sign(z), 0.0))
-
-    def linearization(self, u, f):
-        """eta_lin = (sum_q d_q G_q^2)^(1/2) (:meth:`ngdgfric.solvers.reduced.ReducedContact.linearization` with the
-        Jacobi d_q in place of W_qq)."""
-        _, G, _, _, _, _ = self.laws(u, f)
-        return float(np.sqrt(np.sum(self.scale * G * G)))
+    def finish(self, u, f):
+        """(lam_tau at the points, eta_lin) at (u, f): the multiplier (:func:`~ngdgfric.solvers.reduced.multiplier_of`)
+        and (sum_q d_q G_q^2)^(1/2) (:meth:`ngdgfric.solvers.reduced.ReducedContact.linearization` with the Jacobi
+        d_q in place of W_qq)."""
+        s, _, _ = self.laws(u, f)
+        return multiplier_of(s, self.r), float(np.sqrt(np.sum(self.scale * s.G * s.G)))
 
 
 def full_space_newton(disc, traces, options, initial=None):
@@ -313,17 +258,19 @@ def full_space_newton(disc, traces, options, initial=None):
     if initial is None:
         u, f = np.zeros(disc.V.ndof), np.zeros(2 * traces.M)
     else:
-        u, f = solver.start(initial[0].vec.FV().NumPy().copy(), disc.gauss.values(initial[1]).ravel())
+        u = initial[0].vec.FV().NumPy().copy()
+        f = law_forces(traces, traces.apply(u), disc.gauss.values(initial[1]).ravel())
     setup = time.perf_counter() - start
     left = None if options.max_seconds is None else max(options.max_seconds - setup, 1e-9)
     u_vec, f, info = solver.run(u, f, options.solver_tol, options.maxit, options.progress, left)
+    multiplier, linearization = solver.finish(u_vec, f)
     u, lam_tau = starting_point(disc)
     u.vec.FV().NumPy()[:] = u_vec
-    disc.gauss.set_values(lam_tau, solver.multiplier(u_vec, f).reshape(-1, disc.gauss.q))
+    disc.gauss.set_values(lam_tau, multiplier.reshape(-1, disc.gauss.q))
     info["factor_bytes"] = solver.factorization.memory_bytes
     solver.factorization.release()
     info.update(initial_residual=info["history"][0], steps=["full space"] * info["iterations"],
-                linearization=solver.linearization(u_vec, f), contact_points=traces.M,
+                linearization=linearization, contact_points=traces.M,
                 linear_solver="pardiso (full space)", refinements=0, consistency_steps=0, least_squares_solves=0,
                 clamped_points=0, state=None,
                 timings=dict(condense=setup, newton=time.perf_counter() - start - setup, recover=0.0,

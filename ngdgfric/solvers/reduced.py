@@ -40,7 +40,8 @@ import numpy as np
 from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
 
-__all__ = ["ReducedContact", "PointState", "dense_solve", "EPS"]
+__all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multiplier_of", "trace_scale", "dense_solve",
+           "EPS"]
 
 EPS = np.finfo(float).eps
 DIAGONAL_FLOOR = 1e-14  # W_qq below this times the largest: raised to it (r_q = 1 / W_tt stays finite)
@@ -121,6 +122,69 @@ class PointState:
         return other
 
 
+def _exponents(law):
+    """(m_n, m_t) of ``law`` as arrays of one entry per point."""
+    M = len(law.omega)
+    return (np.broadcast_to(np.asarray(m, dtype=float), (M,)) for m in (law.m_n, law.m_t))
+
+
+def point_state(law, f, w, r):
+    """The :class:`PointState` of the laws at forces f and traces w (module docstring): N, N', beta, beta', the
+    stick and slip sets and G.  ``law``: the point data omega, g_a, c_n, c_tau, m_n, m_t (a :class:`ReducedContact`,
+    or the :class:`~ngdgfric.solvers.traces.ContactTraces` of the full-space solver); ``r``: r_q per point.  The one
+    implementation of the laws for both contact solvers."""
+    M, s = len(law.omega), PointState()
+    m_n, m_t = _exponents(law)
+    s.f, s.w = f, w
+    gap = w[:M] - law.g_a
+    s.penetrating = gap > 0
+    if np.all(m_n == 1):
+        s.N = law.omega * law.c_n * np.maximum(gap, 0.0)
+        s.dN = np.where(s.penetrating, law.omega * law.c_n, 0.0)
+    else:
+        s.N = law.omega * law.c_n * _positive_power(gap, m_n)
+        s.dN = law.omega * law.c_n * m_n * _positive_power(gap, m_n - 1)
+    if np.all(m_t == 0):
+        s.beta, s.dbeta = law.omega * law.c_tau * np.ones(M), np.zeros(M)
+    else:
+        s.beta, s.dbeta = bound_rate(gap, law.omega, law.c_tau, m_t)
+    z = f[M:] + r * w[M:]
+    s.stick = np.abs(z) < s.beta
+    s.sign = np.where(z >= 0, 1.0, -1.0)
+    s.G = np.concatenate([f[:M] - s.N, np.where(s.stick, -r * w[M:], f[M:] - s.sign * s.beta)])
+    return s
+
+
+def law_forces(law, w, lam_tau):
+    """The forces of the laws at traces w with multiplier values ``lam_tau``: (N(w_n), beta(w_n) lam_tau) (a warm
+    start; ``law`` as in :func:`point_state`)."""
+    M = len(law.omega)
+    m_n, m_t = _exponents(law)
+    gap = w[:M] - law.g_a
+    normal = law.omega * law.c_n * _positive_power(gap, m_n)
+    beta = bound_rate(gap, law.omega, law.c_tau, m_t)[0]
+    return np.concatenate([normal, beta * np.clip(lam_tau, -1.0, 1.0)])
+
+
+def multiplier_of(s, r):
+    """lam_tau at the points of the :class:`PointState` s: f_t / beta (clipped to [-1, 1]) where the point sticks,
+    the slip direction sign(f_t + r w_t) where it slips or beta = 0 (Lemma 3.1).  The slip direction is taken from
+    the law rather than from f_t / beta: where beta is below the force tolerance (c_tau or the penetration tiny)
+    f_t carries no information about the direction, w_t does."""
+    M = len(s.beta)
+    ratio = s.f[M:] / np.where(s.beta > 0, s.beta, 1.0)
+    direction = np.where(s.f[M:] + r * s.w[M:] != 0, s.sign, 0.0)
+    return np.where(s.stick, np.clip(ratio, -1.0, 1.0), direction)
+
+
+def trace_scale(s, g_a):
+    """D = max(max_q |w_q|, eps max |g_a| over the penetrating points) of the :class:`PointState` s: the largest
+    trace, which at a solution is the size of u on Gamma_C.  A body loaded by an initial penetration only (f = 0,
+    g = 0, g_a < 0) starts from w = 0: there the penetrated gap keeps D, and the relative residual, finite."""
+    gaps = EPS * np.abs(g_a[s.penetrating])
+    return max(float(np.max(np.abs(s.w), initial=0.0)), float(np.max(gaps, initial=0.0)), np.finfo(float).tiny)
+
+
 class ReducedContact:
     """The condensed problem of the module docstring.
 
@@ -187,27 +251,8 @@ class ReducedContact:
 
     # ------------------------------------------------------------------ the laws and G
     def evaluate(self, f):
-        """The :class:`PointState` at forces f."""
-        M, s = self.M, PointState()
-        s.f = f
-        s.w = self.w0 - self.W @ f
-        gap = s.w[:M] - self.g_a
-        s.penetrating = gap > 0
-        if np.all(self.m_n == 1):
-            s.N = self.omega * self.c_n * np.maximum(gap, 0.0)
-            s.dN = np.where(s.penetrating, self.omega * self.c_n, 0.0)
-        else:
-            s.N = self.omega * self.c_n * _positive_power(gap, self.m_n)
-            s.dN = self.omega * self.c_n * self.m_n * _positive_power(gap, self.m_n - 1)
-        if not self.quasi_variational:
-            s.beta, s.dbeta = self.beta_fixed, np.zeros(M)
-        else:
-            s.beta, s.dbeta = bound_rate(gap, self.omega, self.c_tau, self.m_t)
-        z = f[M:] + self.r * s.w[M:]
-        s.stick = np.abs(z) < s.beta
-        s.sign = np.where(z >= 0, 1.0, -1.0)
-        s.G = np.concatenate([f[:M] - s.N, np.where(s.stick, -self.r * s.w[M:], f[M:] - s.sign * s.beta)])
-        return s
+        """The :class:`PointState` at forces f (:func:`point_state` at the traces w0 - W f)."""
+        return point_state(self, f, self.w0 - self.W @ f, self.r)
 
     def residual(self, s):
         """The relative KKT residual max_q W_qq |G_q| / D: each point's residual force measured by the
@@ -215,11 +260,8 @@ class ReducedContact:
         return float(np.max(self.diagonal * np.abs(s.G), initial=0.0)) / self.trace_scale(s)
 
     def trace_scale(self, s):
-        """D = max(max_q |w_q|, eps max |g_a| over the penetrating points): the largest trace, which at a
-        solution is the size of u on Gamma_C.  A body loaded by an initial penetration only (f = 0, g = 0,
-        g_a < 0) starts from w = 0: there the penetrated gap keeps D, and the residual, finite."""
-        gaps = EPS * np.abs(self.g_a[s.penetrating])
-        return max(float(np.max(np.abs(s.w), initial=0.0)), float(np.max(gaps, initial=0.0)), np.finfo(float).tiny)
+        """D of :func:`trace_scale`."""
+        return trace_scale(s, self.g_a)
 
     def scale(self, s):
         """The force scale S = max(|f|_inf, max_q max(|w0_q|, (w0_n - g_a)_+) / W_qq) (for the projected Newton's
@@ -298,13 +340,9 @@ class ReducedContact:
 
     # ------------------------------------------------------------------ forces <-> displacement, multiplier
     def forces(self, w, lam_tau):
-        """The forces of the laws at traces w with multiplier values ``lam_tau``: (N(w_n), beta(w_n) lam_tau)
-        (a warm start)."""
-        M = self.M
-        gap = w[:M] - self.g_a
-        normal = self.omega * self.c_n * _positive_power(gap, self.m_n)
-        beta = self.beta_fixed if not self.quasi_variational else bound_rate(gap, self.omega, self.c_tau, self.m_t)[0]
-        f = np.concatenate([normal, beta * np.clip(lam_tau, -1.0, 1.0)])
+        """The forces of the laws at traces w with multiplier values ``lam_tau`` (:func:`law_forces`; a warm start),
+        projected onto K where the iteration descends the energy."""
+        f = law_forces(self, w, lam_tau)
         return self.project(f) if self.energy_merit else f
 
     def traces(self, f):
@@ -316,12 +354,5 @@ class ReducedContact:
         self.w0 = self.w0 + mismatch
 
     def multiplier(self, f):
-        """lam_tau at the points: f_t / beta (clipped to [-1, 1]) where the point sticks, the slip direction
-        sign(f_t + r w_t) where it slips or beta = 0 (Lemma 3.1).  The slip direction is taken from the
-        law rather than from f_t / beta: where beta is below the force tolerance (c_tau or the
-        penetration tiny) f_t carries no information about the direction, w_t does."""
-        s = self.evaluate(f)
-        M = self.M
-        ratio = f[M:] / np.where(s.beta > 0, s.beta, 1.0)
-        direction = np.where(f[M:] + self.r * s.w[M:] != 0, s.sign, 0.0)
-        return np.where(s.stick, np.clip(ratio, -1.0, 1.0), direction)
+        """lam_tau at the points (:func:`multiplier_of` at f)."""
+        return multiplier_of(self.evaluate(f), self.r)
