@@ -25,11 +25,14 @@ setup(
         # the documentation site (docs/, README "Documentation"): sphinx builds it, autodoc (part of sphinx)
         # reads the docstrings; myst-nb reads Markdown (with myst-parser, its dependency: README sections
         # included by markers) and executes the gallery's notebooks and MyST notebooks at build time through
-        # jupyter-cache and the ipykernel below; it needs no pandoc binary, unlike nbsphinx
-        "docs": ["sphinx", "myst-nb", "ipykernel"],
+        # jupyter-cache and the ipykernel below; it needs no pandoc binary, unlike nbsphinx.
+        # sphinx-mathjax-offline: MathJax 3 (24 MB) copied into the site, so that the formulas render offline;
+        # the only pip-installable bundle (the alternative, server-side LaTeX, needs a TeX installation)
+        "docs": ["sphinx", "myst-nb", "ipykernel", "sphinx-mathjax-offline"],
         # hypothesis: property tests of the condensed contact solver over random data (tests/test_reduced.py);
-        # the docs extra: tests/test_docs.py builds the site when it is not built
-        "test": ["pytest", "ruff", "hypothesis", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
+        # the docs extra: tests/test_docs.py builds the site when it is not built;
+        # numpydoc: its validator checks the public docstrings (tests/test_docstrings.py); napoleon renders them
+        "test": ["pytest", "numpydoc", "ruff", "hypothesis", "nbclient", "nbformat", "nbconvert", "ipykernel", "anywidget",
                  "webgui_jupyter_widgets", "dask[distributed]", "ngdgfric[docs]"],
     },
     entry_points={"console_scripts": ["ngdgfric = ngdgfric.cli:main"]},

@@ -30,7 +30,13 @@ copyright = "2026, the ngdgfric developers"
 release = ngdgfric.__version__
 version = release
 
-extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.autosummary"]
+# napoleon: the docstrings are NumPy style (Parameters, Returns, Raises, Examples; numpydoc's validation in
+# tests/test_docstrings.py); sphinx-mathjax-offline: MathJax 3 copied into the site, so that formulas render
+# without network access
+extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.autosummary", "sphinx.ext.napoleon",
+              "sphinx-mathjax-offline"]
+# every cross-reference must resolve (CI builds with -n as well)
+nitpicky = True
 exclude_patterns = ["_build", "**.ipynb_checkpoints", "README.md"]
 suppress_warnings = []
 
@@ -43,6 +49,8 @@ os.environ["NGDGFRIC_SMOKE"] = "1"  # the kernels inherit the environment
 # "force": a page is executed whenever Sphinx reads it (a fresh or -E build reads all); no cache that could
 # keep outputs of an older ngdgfric, since a cache is keyed on the notebook's code alone
 nb_execution_mode = "force"
+if os.environ.get("NGDGFRIC_DOCS_EXECUTE") == "0":  # a quick build of the text alone (outputs left empty)
+    nb_execution_mode = "off"
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_execution_timeout = 600
@@ -51,6 +59,12 @@ nb_merge_streams = True
 # autodoc: members in source order, signatures as written
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"
+autodoc_preserve_defaults = True  # defaults as written (``progress=log``), not their repr
+napoleon_google_docstring = False
+napoleon_numpy_docstring = True
+napoleon_use_param = False  # types shown as written, not as cross-references
+napoleon_use_rtype = False
+napoleon_use_ivar = True
 autodoc_default_options = {"members": False}
 
 html_theme = "alabaster"
@@ -62,7 +76,7 @@ html_theme_options = {"description": "DG methods for 2D frictional contact on NG
 
 
 def plain_pipes(lines):
-    """``lines`` (one docstring) with every ``|`` escaped outside inline literals and literal blocks.
+    """``lines`` (one docstring) with every ``|`` escaped outside inline literals, roles and literal blocks.
 
     The docstrings write norms and absolute values as in the paper, ``|u_tau|``, ``|||u - u_h|||_h``,
     which reStructuredText would read as substitution references; they use no substitutions.
@@ -75,8 +89,14 @@ def plain_pipes(lines):
             continue
         literal_indent = indent if line.rstrip().endswith("::") else None
         parts = line.split("``")
-        out.append("``".join(part if k % 2 else part.replace("|", r"\|") for k, part in enumerate(parts)))
+        out.append("``".join(part if k % 2 else _escape_outside_roles(part) for k, part in enumerate(parts)))
     return out
+
+
+def _escape_outside_roles(text):
+    """``text`` with ``|`` escaped except inside interpreted text (``:math:`|u|```)."""
+    pieces = re.split(r"(`[^`]*`)", text)
+    return "".join(piece if k % 2 else piece.replace("|", r"\|") for k, piece in enumerate(pieces))
 
 
 def preformatted_blocks(lines):
