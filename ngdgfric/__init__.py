@@ -14,7 +14,7 @@ moved in 0.2 still work for one release, with a DeprecationWarning (:mod:`ngdgfr
 from importlib.metadata import PackageNotFoundError, version
 
 from . import _moved
-from .adaptivity import Adaptation, adapt, dorfler_mark
+from .adaptivity import Adaptation, AdaptOptions, adapt, dorfler_mark
 from .checks import DataError
 from .contact import contact_state, kkt_residuals
 from .dg.discretization import Discretization
@@ -60,7 +60,8 @@ __all__ = [
     # outputs
     "contact_state", "kkt_residuals", "force_balance", "ForceBalance",
     # estimators and adaptivity
-    "estimate", "Estimate", "equilibrate", "Equilibration", "dorfler_mark", "adapt", "Adaptation", "hp_refine",
+    "estimate", "Estimate", "equilibrate", "Equilibration", "dorfler_mark", "adapt", "AdaptOptions", "Adaptation",
+    "hp_refine",
     # true errors
     "energy_norm", "Reference", "energy_error", "load_reference", "save_reference",
 ]

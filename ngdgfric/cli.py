@@ -29,7 +29,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from .adaptivity import INITIAL_LAYERS, LAYERS, MAX_ORDER, adapt
+from .adaptivity import INITIAL_LAYERS, LAYERS, MAX_ORDER, AdaptOptions, adapt
 from .checks import MEMORY_BUDGET, DataError
 from .commands import COMMANDS, DEFAULT_H, NOT_REACHED, NotReached, load, outputs
 from .dg.methods import METHODS
@@ -101,7 +101,7 @@ def _defaults(function):
     return {name: parameter.default for name, parameter in inspect.signature(function).parameters.items()}
 
 
-DEFAULTS = {"solve": _defaults(solve), "adapt": _defaults(adapt)}
+DEFAULTS = {"solve": _defaults(solve), "adapt": {**_defaults(adapt), **_defaults(AdaptOptions)}}
 """The keyword defaults of :func:`ngdgfric.solve` and :func:`ngdgfric.adapt`: the command line's own defaults."""
 
 

@@ -11,10 +11,34 @@ __all__ = ["dorfler_mark", "landing_theta", "LANDING"]
 
 
 def dorfler_mark(element_indicators, theta=0.3):
-    """The smallest set M with sum_M eta_T^2 >= theta sum_T eta_T^2 (boolean mask).
+    r"""Mark the smallest set of elements that carries the fraction theta of the squared estimate (Doerfler).
 
-    ``element_indicators``: the squared indicators eta_T^2.  Largest indicators are taken first;
-    ties at the threshold are broken by element number.
+    The marked set :math:`\mathcal{M}` is the smallest with
+    :math:`\sum_{T \in \mathcal{M}} \eta_T^2 \ge \theta \sum_T \eta_T^2` (Section 6); the largest indicators are
+    taken first, ties at the threshold broken by element number.
+
+    Parameters
+    ----------
+    element_indicators : array_like
+        The squared indicators :math:`\eta_T^2`, one per element (``Estimate.eta_T_squared``), finite and
+        nonnegative.
+    theta : float, optional
+        The bulk parameter :math:`\theta \in (0, 1]`.  Default ``0.3``, the paper's.
+
+    Returns
+    -------
+    numpy.ndarray
+        A boolean mask, one entry per element: ``True`` where marked.  All ``False`` when every indicator is 0.
+
+    Raises
+    ------
+    ValueError
+        ``theta`` outside :math:`(0, 1]`, or indicators that are not a 1-d array of finite nonnegative numbers.
+
+    Examples
+    --------
+    >>> ndf.dorfler_mark([4.0, 1.0, 3.0, 2.0], theta=0.5)
+    array([ True, False,  True, False])
     """
     if not (isinstance(theta, (int, float)) and 0 < theta <= 1):
         raise ValueError(f"theta must be in (0, 1], got {theta!r}")

@@ -264,3 +264,34 @@ def test_progress_goes_to_the_ngdgfric_logger_or_to_a_callable(caplog, capsys):
     assert len(logged) == len(seen) == 3 and logged[0] == seen[0] == "method sipg: given"
     assert [line.split(",")[:2] for line in logged] == [line.split(",")[:2] for line in seen]  # times differ
     assert seen[1].startswith("level   0: ") and "eta_h = " in seen[1]
+
+
+def test_settings_grouped_or_as_keywords_give_the_same_run():
+    problem = ndf.example_6_2()
+    keywords = dict(order=1, hp=False, theta=0.3, max_levels=3, max_ndof=5000)
+    by_keywords = ndf.adapt(problem, method="sipg", progress=None, **keywords)
+    settings = ndf.AdaptOptions(hp=False, theta=0.3, max_levels=3, max_ndof=5000)
+    grouped = ndf.adapt(problem, method="sipg", order=1, settings=settings, progress=None)
+    assert [r["ndof"] for r in grouped.levels] == [r["ndof"] for r in by_keywords.levels]
+    assert [r["eta_h"] for r in grouped.levels] == [r["eta_h"] for r in by_keywords.levels]
+    assert grouped.stopped == by_keywords.stopped == "max_levels"
+
+
+def test_settings_refused_twice_or_of_the_wrong_type_or_out_of_range():
+    problem = ndf.example_6_2()
+    with pytest.raises(ValueError, match=r"max_levels given as keywords together with settings="):
+        ndf.adapt(problem, settings=ndf.AdaptOptions(tol=1e-2), max_levels=3)
+    with pytest.raises(ValueError, match=r"settings must be an AdaptOptions or None, got 0.3"):
+        ndf.adapt(problem, None, "sipg", 1, 0.3)  # theta where 0.1 took it positionally
+    for bad, message in ((dict(theta=1.5), r"theta must be in \(0, 1\], got 1.5"),
+                         (dict(hp="yes"), r"hp must be True or False, got 'yes'"),
+                         (dict(max_order=0), r"max_order must be an integer >= 1 or None, got 0"),
+                         (dict(tol=-1.0), r"tol must be a positive number or None, got -1.0"),
+                         (dict(max_seconds=float("nan")), r"max_seconds must be a positive number or None, got nan"),
+                         (dict(hp=False, layers=1), r"layers=1 acts in hp refinement only")):
+        with pytest.raises(ValueError, match=message):
+            ndf.AdaptOptions(**bad)
+        with pytest.raises(ValueError, match=message):
+            ndf.adapt(problem, progress=None, **bad)
+    with pytest.raises(ValueError, match=r"order must be an integer >= 1, got 0"):
+        ndf.adapt(problem, order=0)

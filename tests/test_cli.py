@@ -110,12 +110,13 @@ def test_solve_prints_the_forces(tmp_path, capsys):
 
 
 def test_the_command_line_has_the_libraries_defaults():
-    # one source: every option of `adaptive` and `solve` defaults to the keyword of ndf.adapt / ndf.solve
+    # one source: every option of `adaptive` and `solve` defaults to the keyword of ndf.adapt / ndf.solve (or to the
+    # field of ndf.AdaptOptions, the keywords' grouped form)
     adaptive = build_parser().parse_args(["adaptive", "6.1"])
     options = dict(method="method", order="order", theta="theta", levels="max_levels", max_ndof="max_ndof",
                    tol="tol", hp="hp", max_order="max_order", variant="variant", solver="solver",
                    max_seconds="max_seconds", eta="eta", solver_tol="solver_tol", layers="layers")
-    signature = inspect.signature(ndf.adapt).parameters
+    signature = {**inspect.signature(ndf.adapt).parameters, **inspect.signature(ndf.AdaptOptions).parameters}
     assert {name: getattr(adaptive, name) for name in options} == {
         name: signature[keyword].default for name, keyword in options.items()}
     assert (adaptive.order, adaptive.theta, adaptive.levels, adaptive.max_ndof, adaptive.hp) == (4, 0.8, 100, 10**6,
