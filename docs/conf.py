@@ -11,7 +11,9 @@ from the docstrings (autodoc).  The pages of ``results/`` are made here at build
 ``results/*.md`` that includes the file where it is (``docs/results/`` is generated, not kept in git).
 """
 
+import dataclasses
 import functools
+import inspect
 import os
 import re
 import sys
@@ -167,7 +169,46 @@ def public_data_docs():
     return docs
 
 
+def user_form(value):
+    """``value`` (a default) as a user writes it: ``8e9`` rather than ``8000000000.0``, ``10**6`` for a power of
+    ten; None if it is no number."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    if isinstance(value, int):
+        exponent = len(str(value)) - 1
+        return f"10**{exponent}" if value >= 10**4 and value == 10**exponent else repr(value)
+    if value.is_integer() and abs(value) >= 1e4:
+        mantissa, exponent = f"{value:e}".split("e")
+        return f"{mantissa.rstrip('0').rstrip('.')}e{int(exponent)}"
+    return repr(value)
+
+
+def _user_defaults(app, what, name, obj, options, signature, return_annotation):
+    """Signatures with defaults as a user writes them: a module constant (``max_bytes=MEMORY_BUDGET``, as
+    ``autodoc_preserve_defaults`` shows it) by its value (``max_bytes=8e9``), a dataclass field's factory
+    (``<factory>``) by its call (``dict()``)."""
+    if signature is None or not callable(obj):
+        return None
+    try:
+        parameters = inspect.signature(obj).parameters
+    except (TypeError, ValueError):
+        return None
+    fields = {field.name: field for field in dataclasses.fields(obj)} if dataclasses.is_dataclass(obj) else {}
+    for parameter in parameters.values():
+        shown = None
+        if parameter.name in fields and fields[parameter.name].default_factory is not dataclasses.MISSING:
+            shown = f"{fields[parameter.name].default_factory.__name__}()"
+        elif parameter.default is not inspect.Parameter.empty:
+            shown = user_form(parameter.default)
+        if shown is not None:
+            pattern = rf"\b{parameter.name}(\s*:\s*[^=,()]+)?\s*=\s*(<factory>|[^,()\[\]\s'\"]+)(?=\s*[,)])"
+            signature = re.sub(pattern, lambda match, shown=shown: match.group(0)[:match.start(2) - match.start(0)]
+                               + shown, signature)
+    return signature, return_annotation
+
+
 def setup(app):
+    app.connect("autodoc-process-signature", _user_defaults)
     app.connect("autodoc-process-docstring", _public_data_docstring)
     app.connect("autodoc-process-docstring", _escape_pipes)
 
