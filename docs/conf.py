@@ -67,11 +67,14 @@ napoleon_numpy_docstring = True
 napoleon_use_param = False  # types shown as written, not as cross-references
 napoleon_use_rtype = False
 napoleon_use_ivar = True
-autodoc_default_options = {"members": False}
+# types of other packages: no inventory to link them to offline (intersphinx would fetch one at build time)
+nitpick_ignore_regex = [("py:class", r"(numpy|ngsolve|netgen|matplotlib|pathlib|scipy)\..*")]
+# no default options: a class's members are shown where its directive asks (``:members:``)
 
 html_theme = "alabaster"
 html_title = f"ngdgfric {release}"
-html_static_path = []
+html_static_path = ["_static"]
+html_css_files = ["ngdgfric.css"]
 # alabaster shows its narrow-screen layout below page_width: keep it at laptop widths
 html_theme_options = {"description": "DG methods for 2D frictional contact on NGSolve", "page_width": "1100px",
                       "body_max_width": "none", "fixed_sidebar": True}
@@ -220,31 +223,85 @@ def _write_if_changed(path, text):
         path.write_text(text)
 
 
+RESULT_GROUPS = {
+    "The paper's tables and figures": {
+        "table_6_1": "Table 6.1: five methods on uniform meshes, Example 6.1",
+        "table_6_2": "Table 6.2: the same for Example 6.2",
+        "adaptivity_6_1": "Figures 6.1, 6.2: adaptive against uniform refinement, Example 6.1",
+        "adaptivity_6_2": "Figures 6.3, 6.4: the same for Example 6.2",
+        "table_investigation": "Which error measure the paper's tables show",
+        "reference": "The hp reference solutions the true errors are measured against"},
+    "Accuracy: where the methods work and where they fail": {
+        "locking": "Volumetric locking of every method and degree as nu -> 1/2",
+        "stability": "Where each method fails: penalties, meshes, materials",
+        "effectivity": "The estimators against the true error",
+        "hp": "hp-adaptivity against h and uniform refinement",
+        "curved": "Rates on curved meshes",
+        "hertz": "A Hertz contact against Hertz's theory",
+        "scenes": "Nine user scenes and a rubber pad",
+        "mt": "A friction bound that depends on the penetration (m_t > 0)"},
+    "Speed": {
+        "time_to_accuracy": "Seconds to a true error: adapt against a plain conforming code and every DG method",
+        "work_precision": "True error against run time, every method",
+        "solver_benchmark": "The contact solve against a linear solve of the same system",
+        "long_contact_side": "Many contact points",
+        "assembly_benchmark": "The cost of assembling each method",
+        "linear_solvers": "Sparse direct solvers that install with pip"},
+}
+"""The results pages of the site's main path, by topic, with the line each shows in the index."""
+VERIFICATION = {
+    "fuzz": "713 bad inputs through the API and the command line, each ending in a named error",
+    "solver_robustness": "The default contact solver over 232 cases drawn over the data",
+}
+"""Test logs: on a page of their own, out of the main path."""
+
+
 def _results_pages():
-    """docs/results/<name>.md for every results/<name>.md (an include of it) and docs/results/index.md."""
+    """docs/results/<name>.md for every results/<name>.md (an include of it), docs/results/index.md (the pages by
+    topic) and docs/results/verification.md (the test logs).  A results file in neither table fails the build."""
     folder = DOCS / "results"
     names = sorted(path.stem for path in (ROOT / "results").glob("*.md"))
+    placed = {name for group in RESULT_GROUPS.values() for name in group} | set(VERIFICATION)
+    if set(names) != placed:
+        raise ValueError(f"docs/conf.py: results pages not placed in RESULT_GROUPS or VERIFICATION: "
+                         f"{sorted(set(names) - placed)}; placed but missing: {sorted(placed - set(names))}")
     for stale in folder.glob("*.md"):
-        if stale.stem not in names and stale.stem != "index":
+        if stale.stem not in names and stale.stem not in ("index", "verification"):
             stale.unlink()
     for name in names:
         _write_if_changed(folder / f"{name}.md", f"```{{include}} ../../results/{name}.md\n:relative-images:\n```\n")
-    toctree = "\n".join(names)
+
+    def listing(pages):
+        return "\n".join(f"- {{doc}}`{text} <{name}>`" for name, text in pages.items())
+
+    sections = "\n\n".join(f"## {title}\n\n{listing(pages)}" for title, pages in RESULT_GROUPS.items())
+    main = "\n".join(name for pages in RESULT_GROUPS.values() for name in pages)
     _write_if_changed(folder / "index.md", f"""# Results
 
-Every file in `results/` is written by a script of `scripts/` or `benchmarks/`; each page below is one
-of them, shown as it is in the repository (the command that wrote it is in the file).
+What we measured, and against what: each page is written by a script or a benchmark of the repository (the
+command that regenerates it is on the page), and shown here as it is.  The test logs are under
+{{doc}}`verification`.
 
-```{{include}} ../../README.md
-:start-after: <!-- docs:gallery -->
-:end-before: <!-- /docs:gallery -->
-:relative-images:
-```
+{sections}
 
 ```{{toctree}}
-:maxdepth: 1
+:hidden:
 
-{toctree}
+{main}
+verification
+```
+""")
+    logs = "\n".join(VERIFICATION)
+    _write_if_changed(folder / "verification.md", f"""# Verification logs
+
+Logs of the test studies, case by case.
+
+{listing(VERIFICATION)}
+
+```{{toctree}}
+:hidden:
+
+{logs}
 ```
 """)
 

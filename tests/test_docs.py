@@ -82,7 +82,7 @@ def site(tmp_path_factory):
     if index.exists() and index.stat().st_mtime > newest_source():
         return BUILT
     out = tmp_path_factory.mktemp("docs") / "html"
-    result = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
+    result = subprocess.run([sys.executable, "-m", "sphinx", "-n", "-W", "--keep-going", "-q", "-b", "html",
                              str(ROOT / "docs"), str(out)], cwd=ROOT, capture_output=True, text=True, timeout=1200)
     assert result.returncode == 0, f"the documentation build failed:\n{result.stderr[-5000:]}"
     return out
@@ -95,17 +95,22 @@ def test_every_public_name_has_a_docstring():
 
 @pytest.mark.slow
 def test_api_pages_document_every_public_name(site):
-    """Each name of ``ngdgfric.__all__`` has its entry (anchor ``ngdgfric.<name>``) on the API page, and the
-    first words of its docstring are shown there."""
-    page = (site / "api" / "index.html").read_text()
+    """Each name of ``ngdgfric.__all__`` has its entry (anchor ``ngdgfric.<name>``) on one of the API pages
+    (api/*.html: the topic pages), and the first words of its docstring are shown there; the pages of the
+    subpackages show their module docstrings."""
+    pages = {path.name: path.read_text() for path in sorted((site / "api").glob("*.html"))}
     for name in ngdgfric.__all__:
-        anchor = page.find(f'id="ngdgfric.{name}"')
-        assert anchor >= 0, f"ngdgfric.{name} is not on the API page"
+        found = [(page, text.find(f'id="ngdgfric.{name}"')) for page, text in pages.items()]
+        found = [(page, anchor) for page, anchor in found if anchor >= 0]
+        assert found, f"ngdgfric.{name} is not on any API page"
+        page, anchor = found[0]
         first = words(docstring(name), 8)
-        shown = words(page_text(page[anchor:anchor + 20000]))
-        assert contains(shown, first), f"the docstring of ngdgfric.{name} is not shown: {' '.join(first)}"
-    subpackages = {"dg": ngdgfric.dg, "solvers": ngdgfric.solvers}
-    for name, module in subpackages.items():
+        shown = words(page_text(pages[page][anchor:anchor + 20000]))
+        assert contains(shown, first), f"the docstring of ngdgfric.{name} is not shown on {page}: {' '.join(first)}"
+    import importlib  # ngdgfric.studies is not imported by ``import ngdgfric``
+
+    for name in ("dg", "solvers", "studies"):
+        module = importlib.import_module(f"ngdgfric.{name}")
         text = words(page_text((site / "api" / f"{name}.html").read_text()))
         assert contains(text, words(module.__doc__, 10)), f"the docstring of ngdgfric.{name} is not on its page"
 
@@ -148,31 +153,89 @@ def non_white(rgb):
     return int(np.count_nonzero(rgb.min(axis=2) < 0.9))
 
 
-def readme_section(marker):
-    """The text of README.md between ``<!-- docs:marker -->`` and ``<!-- /docs:marker -->``."""
-    text = (ROOT / "README.md").read_text()
-    return text.split(f"<!-- docs:{marker} -->")[1].split(f"<!-- /docs:{marker} -->")[0]
+def entry(dom, name):
+    """The HTML of the API entry ``ngdgfric.<name>``: its ``<dt>`` and ``<dd>``, up to the next entry at its level."""
+    start = dom.find(f'id="ngdgfric.{name}"')
+    assert start >= 0, f"ngdgfric.{name}: no entry"
+    start = dom.rfind("<dl", 0, start)
+    depth, k = 0, start
+    for tag in re.finditer(r"<(/?)dl\b", dom[start:]):
+        depth += -1 if tag.group(1) else 1
+        if depth == 0:
+            k = start + tag.end()
+            break
+    return dom[start:k]
+
+
+def formulas(dom):
+    """How many formulas MathJax rendered in ``dom`` (its CHTML output elements)."""
+    return dom.count("<mjx-container")
+
+
+def raw_tex(dom):
+    """TeX that was not rendered: MathJax's delimiters left in the page's text."""
+    text = page_text(re.sub(r"<(script|style)\b.*?</\1>", " ", dom, flags=re.S))
+    return re.findall(r"\\\(|\\\)|\\\[|\\\]|\$\$", text)
 
 
 @pytest.mark.slow
 @pytest.mark.browser
 @needs_chromium
-def test_pages_in_a_browser(site, tmp_path):
-    # the start page: its sections and the README's "What it does"
+def test_landing_methods_and_adapt_render_offline(site, tmp_path):
+    """The issue's three pages in headless Chromium with every host name unresolvable: the landing page shows its
+    picture (a deformed scene and its contact pressure, drawn while the site was built), the methods page and
+    the entry of ``adapt`` show formulas that MathJax rendered from the site's own copy (no raw TeX left), and
+    the entry's Parameters section names every argument of ``adapt``."""
     dom, rgb = chromium(site, "index.html", tmp_path)
-    for link in ("getting_started.html", "user_guide/index.html", "api/index.html", "gallery/index.html",
+    images = re.findall(r'<img[^>]+src="([^"]+\.png)"', dom)
+    assert images, "index: no picture"
+    picture = matplotlib.image.imread(site / images[0])[..., :3]
+    assert coloured(picture) > 20_000, f"index: the picture {images[0]} is nearly blank"
+    assert coloured(rgb) > 45_000, "index: the picture is not on screen"  # text pages: some 25 000
+    for link in ("getting_started.html", "user_guide/methods.html", "api/index.html", "gallery/index.html",
                  "results/index.html"):
         assert f'href="{link}' in dom, f"index: no link to {link}"
-    assert contains(words(page_text(dom)), words(readme_section("what-it-does"), 12))
-    assert non_white(rgb) > 20_000, "index: the screenshot is nearly blank"
-    # a user-guide page: the README section it includes
-    dom, _ = chromium(site, "user_guide/methods.html", tmp_path, screenshot=False)
-    assert contains(words(page_text(dom)), words(readme_section("dg-method"), 12)), "methods: README text missing"
-    # the API page: the docstring of ngdgfric.solve, as a documented function with its signature
-    dom, rgb = chromium(site, "api/index.html", tmp_path)
-    assert 'id="ngdgfric.solve"' in dom
-    assert contains(words(page_text(dom)), words(ngdgfric.solve.__doc__, 15)), "api: solve's docstring missing"
-    assert non_white(rgb) > 20_000, "api: the screenshot is nearly blank"
+    assert "mathjax/tex-chtml.js" in dom and "cdn" not in re.findall(r'<script[^>]+src="([^"]*mathjax[^"]*)"', dom)[0]
+
+    dom, rgb = chromium(site, "user_guide/methods.html", tmp_path)
+    assert formulas(dom) >= 20, f"methods: {formulas(dom)} rendered formulas"
+    assert not raw_tex(dom), f"methods: raw TeX left: {raw_tex(dom)[:5]}"
+    assert non_white(rgb) > 20_000, "methods: the screenshot is nearly blank"
+    for name in ("sipg", "nipg", "bassi", "brezzi", "ldg", "cg"):
+        assert re.search(rf"<td[^>]*>.*?\b{name}\b", dom, flags=re.S | re.I), f"methods: {name} not in a table"
+
+    page = next(path for path in sorted((site / "api").glob("*.html")) if 'id="ngdgfric.adapt"' in path.read_text())
+    dom, _ = chromium(site, f"api/{page.name}", tmp_path, screenshot=False)
+    adapt = entry(dom, "adapt")
+    assert formulas(adapt) >= 3, "adapt: its formulas were not rendered"
+    assert not raw_tex(adapt), f"adapt: raw TeX left: {raw_tex(adapt)[:5]}"
+    parameters = page_text(adapt.split(">Parameters<", 1)[1].split(">Returns<", 1)[0])
+    for name, parameter in inspect.signature(ngdgfric.adapt).parameters.items():
+        shown = "**" + name if parameter.kind is inspect.Parameter.VAR_KEYWORD else name
+        assert re.search(rf"(^|\s){re.escape(shown)}\s*\(", parameters) or re.search(
+            rf"(^|\s){re.escape(shown)}\s*[–—-]", parameters), f"adapt: Parameters does not name {shown}"
+
+
+USER_PAGES = ["index.html", "getting_started.html", "paper.html", "testing.html", "user_guide/*.html",
+              "gallery/*.html", "gallery/notebooks/*.html", "api/*.html"]
+# a file that is a page of the site: name its page with a link, not its path
+SITE_FILES = re.compile(r"\b(results/[\w.-]+\.md|notebooks/[\w.-]+\.ipynb|ngdgfric/[\w/.-]+\.(py|toml))\b")
+
+
+@pytest.mark.slow
+def test_no_page_names_an_issue_or_a_path_where_a_link_would_do(site):
+    found = []
+    for pattern in USER_PAGES:
+        for path in sorted(site.glob(pattern)):
+            html_text = re.sub(r"<(script|style)\b.*?</\1>", " ", path.read_text(), flags=re.S)
+            literal_listing = re.sub(r'<div class="highlight-toml.*?</div>\s*</div>', " ", html_text, flags=re.S)
+            text = page_text(literal_listing)
+            found += [f"{path.relative_to(site)}: {m.group(0)!r}" for m in re.finditer(r"\bissues? \d+", text, re.I)]
+            found += [f"{path.relative_to(site)}: {m.group(0)!r}" for m in SITE_FILES.finditer(text)]
+    for path in sorted(site.glob("results/*.html")):
+        text = page_text(path.read_text())
+        found += [f"{path.relative_to(site)}: {m.group(0)!r}" for m in re.finditer(r"\bissues? \d+", text, re.I)]
+    assert not found, "pages naming an issue or a file path:\n" + "\n".join(found[:40])
 
 
 @pytest.mark.slow
