@@ -1,27 +1,30 @@
-"""SOLVE -> ESTIMATE -> MARK -> REFINE (Section 6): Doerfler marking, then h refinement by
-bisection (:func:`ngdgfric.meshes.refine`) or the hp decision (:func:`ngdgfric.hp.hp_refine`); one level at a
-time by :class:`ngdgfric.levels.AdaptiveLoop`.
+r"""SOLVE, ESTIMATE, MARK, REFINE (Section 6): the adaptive loop :func:`ngdgfric.adapt` and its settings.
 
-Choice of the defaults of :func:`adapt` (time to an answer): the conforming baseline where nu is
-moderate (:func:`choose_method`), hp from p = 4 up to 8, theta = 0.8 and one geometric layer (``layers=1``):
-a marked element that the hp decision bisects and that contains a singular point (a corner of the domain, an end
-of the contact or the stick zone) is bisected twice more towards it in the same step.  Before, the levels were
-paced by the grading towards the singular points: h_min halved on every level (5.3e-9 at level 27 on Example 6.1)
-and eta_h fell by about 0.67 per level whatever else was refined, with DOFs growing ~1.1 per level (28 levels to
-tol = 5e-4, about 10 linear solves of the final mesh).  With the layer h_min falls by 4 per level and theta = 0.8
-lets the DOFs grow ~1.3 per level: 11-12 levels to true errors of 1e-4 on both examples (:doc:`/results/time_to_accuracy`).
-Exploratory runs (a loaded machine, not kept), to 1e-3 on Example 6.2 without the graded first mesh: p = 4, theta =
-0.8, one layer 1.8-1.9 s; from p = 3 2.1-2.4 s; two layers 2.4-2.8 s (they grade faster than the p around can
-follow); theta = 0.9-0.95 2.3-2.5 s; theta = 0.5 with two layers 3.1 s; no layers, theta = 0.8, 3.1 s.  The paper's loop
-(``method="sipg", hp=False, order=1, theta=0.3, variant="paper"``) is unchanged: layers act in hp refinement only.
-Earlier attempts at faster growth without the layers (Doerfler's set extended to a DOF growth of 1.3, marked h
-elements bisected four times everywhere, a second Doerfler round on predicted indicators, p raised by 2) gave
-more DOFs for the same accuracy or the same number of levels.
+Doerfler marking (:func:`ngdgfric.dorfler_mark`), then bisection of the marked elements or the hp decision of
+:func:`ngdgfric.hp_refine`; one level at a time by ``AdaptiveLoop`` (:mod:`ngdgfric.levels`).
 
-``gamma_lin`` is not the default: on Example 6.1 gamma_lin = 0.1 left 0-3 Newton iterations per
-level, but the contact indicators eta_4, eta_6 of the inexact solutions steered the hp decisions
-into bisecting Gamma_C (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DOFs and 4.2 s,
-:doc:`/results/time_to_accuracy`), and gamma_lin = 0.01 kept the path but not the iterations.
+Choice of the defaults of :func:`ngdgfric.adapt` (time to an answer): the conforming baseline where
+:math:`\nu` is moderate (``choose_method``), hp from :math:`p = 4` up to 8, :math:`\theta = 0.8` and one
+geometric layer (``layers=1``): a marked element that the hp decision bisects and that contains a singular point
+(a corner of the domain, an end of the contact or the stick zone) is bisected twice more towards it in the same
+step.  Before, the levels were paced by the grading towards the singular points: :math:`h_{min}` halved on every
+level (5.3e-9 at level 27 on Example 6.1) and :math:`\eta_h` fell by about 0.67 per level whatever else was
+refined, with DOFs growing ~1.1 per level (28 levels to tol = 5e-4, about 10 linear solves of the final mesh).
+With the layer :math:`h_{min}` falls by 4 per level and :math:`\theta = 0.8` lets the DOFs grow ~1.3 per level:
+11-12 levels to true errors of 1e-4 on both examples (:doc:`/results/time_to_accuracy`).  Exploratory runs (a
+loaded machine, not kept), to 1e-3 on Example 6.2 without the graded first mesh: :math:`p = 4`,
+:math:`\theta = 0.8`, one layer 1.8-1.9 s; from :math:`p = 3` 2.1-2.4 s; two layers 2.4-2.8 s (they grade faster
+than the p around can follow); :math:`\theta = 0.9`-0.95 2.3-2.5 s; :math:`\theta = 0.5` with two layers 3.1 s; no
+layers, :math:`\theta = 0.8`, 3.1 s.  The paper's loop (``method="sipg", hp=False, order=1, theta=0.3,
+variant="paper"``) is unchanged: layers act in hp refinement only.  Earlier attempts at faster growth without the
+layers (Doerfler's set extended to a DOF growth of 1.3, marked h elements bisected four times everywhere, a second
+Doerfler round on predicted indicators, p raised by 2) gave more DOFs for the same accuracy or the same number of
+levels.
+
+``gamma_lin`` is not the default: on Example 6.1 ``gamma_lin = 0.1`` left 0-3 Newton iterations per level, but
+the contact indicators :math:`\eta_4, \eta_6` of the inexact solutions steered the hp decisions into bisecting
+:math:`\Gamma_C` (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DOFs and 4.2 s,
+:doc:`/results/time_to_accuracy`), and ``gamma_lin = 0.01`` kept the path but not the iterations.
 """
 
 import dataclasses
@@ -60,7 +63,7 @@ target) pairs and up to 1.25 times (sipg) and 1.9 times (cg) slower elsewhere.""
 LAYERS = 1
 """The geometric layers per hp step unless :func:`adapt` is given ``layers`` (why: module docstring)."""
 INITIAL_LAYERS = 2
-"""Geometric layers towards the corners of the domain in :func:`initial_mesh` for hp-adaptivity."""
+"""Geometric layers towards the corners of the domain in ``initial_mesh`` for hp-adaptivity."""
 
 
 @dataclass
@@ -375,7 +378,7 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
 
 def _levels(loop, limits, keep, csv_path, show):
     """Run the levels of ``loop`` until it stops; returns (why, the records, the last solution and estimate).
-    Every finished level is written to ``csv_path`` (:func:`write_levels`) and shown (``show(record)``)."""
+    Every finished level is written to ``csv_path`` (``write_levels``) and shown (``show(record)``)."""
     records = []
     with frozen_older_objects():
         for level in range(limits["max_levels"]):
@@ -396,7 +399,7 @@ def _levels(loop, limits, keep, csv_path, show):
 
 def initial_mesh(problem, layers=0):
     """The first mesh of :func:`adapt`: on a rectangle cells of sides at most min(1/2, half its longest side)
-    (:func:`~ngdgfric.meshes.grid_mesh`: uniform h = 1/2 on the paper's examples), else Netgen with maxh = min(1/2,
+    (``grid_mesh``: uniform h = 1/2 on the paper's examples), else Netgen with maxh = min(1/2,
     a quarter of the domain's diameter, its longest extent); then ``layers`` geometric layers towards the domain's
     corners (the elements containing one bisected twice, ``layers`` times), where the solution is singular whatever
     the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (exploratory runs, not kept: on Examples 6.1 and 6.2
@@ -438,7 +441,7 @@ def _check_applicable(solver, estimator, variant, gamma_lin):
 
 
 def write_levels(csv_path, records):
-    """The CSV of the levels so far (columns :data:`FIELDS`), written atomically; nothing for ``csv_path`` None."""
+    """The CSV of the levels so far (columns ``FIELDS``), written atomically; nothing for ``csv_path`` None."""
     if csv_path is not None:
         write_csv(csv_path, records, FIELDS)
 

@@ -1,48 +1,67 @@
-"""A guaranteed upper bound of |||u - u_h|||_h: an equilibrated stress and a conforming displacement.
+r"""A guaranteed upper bound of :math:`|\!|\!| u - u_h |\!|\!|_h`: an equilibrated stress and a conforming displacement.
 
-For m_t = 0 the exact u minimises J(v) = 1/2 a(v, v) - L(v) + j(v) over v = u_D on Gamma_D, with the convex
-contact functional of (1.8)-(1.9)
+For :math:`m_t = 0` the exact :math:`u` minimises :math:`J(v) = \frac12 a(v, v) - L(v) + j(v)` over
+:math:`v = u_D` on :math:`\Gamma_D`, with the convex contact functional of (1.8)-(1.9)
 
-    j(v) = int_{Gamma_C} c_n/(m_n+1) (v_n - g_a)_+^{m_n+1} + c_tau |v . t| ds.
+.. math::
 
-Take any s in H^1 with s = u_D on Gamma_D (:func:`potential`: u_h averaged into the continuous space of the same
-degree) and any sigma in H(div) with div sigma + f = 0, sigma n = g on Gamma_F and a contact traction
-t = -sigma n that is admissible, j*(t) < oo: t_n >= 0 and |t . t| <= c_tau pointwise (:func:`equilibrated_stress`).
-With z = u - s, the variational inequality of u at v = s and Fenchel-Young give, for x = C^1/2 eps_h(u - u_h),
-a = C^-1/2 (sym sigma - C eps_h(u_h)), b = C^1/2 eps_h(s - u_h),
+    j(v) = \int_{\Gamma_C} \frac{c_n}{m_n + 1} (v_n - g_a)_+^{m_n + 1} + c_\tau |v \cdot t| \, ds.
 
-    |x|^2 <= (a + b, x) - (a, b) + FY + rho |x - b|,     FY = j(s) + j*(t) - <t, s>_{Gamma_C} >= 0,
+Take any :math:`s \in H^1` with :math:`s = u_D` on :math:`\Gamma_D` (``potential``: :math:`u_h` averaged into the
+continuous space of the same degree) and any :math:`\sigma \in H(\operatorname{div})` with
+:math:`\operatorname{div} \sigma + f = 0`, :math:`\sigma n = g` on :math:`\Gamma_F` and a contact traction
+:math:`t = -\sigma n` that is admissible, :math:`j^*(t) < \infty`: :math:`t_n \ge 0` and
+:math:`|t \cdot t| \le c_\tau` pointwise (``equilibrated_stress``).  With :math:`z = u - s`, the variational
+inequality of :math:`u` at :math:`v = s` and Fenchel-Young give, for
+:math:`x = C^{1/2} \varepsilon_h(u - u_h)`,
+:math:`a = C^{-1/2} (\operatorname{sym} \sigma - C \varepsilon_h(u_h))`,
+:math:`b = C^{1/2} \varepsilon_h(s - u_h)`,
 
-where rho |C^1/2 eps(z)| bounds what the skew part of sigma and the load oscillation leave,
-(skw sigma, skw grad z) + (f + div sigma, z).  Solved for |x| (with |x - b| <= |x| + |b|):
+.. math::
 
-    |x| <= A + (A^2 + FY - (a, b) + rho |b|)^(1/2),    A = (|a + b| + rho) / 2,
+    |x|^2 \le (a + b, x) - (a, b) + F\!Y + \rho |x - b|, \qquad
+    F\!Y = j(s) + j^*(t) - \langle t, s \rangle_{\Gamma_C} \ge 0,
 
-and |||u - u_h|||_h^2 = |x|^2 + sum_e h_e^-1 ||[u_h]||_e^2, the jump part computed exactly
-(:func:`ngdgfric.reference.energy_norm_squared_parts`).  For rho = 0 and FY = 0 this is at most the
-Pythagorean (|a|^2 + |b|^2)^(1/2) of Ern & Vohralik (SINUM 2015).  No constant of the method enters, so the bound
-holds for every method (NIPG too) and every u_h.
+where :math:`\rho |C^{1/2} \varepsilon(z)|` bounds what the skew part of :math:`\sigma` and the load oscillation
+leave, :math:`(\operatorname{skw} \sigma, \operatorname{skw} \nabla z) + (f + \operatorname{div} \sigma, z)`.
+Solved for :math:`|x|` (with :math:`|x - b| \le |x| + |b|`):
 
-sigma: row-wise Raviart-Thomas RT_p (normal traces P_p, div in P_p) closest to C eps_h(u_h) in the C^-1 norm
-among the fields with div sigma = -Pi_p f, the skew part orthogonal to P_{p-1} element by element (weak symmetry,
-Arnold, Falk & Winther), sigma n = Pi_p g on Gamma_F and -t on Gamma_C; one global minimisation, hybridised
-(normal continuity by a facet multiplier) and statically condensed: a sparse system on the edges only.
-t: the compliance and friction forces of u_h at the contact Gauss points, interpolated by a polynomial of the
-multiplier's degree on every edge and made admissible by clipping its Bernstein coefficients (a polynomial with
-coefficients in [lo, hi] stays in [lo, hi] on the edge).
+.. math::
 
-rho: element by element (1/2) ||skw part|| |rot z - mean| plus the oscillation ||f - Pi_p f|| ||z - r||
-(r a rigid motion), bounded with the inf-sup constant beta_T of the triangle:
-||rot z - mean||_T <= (2/beta_T) ||eps(z)||_T (Necas' inequality for grad rot z, written in eps(z)), and
-||z - r||_T <= (h_T/pi) (1 + 2/beta_T^2)^(1/2) ||eps(z)||_T (Payne-Weinberger on convex T).  beta_T >= sin(omega_T/2)
-with the Horgan-Payne angle omega_T of the triangle seen from its incentre, half its smallest angle
-(Horgan & Payne, ARMA 1983; Costabel & Dauge, ARMA 2015, who show the bound can fail for some star-shaped
-domains: for triangles it is the one assumption of the bound we did not prove here).
+    |x| \le A + (A^2 + F\!Y - (a, b) + \rho |b|)^{1/2}, \qquad A = (|a + b| + \rho) / 2,
 
-Guaranteed: m_t = 0, straight sides, u_D, g and f reproduced exactly by the spaces (checked numerically:
-:attr:`Equilibration.guaranteed` is False, with the reason, when t is not admissible, when sigma n misses g
-or u_D is not met by s).  For m_t > 0 the friction bound depends on u itself (a quasi-variational inequality,
-no minimisation): the same number is computed with the friction bound frozen at u_h, an estimate without
+and :math:`|\!|\!| u - u_h |\!|\!|_h^2 = |x|^2 + \sum_e h_e^{-1} \|[\![u_h]\!]\|_e^2`, the jump part computed
+exactly (``energy_norm_squared_parts`` of :mod:`ngdgfric.reference`).  For :math:`\rho = 0` and
+:math:`F\!Y = 0` this is at most the Pythagorean :math:`(|a|^2 + |b|^2)^{1/2}` of Ern & Vohralik (SINUM 2015).
+No constant of the method enters, so the bound holds for every method (NIPG too) and every :math:`u_h`.
+
+:math:`\sigma`: row-wise Raviart-Thomas :math:`RT_p` (normal traces :math:`P_p`, div in :math:`P_p`) closest to
+:math:`C \varepsilon_h(u_h)` in the :math:`C^{-1}` norm among the fields with
+:math:`\operatorname{div} \sigma = -\Pi_p f`, the skew part orthogonal to :math:`P_{p-1}` element by element
+(weak symmetry, Arnold, Falk & Winther), :math:`\sigma n = \Pi_p g` on :math:`\Gamma_F` and :math:`-t` on
+:math:`\Gamma_C`; one global minimisation, hybridised (normal continuity by a facet multiplier) and statically
+condensed: a sparse system on the edges only.
+:math:`t`: the compliance and friction forces of :math:`u_h` at the contact Gauss points, interpolated by a
+polynomial of the multiplier's degree on every edge and made admissible by clipping its Bernstein coefficients
+(a polynomial with coefficients in :math:`[lo, hi]` stays in :math:`[lo, hi]` on the edge).
+
+:math:`\rho`: element by element
+:math:`\frac12 \|\operatorname{skw} \text{ part}\| |\operatorname{rot} z - \text{mean}|` plus the oscillation
+:math:`\|f - \Pi_p f\| \|z - r\|` (:math:`r` a rigid motion), bounded with the inf-sup constant
+:math:`\beta_T` of the triangle:
+:math:`\|\operatorname{rot} z - \text{mean}\|_T \le (2/\beta_T) \|\varepsilon(z)\|_T` (Necas' inequality for
+:math:`\nabla \operatorname{rot} z`, written in :math:`\varepsilon(z)`), and
+:math:`\|z - r\|_T \le (h_T/\pi) (1 + 2/\beta_T^2)^{1/2} \|\varepsilon(z)\|_T` (Payne-Weinberger on convex
+:math:`T`).  :math:`\beta_T \ge \sin(\omega_T/2)` with the Horgan-Payne angle :math:`\omega_T` of the triangle
+seen from its incentre, half its smallest angle (Horgan & Payne, ARMA 1983; Costabel & Dauge, ARMA 2015, who
+show the bound can fail for some star-shaped domains: for triangles it is the one assumption of the bound we
+did not prove here).
+
+Guaranteed: :math:`m_t = 0`, straight sides, :math:`u_D`, :math:`g` and :math:`f` reproduced exactly by the
+spaces (checked numerically: ``Equilibration.guaranteed`` is False, with the reason, when :math:`t` is not
+admissible, when :math:`\sigma n` misses :math:`g` or :math:`u_D` is not met by :math:`s`).  For
+:math:`m_t > 0` the friction bound depends on :math:`u` itself (a quasi-variational inequality, no
+minimisation): the same number is computed with the friction bound frozen at :math:`u_h`, an estimate without
 guarantee.  Symmetry sides are refused (ValueError).
 """
 
@@ -67,11 +86,29 @@ BONUS = 6  # extra quadrature degree of the non-polynomial contact integrands (k
 
 @dataclass
 class Equilibration:
-    """The equilibrated bound of a Solution: ``eta_h`` (the guaranteed bound of |||u - u_h|||_h),
-    ``eta_T_squared`` (element indicators for marking: the squared parts below element by element),
-    ``terms_squared`` ("stress" ||sym sigma - C eps(s)||^2_{C^-1}, "conformity" |b|^2, "jumps", "contact" 2 FY,
-    "asymmetry" and "oscillation" (rho's two parts, squared)), ``guaranteed`` and ``reason`` (why not),
-    ``sigma`` (the stress, a 2x2 CoefficientFunction) and ``s`` (the conforming displacement)."""
+    r"""The equilibrated bound of a Solution, its parts and the fields it is made of.
+
+    What :func:`ngdgfric.equilibrate` returns (:mod:`ngdgfric.equilibration` derives the bound).
+
+    Parameters
+    ----------
+    eta_h : float
+        The guaranteed bound of :math:`|\!|\!| u - u_h |\!|\!|_h`.
+    eta_T_squared : numpy.ndarray
+        Element indicators for marking: the squared parts of ``terms_squared`` element by element.
+    terms_squared : dict
+        The squared parts: ``"stress"`` :math:`\|\operatorname{sym} \sigma - C \varepsilon(s)\|_{C^{-1}}^2`,
+        ``"conformity"`` :math:`|b|^2`, ``"jumps"``, ``"contact"`` :math:`2 F\!Y`, ``"asymmetry"`` and
+        ``"oscillation"`` (the two parts of :math:`\rho`, squared).
+    guaranteed : bool
+        Whether every assumption of the bound was met.
+    reason : str
+        Why the bound is not guaranteed (empty if it is).
+    sigma : ngsolve.CoefficientFunction
+        The equilibrated stress :math:`\sigma`, a 2x2 CoefficientFunction.
+    s : ngsolve.GridFunction
+        The conforming displacement :math:`s`.
+    """
 
     eta_h: float
     eta_T_squared: np.ndarray
@@ -143,12 +180,12 @@ def contact_traction(sol):
     return t_n, t_tau
 
 
-SKEW_WEIGHT = 100.0  # weight of ||as sigma||^2 / (2 mu) in the minimisation (:func:`equilibrated_stress`)
+SKEW_WEIGHT = 100.0  # weight of ||as sigma||^2 / (2 mu) in the minimisation (``equilibrated_stress``)
 
 
 def equilibrated_stress(sol, traction, skew_weight=None):
     """(sigma, div sigma): the stress of the module docstring (a 2x2 CoefficientFunction, rows in RT_p) for the
-    contact traction ``traction`` = (t_n, t_tau) of :func:`contact_traction`, and its divergence."""
+    contact traction ``traction`` = (t_n, t_tau) of ``contact_traction``, and its divergence."""
     disc = sol.discretization
     problem, mesh, k = disc.problem, sol.mesh, int(disc.order)
     rows = ngs.HDiv(mesh, order=k, RT=True, discontinuous=True)
@@ -244,7 +281,49 @@ def _misfits(problem, mesh, sigma, s, k):
 
 
 def equilibrate(sol):
-    """The :class:`Equilibration` of a Solution (module docstring)."""
+    r"""The guaranteed upper bound of :math:`|\!|\!| u - u_h |\!|\!|_h` of a Solution, from an equilibrated stress.
+
+    An equilibrated stress :math:`\sigma` and a conforming displacement :math:`s` bound the energy error with no
+    unknown constant, for every method (:mod:`ngdgfric.equilibration` derives the bound and lists its
+    assumptions).  ``estimate(sol, kind="equilibrated")`` (:func:`ngdgfric.estimate`) returns the same bound as
+    an :class:`ngdgfric.Estimate`.
+
+    Parameters
+    ----------
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`), any method.
+
+    Returns
+    -------
+    Equilibration
+        The bound :math:`\eta_h`, its parts, whether it is guaranteed (and why not), :math:`\sigma` and
+        :math:`s` (:class:`ngdgfric.Equilibration`).
+
+    Raises
+    ------
+    ValueError
+        The problem has symmetry sides (not treated yet; use the residual estimator).
+
+    See Also
+    --------
+    ngdgfric.estimate : The residual estimator, or this bound with ``kind="equilibrated"``.
+
+    Notes
+    -----
+    Guaranteed for :math:`m_t = 0`, straight sides and data that the spaces reproduce exactly; for
+    :math:`m_t > 0` the same number, with the friction bound frozen at :math:`u_h`, is an estimate without
+    guarantee (``guaranteed`` is False and ``reason`` says why).
+
+    Examples
+    --------
+    >>> problem = ndf.example_6_1()
+    >>> sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5))
+    >>> bound = ndf.equilibrate(sol)
+    >>> print(f"{bound.eta_h:.1f}", bound.guaranteed)
+    29.5 True
+    >>> sorted(bound.terms_squared)
+    ['asymmetry', 'conformity', 'contact', 'jumps', 'oscillation', 'stress']
+    """
     disc = sol.discretization
     problem, mesh, u_h, k = disc.problem, sol.mesh, sol.u, int(disc.order)
     _check(problem)

@@ -13,7 +13,27 @@ IMPORTLIB = str(Path(importlib.__file__).resolve().parent)
 
 
 class SolverError(RuntimeError):
-    """A nonlinear solver failed; ``history`` holds its convergence history (one entry per iteration)."""
+    """A nonlinear solver failed; ``history`` holds its convergence history (one entry per iteration).
+
+    Raised by :func:`ngdgfric.solve` (and :func:`ngdgfric.adapt`) when the contact solver diverges or does not
+    converge in ``maxit`` iterations; exit code 1 of the command line.
+
+    Parameters
+    ----------
+    message : str
+        What failed.
+    history : iterable of float, optional
+        The solver's convergence history, one entry per iteration.  Default ``()``.
+    solver : str, optional
+        The solver's name, e.g. ``"newton"``.  Default ``""``.
+
+    Attributes
+    ----------
+    history : list of float
+        The convergence history.
+    solver : str
+        The solver's name.
+    """
 
     def __init__(self, message, history=(), solver=""):
         super().__init__(message)
@@ -22,13 +42,28 @@ class SolverError(RuntimeError):
 
 
 class TimeLimitError(SolverError):
-    """A solver reached its time limit (option ``max_seconds``) before its tolerance."""
+    """A solver reached its time limit (option ``max_seconds``) before its tolerance.
+
+    A :class:`ngdgfric.SolverError`, raised by :func:`ngdgfric.solve` with the option ``max_seconds`` of
+    :class:`ngdgfric.NewtonOptions`, :class:`ngdgfric.UzawaOptions` or :class:`ngdgfric.FixedPointOptions`.
+
+    Parameters
+    ----------
+    message : str
+        How far the solver got.
+    history : iterable of float, optional
+        The solver's convergence history up to the limit.  Default ``()``.
+    solver : str, optional
+        The solver's name.  Default ``""``.
+    """
 
 
 class SolverWarning(RuntimeWarning):
-    """A solver took a fallback that its result survived but that you should know about: a singular Newton
-    system solved by least squares, or a Delassus diagonal entry raised to a floor (``info`` of the solve
-    counts them: ``least_squares_solves``, ``clamped_points``)."""
+    """A solver took a fallback that its result survived but that you should know about.
+
+    The fallbacks: a singular Newton system solved by least squares, or a Delassus diagonal entry raised to a
+    floor (``Solution.info`` of the solve counts them: ``least_squares_solves``, ``clamped_points``).
+    """
 
 
 def deadline(max_seconds):
@@ -37,7 +72,7 @@ def deadline(max_seconds):
 
 
 def check_deadline(when, solver, history, what):
-    """Raise :class:`TimeLimitError` for ``solver`` (with its ``history``) if the ``deadline`` ``when`` has passed;
+    """Raise ``TimeLimitError`` for ``solver`` (with its ``history``) if the ``deadline`` ``when`` has passed;
     ``what`` says how far it got."""
     if when is not None and time.perf_counter() > when:
         raise TimeLimitError(f"{solver} stopped at its time limit (max_seconds) {what}", history=history,

@@ -1,70 +1,92 @@
-"""The residual a posteriori estimator eta_h of Section 4, element by element.
+r"""The residual a posteriori estimator :math:`\eta_h` of Section 4, element by element.
 
-    eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma_h(u_h)||_T^2
-    eta_2^2 = sum_{e in E_h^i} (h_e/p) ||[sigma_h(u_h)]||_e^2
-    eta_3^2 = sum_{e in E_h^o} eta p^2/h_e ||[u_h]||_e^2
-    eta_4^2 = sum_{e in E_h^C} (h_e/p) ||sigma_h,tau(u_h) + c_tau (u_hn - g_a)_+^{m_t} lam_tau||_e^2
-    eta_5^2 = sum_{e in E_h^F} (h_e/p) ||sigma_h(u_h) n - g||_e^2
-    eta_6^2 = sum_{e in E_h^C} (h_e/p) ||sigma_h,n(u_h) + c_n (u_hn - g_a)_+^{m_n}||_e^2
+.. math::
 
-with [u_h] = u_h - u_D on Gamma_D (a prescribed displacement) and, on symmetry sides, the jump of the
-normal part (u_h . n) n in eta_3 and the tangential traction sigma_h(u_h) n . t (which must vanish there) in
-eta_5.  These are the terms of ``estimate(sol, variant="paper")``; the default (``variant="energy"``) divides
-the residual terms by 2 mu and replaces the pressure part of sigma_h(u_h) by a continuous average
-(below), so that eta_h estimates |||u - u_h|||_h in its units.
+    \eta_1^2 &= \sum_T (h_T/p)^2 \|f + \operatorname{div} \sigma_h(u_h)\|_T^2, \\
+    \eta_2^2 &= \sum_{e \in \mathcal{E}_h^i} (h_e/p) \|[\![\sigma_h(u_h)]\!]\|_e^2, \\
+    \eta_3^2 &= \sum_{e \in \mathcal{E}_h^o} \eta\, p^2/h_e \|[\![u_h]\!]\|_e^2, \\
+    \eta_4^2 &= \sum_{e \in \mathcal{E}_h^C} (h_e/p)
+        \|\sigma_{h,\tau}(u_h) + c_\tau (u_{hn} - g_a)_+^{m_t} \lambda_\tau\|_e^2, \\
+    \eta_5^2 &= \sum_{e \in \mathcal{E}_h^F} (h_e/p) \|\sigma_h(u_h) n - g\|_e^2, \\
+    \eta_6^2 &= \sum_{e \in \mathcal{E}_h^C} (h_e/p) \|\sigma_{h,n}(u_h) + c_n (u_{hn} - g_a)_+^{m_n}\|_e^2,
 
-For p = 1 and m_t = 0 these are exactly the terms of Section 4 (div sigma_h(u_h) = 0 for piecewise
-linear u_h, so eta_1 involves f only); for m_t > 0, eta_4 carries the friction bound at u_h, as
-the friction force of (1.9) does; for p > 1 they carry the usual hp weights h/p and the element
-residual f + div sigma_h(u_h).  With a variable order (hp), p is p_T of the element integrated
-over (volume terms and the element's share of edge terms) and eta_3 uses the penalty of the
-forms, with p_e = max(p_T+, p_T-).  eta_3 uses the method's edge penalty eta p^2/h_e with the forms' h_e
-(:func:`ngdgfric.dg.forms.penalty_length`; the others use the edge length |e|) (for the lifting
-methods 2 mu eta p^2/h_e, see :meth:`ngdgfric.dg.methods.Method.jump_weight`).  Edge terms of interior edges are shared
-half-half by the two neighbours; boundary edges go to their element.  The element values are
-those of ``Integrate(..., element_wise=True)``, computed for all six terms in one assembly
-(:func:`element_integrals`).
+with :math:`[\![u_h]\!] = u_h - u_D` on :math:`\Gamma_D` (a prescribed displacement) and, on symmetry sides, the
+jump of the normal part :math:`(u_h \cdot n) n` in :math:`\eta_3` and the tangential traction
+:math:`\sigma_h(u_h) n \cdot t` (which must vanish there) in :math:`\eta_5`.  These are the terms of
+``estimate(sol, variant="paper")``; the default (``variant="energy"``) divides the residual terms by
+:math:`2\mu` and replaces the pressure part of :math:`\sigma_h(u_h)` by a continuous average (below), so that
+:math:`\eta_h` estimates :math:`|\!|\!| u - u_h |\!|\!|_h` in its units.
 
-``variant="energy"`` (default): an estimate of |||u - u_h|||_h in its own units, robust in the
-scale of E and, for the methods that do not lock, in nu -> 1/2.  Write the discrete stress as
-sigma_h = 2 mu eps_h(u_h) + p_h I with p_h = lam div_h u_h, let p~_h be the continuous average of
-p_h (:func:`averaged_pressure`) and sigma~_h = 2 mu eps_h(u_h) + p~_h I.  For v in H^1 vanishing on
-Gamma_D the residual splits as
+For :math:`p = 1` and :math:`m_t = 0` these are exactly the terms of Section 4
+(:math:`\operatorname{div} \sigma_h(u_h) = 0` for piecewise linear :math:`u_h`, so :math:`\eta_1` involves
+:math:`f` only); for :math:`m_t > 0`, :math:`\eta_4` carries the friction bound at :math:`u_h`, as the friction
+force of (1.9) does; for :math:`p > 1` they carry the usual hp weights :math:`h/p` and the element residual
+:math:`f + \operatorname{div} \sigma_h(u_h)`.  With a variable order (hp), :math:`p` is :math:`p_T` of the
+element integrated over (volume terms and the element's share of edge terms) and :math:`\eta_3` uses the
+penalty of the forms, with :math:`p_e = \max(p_{T^+}, p_{T^-})`.  :math:`\eta_3` uses the method's edge
+penalty :math:`\eta\, p^2/h_e` with the forms' :math:`h_e` (``penalty_length`` of :mod:`ngdgfric.dg.forms`;
+the others use the edge length :math:`|e|`) (for the lifting methods :math:`2\mu\,\eta\, p^2/h_e`, see
+``jump_weight`` of :class:`ngdgfric.Method`).  Edge terms of interior edges are shared half-half by the two
+neighbours; boundary edges go to their element.  The element values are those of
+``Integrate(..., element_wise=True)``, computed for all six terms in one assembly (``element_integrals``).
 
-    R(v) = l(v) - (sigma~_h, eps(v)) - contact(v)  -  (p_h - p~_h, div v),
+``variant="energy"`` (default): an estimate of :math:`|\!|\!| u - u_h |\!|\!|_h` in its own units, robust in
+the scale of :math:`E` and, for the methods that do not lock, in :math:`\nu \to 1/2`.  Write the discrete stress
+as :math:`\sigma_h = 2\mu\, \varepsilon_h(u_h) + p_h I` with :math:`p_h = \lambda \operatorname{div}_h u_h`, let
+:math:`\tilde p_h` be the continuous average of :math:`p_h` (``averaged_pressure``) and
+:math:`\tilde\sigma_h = 2\mu\, \varepsilon_h(u_h) + \tilde p_h I`.  For :math:`v \in H^1` vanishing on
+:math:`\Gamma_D` the residual splits as
 
-the first part a residual of sigma~_h, bounded by the usual terms (Clement interpolation,
-||v - I v||_T <~ h_T / p |v|_{1, w_T}, Korn) times |v|_1 <~ |||v||| / sqrt(2 mu); the second by
-||p_h - p~_h|| ||div v|| <= ||p_h - p~_h|| sqrt(2) ||eps(v)|| <= ||p_h - p~_h|| |||v||| / sqrt(mu).
-Hence every residual term carries the weight 1 / (2 mu) and no constant depends on lam, as in
-the lam-robust bounds of Houston, Schoetzau & Wihler (CMAME 195, 2006, the pressure a separate
-unknown weighted by 1/mu) and Wihler (Math. Comp. 75, 2006); the averaging is the Oswald
-interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using p~_h
-instead of p_h matters for nu -> 1/2: h_T ||grad p_h|| and the jumps [p_h] of an oscillating
-discrete pressure are much larger than the pressure's share lam ||div(u - u_h)||^2 of the energy
-error (measured on :func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured`, NIPG, P3,
-nu = 0.4999, h = 1/16, before the calibration below: effectivity 12.5 with p_h, 5.5 with p~_h).
-Where the material jumps across edges (:attr:`ngdgfric.dg.material.Material.jumps`) the pressure jumps with
-it and is not averaged: the terms use sigma_h(u_h) itself (still divided by 2 mu).
+.. math::
 
-Calibrated constant: every element indicator is multiplied by p_T^(-1/2).  The hp weights h/p
-make residual estimators reliable with a constant independent of p but efficient only up to
-powers of p (Melenk & Wohlmuth, Adv. Comput. Math. 15, 2001), and eta_h / |||u - u_h|||_h grew
-with p as p^(1/2): medians 1 : 1.32 : 1.67 : 1.93 for p = 1, 2, 3, 4 on Example 6.1 (SIPG,
-uniform and h-adaptive levels, against the hp reference), the cases the factor was chosen on;
-results/effectivity.md checks it on every other case (the other example, the five methods,
-the manufactured solutions at E = 1 ... 1e6, nu up to 0.4999).
+    R(v) = l(v) - (\tilde\sigma_h, \varepsilon(v)) - \mathrm{contact}(v) - (p_h - \tilde p_h, \operatorname{div} v),
 
-The terms (all but eta_3 divided by 2 mu, element-wise average of mu when E varies; where the material
-varies, mu and lam are the element-wise fields C_h of :mod:`ngdgfric.dg.material` that the forms use, and
-eta_1 also carries their data oscillation int_T |(C - C_h) eps_h(u_h)|^2 / (2 mu) with the true C and mu
-pointwise and no calibration factor, the stress that C_h misses in energy units: zero on a mesh that
-follows the material's jumps, the error of the element means where a jump cuts elements):
+the first part a residual of :math:`\tilde\sigma_h`, bounded by the usual terms (Clement interpolation,
+:math:`\|v - I v\|_T \lesssim h_T / p\, |v|_{1, \omega_T}`, Korn) times
+:math:`|v|_1 \lesssim |\!|\!| v |\!|\!| / \sqrt{2\mu}`; the second by
 
-    eta_1^2 = sum_T (h_T/p)^2 ||f + div sigma~_h||_T^2 + ||p_h - p~_h||_T^2  (+ the oscillation below)
-    eta_2^2 = sum_{e in E_h^i} (h_e/p) ||[sigma~_h n]||_e^2   (= [2 mu eps_h(u_h) n]: p~_h is continuous)
-    eta_4, eta_5, eta_6 with sigma~_h n in place of sigma_h(u_h) n;  eta_3 as printed (a penalty:
-    already in energy units).
+.. math::
+
+    \|p_h - \tilde p_h\| \|\operatorname{div} v\| \le \|p_h - \tilde p_h\| \sqrt{2} \|\varepsilon(v)\|
+    \le \|p_h - \tilde p_h\| |\!|\!| v |\!|\!| / \sqrt{\mu}.
+
+Hence every residual term carries the weight :math:`1 / (2\mu)` and no constant depends on :math:`\lambda`, as in
+the :math:`\lambda`-robust bounds of Houston, Schoetzau & Wihler (CMAME 195, 2006, the pressure a separate
+unknown weighted by :math:`1/\mu`) and Wihler (Math. Comp. 75, 2006); the averaging is the Oswald
+interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using :math:`\tilde p_h`
+instead of :math:`p_h` matters for :math:`\nu \to 1/2`: :math:`h_T \|\nabla p_h\|` and the jumps
+:math:`[\![p_h]\!]` of an oscillating discrete pressure are much larger than the pressure's share
+:math:`\lambda \|\operatorname{div}(u - u_h)\|^2` of the energy error (measured on
+``incompressible_contact_manufactured`` of :mod:`ngdgfric.studies.manufactured`, NIPG, P3,
+:math:`\nu = 0.4999`, :math:`h = 1/16`, before the calibration below: effectivity 12.5 with :math:`p_h`, 5.5
+with :math:`\tilde p_h`).  Where the material jumps across edges (``Material.jumps`` of
+:mod:`ngdgfric.dg.material`) the pressure jumps with it and is not averaged: the terms use
+:math:`\sigma_h(u_h)` itself (still divided by :math:`2\mu`).
+
+Calibrated constant: every element indicator is multiplied by :math:`p_T^{-1/2}`.  The hp weights :math:`h/p`
+make residual estimators reliable with a constant independent of :math:`p` but efficient only up to
+powers of :math:`p` (Melenk & Wohlmuth, Adv. Comput. Math. 15, 2001), and
+:math:`\eta_h / |\!|\!| u - u_h |\!|\!|_h` grew with :math:`p` as :math:`p^{1/2}`: medians 1 : 1.32 : 1.67 :
+1.93 for :math:`p = 1, 2, 3, 4` on Example 6.1 (SIPG, uniform and h-adaptive levels, against the hp reference),
+the cases the factor was chosen on; the results page *Effectivity* checks it on every other case (the other
+example, the five methods, the manufactured solutions at :math:`E = 1 \dots 10^6`, :math:`\nu` up to 0.4999).
+
+The terms (all but :math:`\eta_3` divided by :math:`2\mu`, element-wise average of :math:`\mu` when :math:`E`
+varies; where the material varies, :math:`\mu` and :math:`\lambda` are the element-wise fields :math:`C_h` of
+:mod:`ngdgfric.dg.material` that the forms use, and :math:`\eta_1` also carries their data oscillation
+:math:`\int_T |(C - C_h) \varepsilon_h(u_h)|^2 / (2\mu)` with the true :math:`C` and :math:`\mu` pointwise and no
+calibration factor, the stress that :math:`C_h` misses in energy units: zero on a mesh that follows the
+material's jumps, the error of the element means where a jump cuts elements):
+
+.. math::
+
+    \eta_1^2 &= \sum_T (h_T/p)^2 \|f + \operatorname{div} \tilde\sigma_h\|_T^2 + \|p_h - \tilde p_h\|_T^2
+        \quad \text{(+ the oscillation above)}, \\
+    \eta_2^2 &= \sum_{e \in \mathcal{E}_h^i} (h_e/p) \|[\![\tilde\sigma_h n]\!]\|_e^2
+        \quad (= [\![2\mu\, \varepsilon_h(u_h) n]\!]: \tilde p_h \text{ is continuous}),
+
+:math:`\eta_4`, :math:`\eta_5`, :math:`\eta_6` with :math:`\tilde\sigma_h n` in place of :math:`\sigma_h(u_h) n`;
+:math:`\eta_3` as printed (a penalty: already in energy units).
 """
 
 from dataclasses import dataclass
@@ -86,11 +108,27 @@ __all__ = ["Estimate", "estimate", "residual_parts", "div_stress", "KINDS", "VAR
 
 @dataclass
 class Estimate:
-    """The estimator of a solution: ``eta_T_squared``, eta_T^2 per element (numpy); ``terms_squared``,
-    the global eta_1^2 ... eta_6^2 (keys "eta1" ... "eta6"; the equilibrated bound's parts for
-    ``kind="equilibrated"``); ``eta_h`` = (sum_T eta_T^2)^(1/2) (the guaranteed bound for "equilibrated",
-    :mod:`ngdgfric.equilibration`); ``kind``; ``guaranteed`` (True only for an equilibrated bound whose
-    assumptions were all met) and ``reason`` (why not)."""
+    r"""The estimator of a solution: element indicators, the terms and :math:`\eta_h`.
+
+    What :func:`ngdgfric.estimate` returns.
+
+    Parameters
+    ----------
+    eta_T_squared : numpy.ndarray
+        :math:`\eta_T^2` per element, in the mesh's element order (for marking, :func:`ngdgfric.dorfler_mark`).
+    terms_squared : dict
+        The global :math:`\eta_1^2, \dots, \eta_6^2` (keys ``"eta1"`` ... ``"eta6"``); for
+        ``kind="equilibrated"`` the equilibrated bound's parts (:class:`ngdgfric.Equilibration`).
+    eta_h : float
+        :math:`\eta_h = (\sum_T \eta_T^2)^{1/2}` (the guaranteed bound for ``"equilibrated"``,
+        :mod:`ngdgfric.equilibration`).
+    kind : str, optional
+        ``"residual"`` (default) or ``"equilibrated"``.
+    guaranteed : bool, optional
+        True only for an equilibrated bound whose assumptions were all met.  Default ``False``.
+    reason : str, optional
+        Why the estimate is not guaranteed.  Default ``"the residual estimator's constants are not known"``.
+    """
 
     eta_T_squared: np.ndarray
     terms_squared: dict
@@ -103,7 +141,7 @@ class Estimate:
 def div_stress(material, u, pressure=True):
     """div sigma(u) element by element, from the Hessian of u: 2 mu div eps(u) + lam grad div u, plus
     2 eps(u) grad mu + div u grad lam where the material varies (``material``: the
-    :class:`~ngdgfric.dg.material.Material` of the discretisation); ``pressure=False`` gives the deviatoric
+    ``Material`` of the discretisation); ``pressure=False`` gives the deviatoric
     part div(2 mu eps(u))."""
     mu, lam = material.mu, material.lam
     H = u.Operator("hesse")  # H[4 c + 2 a + b] = d_a d_b u_c
@@ -156,8 +194,8 @@ def element_integrals(mesh, integrands, degrees, extra=2):
     return {name: values[k].copy() for k, name in enumerate(names)}
 
 
-VARIANTS = ("energy", "paper")  # the variants of the residual estimator (:func:`estimate`)
-KINDS = ("residual", "equilibrated")  # the estimators of :func:`estimate`
+VARIANTS = ("energy", "paper")  # the variants of the residual estimator (``estimate``)
+KINDS = ("residual", "equilibrated")  # the estimators of ``estimate``
 
 
 def discrete_pressure(material, u):
@@ -174,7 +212,7 @@ def averaged_pressure(material, u, order):
 
 
 def deprecated_weights(variant, weights, where):
-    """``variant``, or the value of the old keyword ``weights`` of ``where`` (:func:`estimate`, :func:`ngdgfric.adapt`)
+    """``variant``, or the value of the old keyword ``weights`` of ``where`` (``estimate``, :func:`ngdgfric.adapt`)
     with a DeprecationWarning: it selects a variant of the estimator, it weights nothing."""
     if weights is None:
         return variant
@@ -188,13 +226,54 @@ def deprecated_weights(variant, weights, where):
 
 @limited_blas
 def estimate(sol, variant=None, kind="residual", weights=None):
-    """Element indicators eta_T^2 and the six terms of eta_h for a Solution (module docstring).
+    r"""Element indicators :math:`\eta_T^2` and the six terms of :math:`\eta_h` for a Solution.
 
-    ``kind="residual"`` (default): the estimator of Section 4 in its ``variant``: "energy" (None, the default; the
-    estimate of |||u - u_h|||_h in its own units described in the module docstring) or "paper" (the terms of
-    Section 4 as printed).  ``kind="equilibrated"``: instead, the guaranteed upper bound of |||u - u_h|||_h from an
-    equilibrated stress (:func:`ngdgfric.equilibration.equilibrate`), which has no variants (a ``variant`` is refused).
-    ``weights``: the old name of ``variant`` (DeprecationWarning; it selects a variant, it weights nothing).
+    The residual estimator of Section 4, in two variants (:mod:`ngdgfric.estimator` states the terms and the
+    weights), or the guaranteed upper bound of an equilibrated stress.
+
+    Parameters
+    ----------
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
+    variant : str or None, optional
+        The variant of the residual estimator: ``"energy"`` (``None``, the default: the estimate of
+        :math:`|\!|\!| u - u_h |\!|\!|_h` in its own units described in :mod:`ngdgfric.estimator`) or
+        ``"paper"`` (the terms of Section 4 as printed).  Refused with ``kind="equilibrated"``.
+    kind : str, optional
+        ``"residual"`` (default): the estimator of Section 4 in its ``variant``.  ``"equilibrated"``: instead,
+        the guaranteed upper bound of :math:`|\!|\!| u - u_h |\!|\!|_h` from an equilibrated stress
+        (:func:`ngdgfric.equilibrate`), which has no variants.
+    weights : str or None, optional
+        The old name of ``variant`` (DeprecationWarning; it selects a variant, it weights nothing).
+
+    Returns
+    -------
+    Estimate
+        The element indicators, the terms and :math:`\eta_h` (:class:`ngdgfric.Estimate`).
+
+    Raises
+    ------
+    ValueError
+        An unknown ``kind`` or ``variant``, a ``variant`` with ``kind="equilibrated"``, ``weights`` and
+        ``variant`` that disagree; for ``kind="equilibrated"``, a problem with symmetry sides.
+
+    See Also
+    --------
+    ngdgfric.equilibrate : The equilibrated bound with its stress and conforming displacement.
+    ngdgfric.dorfler_mark : Marks elements by their indicators.
+
+    Examples
+    --------
+    >>> problem = ndf.example_6_1()
+    >>> sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5))
+    >>> est = ndf.estimate(sol)
+    >>> sorted(est.terms_squared)
+    ['eta1', 'eta2', 'eta3', 'eta4', 'eta5', 'eta6']
+    >>> print(f"{est.eta_h:.2f}", len(est.eta_T_squared) == sol.mesh.ne)
+    21.52 True
+    >>> bound = ndf.estimate(sol, kind="equilibrated")
+    >>> print(f"{bound.eta_h:.1f}", bound.guaranteed)
+    29.5 True
     """
     variant = deprecated_weights(variant, weights, "estimate")
     if kind not in KINDS:
@@ -221,7 +300,7 @@ def estimate(sol, variant=None, kind="residual", weights=None):
 
 def residual_parts(sol, variant):
     """{"eta1": eta_1^2 per element, ..., "eta6": ...} of Section 4 (numpy arrays), with the stress of ``variant``
-    (:func:`_stress_and_volume_term`) and before the energy units' weights (:func:`_in_energy_units`)."""
+    (``_stress_and_volume_term``) and before the energy units' weights (``_in_energy_units``)."""
     disc = sol.discretization
     problem, mesh, u, p = disc.problem, sol.mesh, sol.u, disc.p
     n, t = normal_tangent()
@@ -260,7 +339,7 @@ def residual_parts(sol, variant):
 
 
 def _in_energy_units(sol, parts):
-    """The terms of :func:`residual_parts` (variant "energy") in the units of the energy norm: the residual terms
+    """The terms of ``residual_parts`` (variant "energy") in the units of the energy norm: the residual terms
     divided by 2 mu, all calibrated by p_T^(-1/2), and eta_1 with the material's oscillation (module docstring)."""
     disc = sol.discretization
     calibration = 1.0 / np.asarray(disc.orders, dtype=float)  # (p_T^(-1/2))^2, see the module docstring
@@ -272,7 +351,7 @@ def _in_energy_units(sol, parts):
 
 
 def _degrees(disc):
-    """The degree of every element's integrands for :func:`element_integrals`: its polynomial degree, the largest
+    """The degree of every element's integrands for ``element_integrals``: its polynomial degree, the largest
     on elements along Gamma_C (the multiplier has the largest degree on every edge there)."""
     degrees = disc.degrees.copy()
     degrees[contact_elements(disc.problem, disc.mesh)] = disc.order
@@ -280,7 +359,7 @@ def _degrees(disc):
 
 
 def _stress_and_volume_term(sol, variant):
-    """(sigma, the neighbour's sigma, the integrand of eta_1^2) for the ``variant`` of :func:`estimate`:
+    """(sigma, the neighbour's sigma, the integrand of eta_1^2) for the ``variant`` of ``estimate``:
     sigma_h(u_h) for "paper", sigma~_h = 2 mu eps_h(u_h) + p~_h I for "energy" (mu, lam each element's own),
     but sigma_h(u_h) where the material jumps: the pressure lam div u jumps there too, and a continuous
     p~_h would leave ||p_h - p~_h|| = O(1) along the interface (eta_h falling like N^(-1/2), seen on a

@@ -1,27 +1,25 @@
-"""The hp decision: refine a marked element in p where u_h is smooth there, in h where it is not.
+r"""The hp decision: refine a marked element in p where :math:`u_h` is smooth there, in h where it is not.
 
 Smoothness is judged by the predicted-versus-observed error reduction of Melenk and Wohlmuth
 (J. M. Melenk, B. I. Wohlmuth, "On residual-based a posteriori error estimation in hp-FEM",
-Adv. Comput. Math. 15 (2001) 311-331, Section 4): every element carries a prediction eta_pred^2
-of its indicator, made when it was last changed under the hypothesis that u is smooth (analytic)
+Adv. Comput. Math. 15 (2001) 311-331, Section 4): every element carries a prediction :math:`\eta_{pred}^2`
+of its indicator, made when it was last changed under the hypothesis that :math:`u` is smooth (analytic)
 there:
 
-* refined in h:        eta_pred^2 = gamma_h n^-(p+1) eta_T^2 for each of its n descendants.  A
-                       marked element is bisected twice (:func:`ngdgfric.meshes.refine`): its four
-                       grandchildren are similar to it with h/2 and the same orientation, and for
-                       a smooth u each carries (1/2)^2p / 4 of the error, Melenk-Wohlmuth's
-                       prediction for red refinement.  (After a single bisection the children are
-                       rotated by 45 degrees, and for an anisotropic u the error need not fall at
-                       all: one bisection cannot tell smooth from singular.)  Closure elements
-                       bisected once get n = 2;
-* p -> p + 1:          eta_pred^2 = gamma_p eta_T^2 (exponential decay in p);
-* unchanged:           eta_pred^2 = gamma_n eta_pred^2,
+* refined in h: :math:`\eta_{pred}^2 = \gamma_h n^{-(p+1)} \eta_T^2` for each of its :math:`n` descendants.
+  A marked element is bisected twice (``refine`` of :mod:`ngdgfric.meshes`): its four grandchildren are
+  similar to it with :math:`h/2` and the same orientation, and for a smooth :math:`u` each carries
+  :math:`(1/2)^{2p} / 4` of the error, Melenk-Wohlmuth's prediction for red refinement.  (After a single
+  bisection the children are rotated by 45 degrees, and for an anisotropic :math:`u` the error need not fall
+  at all: one bisection cannot tell smooth from singular.)  Closure elements bisected once get :math:`n = 2`;
+* :math:`p \to p + 1`: :math:`\eta_{pred}^2 = \gamma_p \eta_T^2` (exponential decay in :math:`p`);
+* unchanged: :math:`\eta_{pred}^2 = \gamma_n \eta_{pred}^2`,
 
-with Melenk-Wohlmuth's gamma_h = 4, gamma_p = 0.4, gamma_n = 1.
+with Melenk-Wohlmuth's :math:`\gamma_h = 4`, :math:`\gamma_p = 0.4`, :math:`\gamma_n = 1`.
 
-A marked element whose indicator eta_T^2 is at most its prediction is *smooth*: the prediction
-made for an analytic u came true, so it is refined in p; otherwise (near corner singularities,
-where contact starts, where stick turns into slip) the error fell more slowly than a smooth u
+A marked element whose indicator :math:`\eta_T^2` is at most its prediction is *smooth*: the prediction
+made for an analytic :math:`u` came true, so it is refined in p; otherwise (near corner singularities,
+where contact starts, where stick turns into slip) the error fell more slowly than a smooth :math:`u`
 allows, and it is bisected.  The initial prediction is 0: the first step is an h step, after
 which the observed reduction decides.  Elements at ``max_order`` are bisected.
 """
@@ -90,15 +88,56 @@ def containing(mesh, points):
 
 def hp_refine(mesh, state, indicators, marked, max_order, gamma_h=4.0, gamma_p=0.4, gamma_n=1.0, singular=None,
               layers=0):
-    """Refine the marked elements in h or p (module docstring); returns the new :class:`HPState`.
+    r"""Refine the marked elements in h or p, as the observed error reduction says.
 
-    ``indicators``: eta_T^2 of the current mesh; ``marked``: Doerfler's set.  The mesh is bisected
-    in place (marked h elements twice + closure); p_T is raised by one on the other marked elements.
-    ``singular``, ``layers``: a marked h element containing one of the points ``singular`` (where u may be
-    singular: :attr:`ngdgfric.domain.Geometry.corners`, and the ends of the contact and stick zones,
-    :func:`ngdgfric.contact.transitions`) is refined towards it by ``layers`` more geometric layers in the same
-    step (its descendants containing the point bisected twice more, ``layers`` times: h halves per layer), so that
-    one level does what ``layers + 1`` levels of single steps would.
+    The hp decision of :mod:`ngdgfric.hp`: a marked element whose indicator came out at most its prediction for
+    a smooth :math:`u` is raised in degree, any other is bisected.  The mesh is bisected in place (marked h
+    elements twice, plus closure); :math:`p_T` is raised by one on the other marked elements.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+        The current mesh, refined in place.
+    state : HPState
+        The degrees :math:`p_T` and predicted indicators :math:`\eta_{pred}^2` of the current mesh
+        (``ngdgfric.hp.HPState``; ``HPState.uniform(mesh, order)`` for a first mesh of one degree).
+    indicators : array_like
+        :math:`\eta_T^2` of the current mesh, one per element (``Estimate.eta_T_squared`` of
+        :func:`ngdgfric.estimate`).
+    marked : array_like of bool
+        Doerfler's set, one entry per element (:func:`ngdgfric.dorfler_mark`).
+    max_order : int
+        The largest degree, at least the current largest; elements at ``max_order`` are bisected.
+    gamma_h : float, optional
+        The factor :math:`\gamma_h` of the prediction after bisection.  Default ``4.0``.
+    gamma_p : float, optional
+        The factor :math:`\gamma_p` of the prediction after raising the degree.  Default ``0.4``.
+    gamma_n : float, optional
+        The factor :math:`\gamma_n` of the prediction of an unchanged element.  Default ``1.0``.
+    singular : array_like or None, optional
+        Points where :math:`u` may be singular, an :math:`(n, 2)` array: the domain's corners (``Geometry.corners``
+        of :mod:`ngdgfric.domain`) and the ends of the contact and stick zones (``transitions`` of
+        :mod:`ngdgfric.contact`).  A marked h element containing one of them is refined towards it by
+        ``layers`` more geometric layers.  Default ``None``: no grading.
+    layers : int, optional
+        Geometric layers towards ``singular`` in the same step: the element's descendants containing the
+        point are bisected twice more, ``layers`` times (:math:`h` halves per layer), so that one level does
+        what ``layers + 1`` levels of single steps would.  Default ``0``.
+
+    Returns
+    -------
+    HPState
+        The degrees and predictions of the refined mesh (``ngdgfric.hp.HPState``).
+
+    Raises
+    ------
+    ValueError
+        ``indicators``, ``marked`` and the state's orders without one entry per element, or ``max_order``
+        not an integer at least the current largest degree.
+
+    See Also
+    --------
+    ngdgfric.adapt : The adaptive loop that calls it with ``hp=True``.
     """
     indicators = np.asarray(indicators, dtype=float)
     marked = np.asarray(marked, dtype=bool)

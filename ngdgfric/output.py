@@ -1,12 +1,30 @@
-"""Output: VTK and PNG files, Markdown tables and the plots of the command line and the notebooks.
+r"""The figures of the gallery: the deformed body, the contact laws and zones, meshes and estimator curves.
+
+A user draws with it what the gallery and ``ngdgfric solve`` show:
+
+* :func:`~ngdgfric.output.plot_deformed`: the elements moved by the magnified displacement :math:`u_h`,
+  coloured by the von Mises stress (1.3), with the contact, stick and slip zones of :mod:`ngdgfric.forces`;
+* :func:`~ngdgfric.output.plot_contact`: the contact quantities along :math:`\Gamma_C` with the laws (1.8) and
+  (1.9) that they satisfy, the slip and the zones;
+* :func:`~ngdgfric.output.plot_zones`: one contact side along its arc length, the pressure, :math:`|\lambda_\tau|`
+  and the zones;
+* :func:`~ngdgfric.output.plot_mesh` and :func:`~ngdgfric.output.plot_estimator` (the estimator
+  :math:`\eta_h` of Section 4 against the number of DOFs);
+* the files :func:`~ngdgfric.output.write_vtk` (for ParaView), :func:`~ngdgfric.output.write_deformed_png` and
+  :func:`~ngdgfric.output.write_contact_png` (the PNGs of ``ngdgfric solve``).
+
+The plots draw into matplotlib Axes that the caller makes: a notebook with ``plt.subplots``, the command line
+with ``figure`` (no pyplot, nothing displayed)::
+
+    import matplotlib.pyplot as plt
+    from ngdgfric.output import plot_deformed
+
+    fig, ax = plt.subplots(figsize=(8, 5))
+    plot_deformed(ax, sol)
 
 Files are written atomically through :mod:`ngdgfric.files` (a temporary file renamed into place;
-CSV and plain text: :func:`ngdgfric.files.write_csv`, :func:`ngdgfric.files.write_text`).  The
-plots draw into matplotlib Axes that the caller makes: the command line with :func:`figure` (no
-pyplot, nothing displayed), a notebook with ``plt.subplots``.  They show u_h and its von Mises
-stress (1.3), the estimator eta_h of Section 4 against the number of DOFs, the contact
-quantities along Gamma_C with the laws (1.8) and (1.9) that they satisfy, and the contact, stick and slip
-zones of :mod:`ngdgfric.forces` (on the deformed mesh and along each contact side).
+CSV and plain text: ``write_csv`` and ``write_text`` there).  The module also makes the Markdown tables of the
+scripts.
 """
 
 from pathlib import Path
@@ -48,11 +66,23 @@ def write_png(fig, path, dpi):
 
 
 def write_vtk(path, sol):
-    """Write u_h and its von Mises stress (1.3) as the VTK file ``path`` (.vtu) atomically.
+    r"""Write :math:`u_h` and its von Mises stress (1.3) as the VTK file ``path`` (.vtu) atomically.
 
-    Point data ``displacement`` and ``von_mises``; every element subdivided p - 1 times, so that
-    P_p is drawn by its values on a finer lattice.  ValueError for a ``path`` not ending in ``.vtu`` (NGSolve's
-    writer appends it: "out.vtk" would become "out.vtk.vtu").
+    Point data ``displacement`` and ``von_mises``; every element subdivided :math:`p - 1` times, so that
+    :math:`P_p` is drawn by its values on a finer lattice.  For ParaView.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write; it must end in ``.vtu``.
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
+
+    Raises
+    ------
+    ValueError
+        A ``path`` not ending in ``.vtu`` (NGSolve's writer appends it: ``"out.vtk"`` would become
+        ``"out.vtk.vtu"``).
     """
     if Path(path).suffix != ".vtu":
         raise ValueError(f"write_vtk writes a .vtu file (VTK unstructured grid), got the path {str(path)!r}")
@@ -77,7 +107,7 @@ def rate_text(rate):
 def uniform_markdown(title, rows):
     """The Markdown report of a uniform refinement study (Tables 6.1, 6.2), headed ``title``.
 
-    ``rows``: the rows of :func:`ngdgfric.studies.uniform_study` with ``method`` and ``eta_h`` added.
+    ``rows``: the rows of ``ngdgfric.studies.uniform_study`` with ``method`` and ``eta_h`` added.
     """
     header = ["method", "h", "DOFs", "|||u_h - u_{h/2}|||_h", "rate", "eta_h", "iterations", "seconds"]
     cells = [(r["method"], f"2^-{r['k']}", r["ndof"], f"{r['energy']:.4e}", rate_text(r["rate"]), f"{r['eta_h']:.4e}",
@@ -108,11 +138,41 @@ def vertex_values(mesh, *cfs):
 
 
 def plot_deformed(ax, sol, scale=None, sides=None):
-    """The triangles moved by ``scale`` u_h (each by its own vertex values), coloured by the element's mean
+    r"""Draw the deformed elements, coloured by the von Mises stress, with the contact, stick and slip zones.
+
+    The triangles moved by ``scale`` :math:`u_h` (each by its own vertex values), coloured by the element's mean
     von Mises stress (1.3), over the undeformed outline (every boundary and interface curve of the geometry,
     curved sides sampled), with the contact, stick and slip zones marked on the undeformed contact sides
-    (:func:`plot_zone_marks`; ``sides``: the :func:`ngdgfric.forces.contact_sides` of ``sol``, computed if
-    None).  Default scale: the largest displacement drawn as 10 % of the domain's size.  Returns the scale."""
+    (``plot_zone_marks``); a colour bar, a title and a legend.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The Axes to draw into.
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
+    scale : float or None, optional
+        The displacement's magnification.  Default ``None``: the largest displacement drawn as 10 % of the
+        domain's size.
+    sides : dict or None, optional
+        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.forces`), to share them between
+        plots.  Default ``None``: computed.
+
+    Returns
+    -------
+    float
+        The magnification used.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from ngdgfric.output import plot_deformed
+    >>> problem = ndf.example_6_1()
+    >>> sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5))
+    >>> fig, ax = plt.subplots(figsize=(8, 5))
+    >>> scale = plot_deformed(ax, sol)
+    >>> plt.close(fig)
+    """
     from matplotlib.collections import PolyCollection
 
     problem, mesh = sol.problem, sol.mesh
@@ -137,8 +197,8 @@ def plot_deformed(ax, sol, scale=None, sides=None):
 
 
 def plot_zone_marks(ax, sides):
-    """The contact, stick and slip zones of ``sides`` ({side: :class:`ngdgfric.forces.ContactSide`}) drawn along
-    the contact sides in the styles of :data:`ZONE_STYLE`, one legend entry per zone present."""
+    """The contact, stick and slip zones of ``sides`` ({side: ``ContactSide`` of :mod:`ngdgfric.forces`}) drawn
+    along the contact sides in the styles of ``ZONE_STYLE``, one legend entry per zone present."""
     for name, style in ZONE_STYLE.items():
         pieces = [piece for side in sides.values() for piece in getattr(side, name).pieces]
         for k, piece in enumerate(pieces):
@@ -146,24 +206,49 @@ def plot_zone_marks(ax, sides):
 
 
 def write_deformed_png(path, sol, scale=None, sides=None):
-    """The PNG of ``ngdgfric solve``: :func:`plot_deformed` of ``sol`` with displacement magnification ``scale``
-    (``sides`` as there)."""
+    """Write the PNG of ``ngdgfric solve``: the deformed body of ``sol``.
+
+    :func:`~ngdgfric.output.plot_deformed` on a figure of its own, written atomically.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The PNG file to write.
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
+    scale : float or None, optional
+        The displacement's magnification.  Default ``None``: as in :func:`~ngdgfric.output.plot_deformed`.
+    sides : dict or None, optional
+        The contact sides of ``sol``, as in :func:`~ngdgfric.output.plot_deformed`.  Default ``None``: computed.
+    """
     fig = figure(6, 5)
     plot_deformed(fig.add_subplot(), sol, scale, sides)
     write_png(fig, path, dpi=130)
 
 
 def estimator_curve(records):
-    """(N, eta_h): the DOFs and the estimator of the levels of :func:`ngdgfric.adapt`, as float arrays."""
+    r"""(:math:`N`, :math:`\eta_h`): the DOFs and the estimator of the levels of :func:`ngdgfric.adapt` (float
+    arrays)."""
     return np.array([r["ndof"] for r in records], dtype=float), np.array([r["eta_h"] for r in records])
 
 
 def plot_estimator(ax, curves, slope=None, **line):
-    """eta_h (Section 4) against the number of DOFs N on log-log axes (legend left to the caller).
+    r"""Draw the estimator :math:`\eta_h` (Section 4) against the number of DOFs :math:`N` on log-log axes.
 
-    ``curves``: {label: records of :func:`ngdgfric.adapt`}, drawn with the markers o, s, ^, v in
-    turn and the matplotlib options ``line``; ``slope=(records, p)``: the optimal rate N^{-p/2} of
-    adaptive P_p elements (Section 6) through the first level of ``records``.
+    The legend is left to the caller.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The Axes to draw into.
+    curves : dict
+        ``{label: records}``, the records being the levels of :func:`ngdgfric.adapt` (``Adaptation.levels``,
+        each with ``"ndof"`` and ``"eta_h"``), drawn with the markers o, s, ^, v in turn.
+    slope : tuple or None, optional
+        ``(records, p)``: the optimal rate :math:`N^{-p/2}` of adaptive :math:`P_p` elements (Section 6) drawn
+        through the first level of ``records``.  Default ``None``: no slope.
+    **line
+        Matplotlib line options for every curve, e.g. ``ms=3``.
     """
     for (label, records), marker in zip(curves.items(), "os^v", strict=False):
         ax.loglog(*estimator_curve(records), f"{marker}-", label=label, **line)
@@ -176,7 +261,17 @@ def plot_estimator(ax, curves, slope=None, **line):
 
 
 def plot_mesh(ax, mesh, title):
-    """The triangles of ``mesh``, titled ``title``."""
+    """Draw the triangles of ``mesh``, titled ``title``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The Axes to draw into.
+    mesh : ngsolve.Mesh
+        The mesh, e.g. ``Solution.mesh`` of the last level of :func:`ngdgfric.adapt`.
+    title : str
+        The Axes' title.
+    """
     points, triangles = mesh_arrays(mesh)[:2]
     ax.triplot(points[:, 0], points[:, 1], triangles, lw=0.3, color="k")
     ax.set_aspect("equal")
@@ -184,7 +279,7 @@ def plot_mesh(ax, mesh, title):
 
 
 def write_adaptive_png(path, title, label, records, mesh, slope=None):
-    """The PNG of ``ngdgfric adaptive``: :func:`plot_estimator` of ``records`` (one curve, ``label``;
+    """The PNG of ``ngdgfric adaptive``: :func:`~ngdgfric.output.plot_estimator` of ``records`` (one curve, ``label``;
     ``slope`` as there) beside the last level's ``mesh``, under ``title``."""
     fig = figure(10, 4.5)
     ax, mesh_ax = fig.subplots(1, 2)
@@ -196,12 +291,20 @@ def write_adaptive_png(path, title, label, records, mesh, slope=None):
 
 
 def plot_contact(axes, sol):
-    """The contact quantities of ``sol`` at the Gauss points of Gamma_C, left to right, on four Axes.
+    r"""Draw the contact quantities of ``sol`` at the Gauss points of :math:`\Gamma_C`, left to right, on four Axes.
 
-    Top to bottom: the normal compliance law (1.8), -sigma_n(u_h) against c_n (u_hn - g_a)_+^{m_n};
-    the friction law (1.9), sigma_tau(u_h) and the discrete friction traction -c_tau lam_tau against the
-    bound +-c_tau; the slip u_htau; the zones of :mod:`ngdgfric.forces`: contact where u_hn > g_a, slip where
-    |lam_tau| = 1 and u_htau != 0, stick where friction acts otherwise.
+    Top to bottom: the normal compliance law (1.8), :math:`-\sigma_n(u_h)` against
+    :math:`c_n (u_{hn} - g_a)_+^{m_n}`; the friction law (1.9), :math:`\sigma_\tau(u_h)` and the discrete friction
+    traction :math:`-c_\tau \lambda_\tau` against the bound :math:`\pm c_\tau`; the slip :math:`u_{h\tau}`; the
+    zones of :mod:`ngdgfric.forces`: contact where :math:`u_{hn} > g_a`, slip where :math:`|\lambda_\tau| = 1`
+    and :math:`u_{h\tau} \ne 0`, stick where friction acts otherwise.
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib.axes.Axes
+        Four Axes, top to bottom, e.g. ``plt.subplots(4, 1, sharex=True)[1]``.
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
     """
     state = contact_state(sol)
     zones = {name: np.zeros(len(state["x"]), dtype=bool) for name in ("contact", "slip", "stick")}
@@ -247,11 +350,30 @@ def _runs(cells, mask):
 
 
 def plot_zones(ax, sol, side, sides=None):
-    """One contact side along its arc length (from its start, along t = (-n_y, n_x)): the pressure
-    c_n (u_hn - g_a)_+^{m_n} of (1.8) and, on a second axis, |lam_tau| (Lemma 3.1; 1 where the friction traction
-    reaches its bound (1.9)) at the Gauss points, over the stick (blue) and slip (red) zones shaded and the contact
-    zone as a grey band on the axis (:mod:`ngdgfric.forces`, whose Gauss cells give the zones' ends).  ``sides``:
-    the :func:`ngdgfric.forces.contact_sides` of ``sol`` (computed if None).  Returns the second Axes."""
+    r"""Draw one contact side along its arc length: the pressure, :math:`|\lambda_\tau|` and the zones.
+
+    Along the side from its start, along :math:`t = (-n_y, n_x)`: the pressure :math:`c_n (u_{hn} - g_a)_+^{m_n}`
+    of (1.8) and, on a second axis, :math:`|\lambda_\tau|` (Lemma 3.1; 1 where the friction traction reaches its
+    bound (1.9)) at the Gauss points, over the stick (blue) and slip (red) zones shaded and the contact zone as
+    a grey band on the axis (:mod:`ngdgfric.forces`, whose Gauss cells give the zones' ends).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The Axes to draw into.
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
+    side : str
+        The name of a contact side of the problem.
+    sides : dict or None, optional
+        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.forces`), to share them between
+        plots.  Default ``None``: computed.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The second Axes, of :math:`|\lambda_\tau|`.
+    """
     c = (contact_sides(sol) if sides is None else sides)[side]
     state = contact_state(sol)
     for name, mask in (("stick", c.sticking), ("slip", c.slipping)):
@@ -277,8 +399,19 @@ def plot_zones(ax, sol, side, sides=None):
 
 
 def write_contact_png(path, sol, sides=None):
-    """The contact PNG of ``ngdgfric solve`` and ``adaptive``: :func:`plot_zones` of every contact side of ``sol``
-    (``sides`` as there), one above the other."""
+    """Write the contact PNG of ``ngdgfric solve`` and ``adaptive``: every contact side of ``sol``.
+
+    :func:`~ngdgfric.output.plot_zones` of every contact side, one above the other, written atomically.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The PNG file to write.
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
+    sides : dict or None, optional
+        The contact sides of ``sol``, as in :func:`~ngdgfric.output.plot_zones`.  Default ``None``: computed.
+    """
     sides = contact_sides(sol) if sides is None else sides
     fig = figure(7, 0.6 + 2.6 * len(sides))
     for ax, side in zip(fig.subplots(len(sides), 1, squeeze=False)[:, 0], sides, strict=True):

@@ -25,18 +25,61 @@ DEFAULT_SOLVER_TOL = {name: options.solver_tol for name, (_, options) in SOLVERS
 
 @dataclass
 class Solution:
-    """A discrete solution u_h of (3.1) (for m_t > 0 with j_tau(u_h, .) of (1.4)) and lam_tau of Lemma 3.1.
+    r"""A discrete solution :math:`u_h` of (3.1) and the multiplier :math:`\lambda_\tau` of Lemma 3.1.
 
-    ``mesh``: the solution's own copy of the mesh it was solved on (:func:`ngdgfric.meshes.snapshot`), so
-    that refining that mesh afterwards (a hand-written adaptive loop) leaves the Solution valid;
-    ``u``: GridFunction on the DG space; ``lam_tau``: GridFunction of the multiplier on Gamma_C;
-    ``iterations``, ``history``: the nonlinear solver's iteration count and convergence history;
-    ``timings``: seconds (assemble, solve, total); ``info``: solver diagnostics; ``state``: for an
-    inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
-    :class:`~ngdgfric.solvers.newton.NewtonState` that :func:`finish` continues; None otherwise.
-    ``max_order``: the largest polynomial degree p_T (p on a mesh of one degree); ``orders``: the degree of every
-    element.  ``order`` is a deprecated alias of ``max_order``: on hp meshes it read as "the" order, but it was
-    only the largest (DeprecationWarning).
+    For :math:`m_t > 0`, :math:`u_h` solves (3.1) with the friction functional :math:`j_\tau(u_h, \cdot)` of
+    (1.4).  :func:`ngdgfric.solve` and :func:`ngdgfric.finish` make it; the constructor's arguments are listed
+    here because they are its fields, not for building one by hand.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        The problem solved (:class:`ngdgfric.ContactProblem`).
+    mesh : ngsolve.Mesh
+        The solution's own copy of the mesh it was solved on (``ngdgfric.meshes.snapshot``), so that
+        refining that mesh afterwards (a hand-written adaptive loop) leaves the Solution valid.
+    method : str
+        The name of the method, e.g. ``"sipg"`` (:data:`ngdgfric.METHODS`).
+    max_order : int
+        The largest polynomial degree :math:`p_T` (:math:`p` on a mesh of one degree).
+    eta : float or EdgeCoefficient
+        The penalty parameter used: the number given or the method's default (an ``EdgeCoefficient``,
+        one value per edge, for a varying material).
+    solver : str
+        The contact solver: ``"newton"``, ``"uzawa"`` or ``"fixed_point"``.
+    u : ngsolve.GridFunction
+        The displacement :math:`u_h` on the DG space (:math:`H^1` for the conforming baseline).
+    lam_tau : ngsolve.GridFunction
+        The multiplier :math:`\lambda_\tau` on :math:`\Gamma_C`.
+    iterations : int
+        The nonlinear solver's iteration count.
+    history : list of float
+        The nonlinear solver's convergence history, one entry per iteration.
+    timings : dict
+        Seconds: ``"assemble"``, ``"setup"``, ``"solve"``, ``"total"``.
+    discretization : Discretization
+        The discretisation solved (:class:`ngdgfric.Discretization`: spaces, matrices, the material).
+    info : dict, optional
+        The solver's diagnostics (e.g. ``"factorizations"``, ``"least_squares_solves"``).  Default: empty.
+    state : object, optional
+        For an inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
+        ``NewtonState`` (:mod:`ngdgfric.solvers.newton`) that :func:`ngdgfric.finish` continues.  Default
+        ``None``: solved to its tolerance.
+
+    Attributes
+    ----------
+    orders
+        The degree :math:`p_T` of every element, an integer array in the mesh's element order (a copy).
+    ndof : int
+        The number of degrees of freedom of :math:`u_h`.
+    order : int
+        Deprecated alias of ``max_order`` (DeprecationWarning): on hp meshes it read as "the" order, but it
+        was only the largest.
+
+    See Also
+    --------
+    ngdgfric.solve : Makes a Solution.
+    ngdgfric.estimate : Its error estimator.
     """
 
     problem: object
@@ -56,53 +99,118 @@ class Solution:
 
     @property
     def orders(self):
-        """The polynomial degree p_T of every element (an integer array in the mesh's element order; a copy)."""
+        """The polynomial degree :math:`p_T` of every element (an integer array in the mesh's element order; a copy)."""
         return np.array(self.discretization.orders, dtype=np.int64)
 
     @property
     def order(self):
-        """Deprecated: the largest degree, :attr:`max_order` (see :attr:`orders` for the degree per element)."""
+        """Deprecated: the largest degree, ``max_order`` (see ``orders`` for the degree per element)."""
         warn("Solution.order is deprecated: it is the largest degree, Solution.max_order (the degree of "
              "every element: Solution.orders)", DeprecationWarning)
         return self.max_order
 
     @property
     def ndof(self):
-        """Number of degrees of freedom of u_h."""
+        """Number of degrees of freedom of :math:`u_h`."""
         return self.u.space.ndof
 
 
 @limited_blas
 def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solver_tol=None, initial=None,
           penalty_check="warn", max_ndof=None, max_bytes=MEMORY_BUDGET, **options):
-    """Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
+    r"""Solve the DG discretisation (3.1) of the contact problem on ``mesh``.
 
-    problem: a :class:`ContactProblem`; mesh: an NGSolve mesh with the problem's boundary names.  The
-    solution lives on its own copy of ``mesh`` (``Solution.mesh``, :func:`ngdgfric.meshes.snapshot`), so
-    ``mesh`` may be refined afterwards (a hand-written SOLVE -> ESTIMATE -> MARK -> REFINE loop) while the
-    Solution stays valid and can start the next solve (``initial``).
-    method: one of ``ngdgfric.dg.methods.METHODS`` (Section 3); order: polynomial degree p >= 1.
-    eta: penalty parameter (default 30 mu, Section 6).
-    solver: "newton" (default; the problem condensed onto the contact points and solved there by a
-    globalised semismooth Newton method, :func:`ngdgfric.solvers.newton.newton`, fully coupled for
-    m_t > 0), "uzawa" (the paper's method, :func:`ngdgfric.solvers.uzawa.uzawa`, m_t = 0 only) or
-    "fixed_point" (on the friction bound for m_t > 0, :func:`ngdgfric.solvers.fixed_point.fixed_point`,
-    option ``inner="newton"|"uzawa"``); all solve the same discrete problem.
-    solver_tol: the solver's tolerance; None: ``DEFAULT_SOLVER_TOL[solver]`` (Newton: 1e-13 on the
-    relative KKT residual at the contact points; Uzawa and the fixed point: 1e-8 on the relative
-    max-norm change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4)).
-    The old name ``tol`` still works (DeprecationWarning).
-    penalty_check: "warn" (default), "raise" or "ignore" when eta is below the method's coercivity
-    threshold (:func:`ngdgfric.dg.methods.check_penalty`).
-    initial: a Solution (or a :class:`~ngdgfric.transfer.WarmStart`) to start from, on this mesh or on
-    another, e.g. coarser, mesh of the same domain (:func:`ngdgfric.transfer.initial_guess`).
-    max_ndof: refuse (ValueError, before assembly) above this many DOFs; None: above an estimated
-    ``max_bytes`` bytes of memory (default 8 GB, :func:`ngdgfric.checks.check_size`).  Data given as
-    CoefficientFunctions are checked pointwise first (:func:`ngdgfric.checks.check_data`).
-    options: the solver's options (:class:`~ngdgfric.solvers.newton.NewtonOptions`,
-    :class:`~ngdgfric.solvers.uzawa.UzawaOptions`, :class:`~ngdgfric.solvers.fixed_point.FixedPointOptions`), e.g.
-    ``maxit``, ``progress`` (callable(message)); unknown names and bad values raise ValueError before
-    anything is assembled.
+    The solution lives on its own copy of ``mesh`` (``Solution.mesh``), so ``mesh`` may be refined afterwards
+    (a hand-written SOLVE, ESTIMATE, MARK, REFINE loop) while the Solution stays valid and can start the next
+    solve (``initial``).  All three solvers solve the same discrete problem.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        The contact problem (:class:`ngdgfric.ContactProblem`).
+    mesh : ngsolve.Mesh
+        A mesh of the problem's domain with the problem's boundary names.
+    method : str, optional
+        One of :data:`ngdgfric.METHODS` (Section 3): ``"sipg"``, ``"nipg"``, ``"bassi"``, ``"brezzi"``, ``"ldg"``
+        or ``"cg"`` (the conforming baseline).  Default ``"sipg"``.
+    order : int, optional
+        The polynomial degree :math:`p \ge 1`.  Default ``1``.
+    eta : float or None, optional
+        The penalty parameter.  Default ``None``: the method's default (:math:`30\mu`, Section 6).
+    solver : str, optional
+        ``"newton"`` (default): the problem condensed onto the contact points and solved there by a
+        globalised semismooth Newton method (:mod:`ngdgfric.solvers.newton`), fully coupled for :math:`m_t > 0`;
+        ``"uzawa"``: the paper's method (:mod:`ngdgfric.solvers.uzawa`), :math:`m_t = 0` only;
+        ``"fixed_point"``: a fixed point on the friction bound for :math:`m_t > 0`
+        (:mod:`ngdgfric.solvers.fixed_point`, option ``inner="newton"`` or ``"uzawa"``).
+    solver_tol : float or None, optional
+        The solver's tolerance.  Default ``None``: ``DEFAULT_SOLVER_TOL[solver]``: for Newton ``1e-13`` on the
+        relative KKT residual at the contact points; for Uzawa and the fixed point ``1e-8`` on the relative
+        max-norm change, as in Section 6, and for Uzawa also on the complementarity residual of (3.4).  The old
+        name ``tol`` still works (DeprecationWarning).
+    initial : Solution or WarmStart or None, optional
+        A :class:`ngdgfric.Solution` (or a :class:`ngdgfric.WarmStart`) to start from, on this mesh or on
+        another, e.g. coarser, mesh of the same domain (interpolated, ``ngdgfric.transfer.initial_guess``).
+        Default ``None``: start from zero.
+    penalty_check : str, optional
+        What to do when ``eta`` is below the method's coercivity threshold (``check_penalty`` of
+        :mod:`ngdgfric.dg.methods`): ``"warn"`` (default, a :class:`ngdgfric.PenaltyWarning`), ``"raise"``
+        (ValueError) or ``"ignore"``.
+    max_ndof : int or None, optional
+        Refuse (ValueError, before assembly) above this many DOFs.  Default ``None``: refuse above an estimated
+        ``max_bytes`` of memory (``check_size`` of :mod:`ngdgfric.checks`).
+    max_bytes : float, optional
+        The memory budget in bytes when ``max_ndof`` is ``None``.  Default ``8e9`` (8 GB).
+    **options
+        The fields of the solver's options class as keywords: :class:`ngdgfric.NewtonOptions`,
+        :class:`ngdgfric.UzawaOptions` or :class:`ngdgfric.FixedPointOptions`, e.g. ``maxit``, ``progress``
+        (``callable(message)``).
+
+    Returns
+    -------
+    Solution
+        The discrete solution :math:`u_h`, the multiplier :math:`\lambda_\tau`, the solver's iterations,
+        history, timings and diagnostics (:class:`ngdgfric.Solution`).
+
+    Raises
+    ------
+    ValueError
+        Before anything is assembled: an unknown solver, an unknown option name or a bad option value, too many
+        DOFs; data given as CoefficientFunctions are checked pointwise first (``check_data`` of
+        :mod:`ngdgfric.checks`; :class:`ngdgfric.DataError`, a ValueError).
+    SolverError
+        The solver failed (:class:`ngdgfric.SolverError`, with its convergence history); a
+        :class:`ngdgfric.TimeLimitError` at the option ``max_seconds``, a :class:`ngdgfric.PardisoError` if MKL
+        PARDISO fails.
+
+    Warns
+    -----
+    PenaltyWarning
+        ``eta`` below the method's coercivity threshold (``penalty_check="warn"``).
+    LockingWarning
+        The method locks at the problem's Poisson ratio (:class:`ngdgfric.LockingWarning`).
+    SolverWarning
+        The solver took a fallback that the result survived (:class:`ngdgfric.SolverWarning`).
+
+    See Also
+    --------
+    ngdgfric.finish : Continue an inexact Newton solve.
+    ngdgfric.estimate : The a posteriori error estimator of the solution.
+    ngdgfric.adapt : Solve adaptively to a tolerance.
+
+    Examples
+    --------
+    >>> problem = ndf.example_6_1()
+    >>> mesh = ndf.uniform_mesh(problem, 0.5)
+    >>> sol = ndf.solve(problem, mesh, method="sipg", order=1)
+    >>> sol.ndof, sol.solver
+    (48, 'newton')
+
+    Another solver, with one of its options (:class:`ngdgfric.UzawaOptions`), from the solution above:
+
+    >>> sol2 = ndf.solve(problem, mesh, order=2, solver="uzawa", maxit=5000, initial=sol)
+    >>> print(sol2.ndof, sol2.history[-1] <= 1e-8)
+    96 True
     """
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
@@ -133,7 +241,7 @@ def _solver_tol(solver_tol, options):
 
 
 def _warm_start(initial):
-    """``initial`` of :func:`solve` as a :class:`WarmStart`: the one place a Solution is converted."""
+    """``initial`` of ``solve`` as a ``WarmStart``: the one place a Solution is converted."""
     if isinstance(initial, WarmStart):
         return initial
     if isinstance(initial, Solution):
@@ -143,11 +251,38 @@ def _warm_start(initial):
 
 @limited_blas
 def finish(sol, solver_tol=None, energy_tol=None, maxit=100):
-    """Continue an inexact Newton solve (``sol.state``, option ``energy_tol`` of :func:`solve`) to
-    ``solver_tol`` (default ``DEFAULT_SOLVER_TOL["newton"]``) or to a smaller ``energy_tol``, with the same
-    factorisation; returns the new :class:`Solution` (``sol`` itself if it was solved to its tolerance
-    already).  ``iterations`` and ``history`` continue those of ``sol``; ``timings["solve"]`` adds this
-    run's seconds."""
+    """Continue an inexact Newton solve to its tolerance, with the same factorisation.
+
+    An inexact solve (option ``energy_tol`` of :func:`ngdgfric.solve`) that stopped before its tolerance keeps
+    its factorisation, condensed problem and forces in ``sol.state``; this continues it without factorising
+    again.
+
+    Parameters
+    ----------
+    sol : Solution
+        The solution of an inexact Newton solve (:class:`ngdgfric.Solution`).
+    solver_tol : float or None, optional
+        The Newton tolerance to reach.  Default ``None``: ``DEFAULT_SOLVER_TOL["newton"]`` (``1e-13``).
+    energy_tol : float or None, optional
+        Stop instead at this (smaller) linearisation estimate.  Default ``None``: go on to ``solver_tol``.
+    maxit : int, optional
+        Newton iterations of this run.  Default ``100``.
+
+    Returns
+    -------
+    Solution
+        The new solution (``sol`` itself if it was solved to its tolerance already).  Its ``iterations`` and
+        ``history`` continue those of ``sol``; ``timings["solve"]`` adds this run's seconds.
+
+    Examples
+    --------
+    >>> problem = ndf.example_6_1()
+    >>> sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.25), order=2, energy_tol=1.0)
+    >>> sol.state is None
+    False
+    >>> ndf.finish(sol).state is None
+    True
+    """
     if sol.state is None:
         return sol
     options = NewtonOptions.from_keywords(solver_tol=solver_tol, energy_tol=energy_tol, maxit=maxit)

@@ -1,9 +1,9 @@
-"""Warm starts: a solution on one mesh as the initial guess on another (coarser -> finer).
+r"""Warm starts: a solution on one mesh as the initial guess on another (from coarser to finer).
 
-A :class:`WarmStart` is what a solve can start from: u, the mesh it lives on and the multiplier as
-mesh-independent Gauss values (:class:`ngdgfric.contact.GaussValues`); :func:`initial_guess` turns it into
-the pair (u, lam_tau) on a discretisation's spaces, and :func:`starting_point` makes the solvers' own
-copies of such a pair.
+A :class:`ngdgfric.WarmStart` is what a solve can start from: :math:`u_h`, the mesh it lives on and the
+multiplier as mesh-independent Gauss values (``ngdgfric.contact.GaussValues``); ``initial_guess`` turns it
+into the pair :math:`(u_h, \lambda_\tau)` on a discretisation's spaces, and ``starting_point`` makes the
+solvers' own copies of such a pair.
 """
 
 from dataclasses import dataclass
@@ -20,7 +20,7 @@ __all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot"
            "interpolate"]
 
 INSIDE = 1
-"""The extra quadrature degree of :func:`interpolate`: ``GridFunction.Set`` projects with a Gauss rule of degree
+"""The extra quadrature degree of ``interpolate``: ``GridFunction.Set`` projects with a Gauss rule of degree
 2 p_T, and NGSolve's rule of degree 2 (p_T = 1) has its three points on the edges' midpoints, where the point search
 of a GridFunction of another mesh object finds either neighbour (a discontinuous u_h projected onto a copy of its own
 mesh came out wrong on 92 of 128 elements); from degree 3 on every point lies inside the triangle (barycentric
@@ -30,7 +30,7 @@ coordinates >= 0.09 at degree 3, >= 1e-4 up to degree 24)."""
 def interpolate(target, source):
     """Set the GridFunction ``target`` to ``source`` (a GridFunction of another mesh, or of the same one, or any
     CoefficientFunction) by NGSolve's element-wise L2 projection with a Gauss rule whose points lie inside the
-    elements (:data:`INSIDE`): exact, to round-off, where ``target``'s mesh refines ``source``'s (or is a copy of it)
+    elements (``INSIDE``): exact, to round-off, where ``target``'s mesh refines ``source``'s (or is a copy of it)
     and ``target``'s space contains ``source`` element by element."""
     target.Set(source, bonus_intorder=INSIDE)
 
@@ -75,7 +75,7 @@ def copy_orders(source, source_orders, target, target_orders):
 
 def discontinuous(sol):
     """(u, degrees): the displacement of a Solution as a GridFunction of a variable-order ``L2**2`` space on its
-    mesh (what :func:`copy_orders` takes) and the degree of every element: ``sol.u`` itself for the DG methods;
+    mesh (what ``copy_orders`` takes) and the degree of every element: ``sol.u`` itself for the DG methods;
     for the conforming baseline u_h set into L2 of each element's largest degree
     (``Discretization.degrees``: exact on straight elements)."""
     disc = sol.discretization
@@ -88,18 +88,30 @@ def discontinuous(sol):
 
 
 def multiplier_snapshot(sol):
-    """The multiplier of a Solution as mesh-independent Gauss values (:class:`GaussValues`)."""
+    """The multiplier of a Solution as mesh-independent Gauss values (``GaussValues``)."""
     return sol.discretization.gauss.snapshot(sol.lam_tau)
 
 
 @dataclass(frozen=True)
 class WarmStart:
-    """What a solve can start from (``solve(initial=...)``, :func:`initial_guess`).
+    r"""What a solve can start from (``initial`` of :func:`ngdgfric.solve`).
 
-    u: the displacement, a GridFunction of an ``L2**2`` space on ``mesh``; mesh: the mesh of u (it may
-    have been refined since, for u in an autoupdating space, as in the adaptive loop); multiplier: lam_tau
-    as Gauss values on Gamma_C (:func:`multiplier_snapshot`), independent of the mesh; lam_tau: the
-    multiplier GridFunction itself, or None; with it, a start on the same mesh and spaces is copied exactly.
+    :func:`ngdgfric.solve` makes one of a :class:`ngdgfric.Solution` given as ``initial``
+    (``WarmStart.from_solution``); on another mesh, ``ngdgfric.transfer.initial_guess`` interpolates it.
+
+    Parameters
+    ----------
+    u : ngsolve.GridFunction
+        The displacement, a GridFunction of an ``L2**2`` space on ``mesh``.
+    mesh : ngsolve.Mesh
+        The mesh of ``u`` (it may have been refined since, for ``u`` in an autoupdating space, as in the
+        adaptive loop).
+    multiplier : GaussValues
+        :math:`\lambda_\tau` as Gauss values on :math:`\Gamma_C` (``multiplier_snapshot``), independent of the
+        mesh.
+    lam_tau : ngsolve.GridFunction or None, optional
+        The multiplier GridFunction itself; with it, a start on the same mesh and spaces is copied exactly.
+        Default ``None``.
     """
 
     u: object
@@ -109,7 +121,7 @@ class WarmStart:
 
     @classmethod
     def from_solution(cls, sol):
-        """The warm start of a :class:`~ngdgfric.solution.Solution`."""
+        """The warm start of a :class:`ngdgfric.Solution`."""
         return cls(sol.u, sol.mesh, multiplier_snapshot(sol), sol.lam_tau)
 
 
@@ -134,9 +146,9 @@ def _on_mesh(u, mesh):
 
 
 def initial_guess(start, disc):
-    """(u, lam_tau) GridFunctions on ``disc``'s spaces from the :class:`WarmStart` ``start``.
+    """(u, lam_tau) GridFunctions on ``disc``'s spaces from the ``WarmStart`` ``start``.
 
-    On the same mesh (:func:`ngdgfric.meshes.same_mesh`: the same object or a snapshot of it) and spaces (and
+    On the same mesh (``ngdgfric.meshes.same_mesh``: the same object or a snapshot of it) and spaces (and
     with ``start.lam_tau``) the vectors are copied.  Otherwise u is interpolated (exact for nested meshes and
     equal or higher order; from a snapshot of the same mesh without the point search that a GridFunction of
     another mesh object needs, 7 times slower at 1e5 DOFs) and lam_tau is the old multiplier, a piecewise

@@ -1,20 +1,23 @@
-"""The fixed point on the friction bound for the quasi-variational inequality (1.4), m_t > 0.
+r"""The fixed point on the friction bound for the quasi-variational inequality (1.4), :math:`m_t > 0`.
 
-    u^{k+1}: the solution of (3.3)-(3.4) with the bound c_tau (u^k_n - g_a)_+^{m_t} frozen,
+.. math::
 
-i.e. of a reduced-law problem (m_t = 0) with a spatially varying friction bound
-(:func:`ngdgfric.contact.frozen_bound`), solved by the inner solver on the same discretisation,
-warm-started from (u^k, lam_tau^k); stopped when ||u^{k+1} - u^k||_inf <= solver_tol ||u^{k+1}||_inf.
-It starts from u^0 = 0 (bound 0 where g_a > 0: the frictionless problem) or from ``initial``.
+    u^{k+1}: \text{ the solution of (3.3)-(3.4) with the bound } c_\tau (u^k_n - g_a)_+^{m_t} \text{ frozen},
 
-The map u^k -> u^{k+1} is a contraction only if the bound varies slowly with u_n compared with
-the stiffness of the body: its Lipschitz constant grows like the slope c_tau m_t
-(u_n - g_a)_+^{m_t - 1} of the bound (on Example 6.1, m_t = 1, h = 1/16: contraction factor
-about 0.25 c_tau / 450; it stalled at c_tau = 1800 and 3600, results/mt.md).  For large c_tau
-the iteration stalls, or a warm-started inner solve cycles because the frozen bound jumps
-between outer iterations; the coupled semismooth Newton (:func:`ngdgfric.solvers.newton.newton`)
-converged in all these cases.  For m_t = 0 the bound does not depend on u and one inner solve
-is the answer.
+i.e. of a reduced-law problem (:math:`m_t = 0`) with a spatially varying friction bound
+(``frozen_bound`` of ``ngdgfric.contact``), solved by the inner solver on the same discretisation,
+warm-started from :math:`(u^k, \lambda_\tau^k)`; stopped when
+:math:`\|u^{k+1} - u^k\|_\infty \le` ``solver_tol`` :math:`\|u^{k+1}\|_\infty`.
+It starts from :math:`u^0 = 0` (bound 0 where :math:`g_a > 0`: the frictionless problem) or from ``initial``.
+
+The map :math:`u^k \mapsto u^{k+1}` is a contraction only if the bound varies slowly with :math:`u_n` compared
+with the stiffness of the body: its Lipschitz constant grows like the slope
+:math:`c_\tau m_t (u_n - g_a)_+^{m_t - 1}` of the bound (on Example 6.1, :math:`m_t = 1`, :math:`h = 1/16`:
+contraction factor about :math:`0.25\, c_\tau / 450`; it stalled at :math:`c_\tau = 1800` and 3600, the results
+page *Friction bound depending on the penetration*).  For large :math:`c_\tau` the iteration stalls, or a
+warm-started inner solve cycles because the frozen bound jumps between outer iterations; the coupled semismooth
+Newton (:mod:`ngdgfric.solvers.newton`) converged in all these cases.  For :math:`m_t = 0` the bound does not
+depend on :math:`u` and one inner solve is the answer.
 """
 
 import dataclasses
@@ -46,23 +49,51 @@ def _inner_options(value, name):
 
 @dataclass(frozen=True)
 class FixedPointOptions(SolverOptions):
-    """The options of :func:`fixed_point` (the keywords of ``solve(solver="fixed_point")``).
+    r"""The options of the fixed point on the friction bound (the keywords of ``solve(solver="fixed_point")``).
 
-    solver_tol: the relative max-norm change of u at which the outer iteration stops.
+    The solver of :mod:`ngdgfric.solvers.fixed_point` (:func:`ngdgfric.solve`), for :math:`m_t > 0`.
 
-    maxit: outer iterations.
+    Parameters
+    ----------
+    solver_tol : float, optional
+        The relative max-norm change of :math:`u` at which the outer iteration stops.  Default ``1e-8``.
+    maxit : int, optional
+        Outer iterations.  Default ``100``.
+    progress : callable or None, optional
+        ``progress(message)`` is called after each outer iteration with a line such as
+        ``"fixed point 3: relative change 1.2e-05"``.  Default ``None``: no messages.
+    inner : NewtonOptions or UzawaOptions or None, optional
+        The options of the inner solver, :class:`ngdgfric.NewtonOptions` or :class:`ngdgfric.UzawaOptions`,
+        whose type chooses it, used as given (their own ``solver_tol``, ``maxit``, ``progress``,
+        ``max_seconds``).  Default ``None``: Newton with the outer ``solver_tol`` (the property
+        ``inner_options``).  As keywords of :func:`ngdgfric.solve` (``from_keywords``): ``inner="newton"`` or
+        ``"uzawa"`` and that solver's options other than ``solver_tol``, ``maxit``, ``progress`` and
+        ``max_seconds``, with the outer ``solver_tol``.
+    max_seconds : float or None, optional
+        Stop with :class:`ngdgfric.TimeLimitError` (a :class:`ngdgfric.SolverError`) after this long (each inner
+        solve stops at its own ``max_seconds`` or at the time that is left, whichever comes first).  Default
+        ``None``: no limit.
 
-    progress: None, or callable(message) called after each outer iteration with a line such as
-        "fixed point 3: relative change 1.2e-05".
+    Attributes
+    ----------
+    inner_options : NewtonOptions or UzawaOptions
+        The options of the inner solves: ``inner``, or for ``None`` Newton's defaults with the outer
+        ``solver_tol``.
 
-    inner: the options of the inner solver, :class:`~ngdgfric.solvers.newton.NewtonOptions` or
-        :class:`~ngdgfric.solvers.uzawa.UzawaOptions`, whose type chooses it, used as given (their own
-        solver_tol, maxit, progress, max_seconds); None (the default): Newton with the outer solver_tol
-        (:attr:`inner_options`).  As keywords (:meth:`from_keywords`): ``inner="newton"`` or ``"uzawa"`` and
-        that solver's options other than solver_tol, maxit, progress and max_seconds, with the outer solver_tol.
+    Raises
+    ------
+    ValueError
+        A value out of its range, named with the value.
 
-    max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) after this long
-        (each inner solve stops at its own max_seconds or at the time that is left, whichever comes first).
+    See Also
+    --------
+    ngdgfric.NewtonOptions, ngdgfric.UzawaOptions : The options of the other solvers.
+
+    Examples
+    --------
+    >>> options = ndf.FixedPointOptions.from_keywords(inner="uzawa", rho=0.5)
+    >>> options.inner.solver, options.inner.rho, options.inner.solver_tol
+    ('uzawa', 0.5, 1e-08)
     """
 
     solver = "fixed_point"
@@ -109,13 +140,13 @@ def _time_limited(options, until):
 
 
 def fixed_point(disc, options=None, initial=None):
-    """The fixed point of the module docstring with the :class:`FixedPointOptions` ``options`` (default:
+    """The fixed point of the module docstring with the ``FixedPointOptions`` ``options`` (default:
     the defaults); returns (u, lam_tau, info).
 
     initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` to start from.
     info: ``iterations`` (outer), ``history`` (relative changes), ``inner_iterations`` (per outer
     iteration), ``factorizations`` (summed over the inner solves), ``timings``.
-    Raises :class:`SolverError` (with the history) if it diverges or does not converge in maxit.
+    Raises ``SolverError`` (with the history) if it diverges or does not converge in maxit.
     """
     options = FixedPointOptions() if options is None else options
     inner_options = options.inner_options

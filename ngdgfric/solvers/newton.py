@@ -1,35 +1,36 @@
-"""The default contact solver: condense onto Gamma_C, semismooth Newton on the points, recover u.
+r"""The default contact solver: condense onto :math:`\Gamma_C`, semismooth Newton on the points, recover :math:`u`.
 
-The nonlinearity of (3.3)-(3.4) lives at the M Gauss points of Gamma_C.  The solver
+The nonlinearity of (3.3)-(3.4) lives at the :math:`M` Gauss points of :math:`\Gamma_C`.  The solver
 
-1. builds the traces B at those points (:class:`ngdgfric.solvers.traces.ContactTraces`) and condenses
-   the linear part onto them: W = B A^-1 B^T and w0 = B A^-1 F, by one partial factorisation
-   (:class:`ngdgfric.solvers.condensation.Condensation`);
-2. solves the contact laws at the points for the forces f with a globalised semismooth Newton
-   method on the dense 2M x 2M problem (:class:`ngdgfric.solvers.reduced.ReducedContact`,
-   :func:`ngdgfric.solvers.semismooth.solve`: energy descent for the symmetric methods with m_t = 0, a merit
-   function with Levenberg-Marquardt safeguards for NIPG and m_t > 0, both inside a proximal point method
-   where W is singular and m_t = 0 (redundant points on hp meshes); stopping test on the KKT residual of
-   Lemma 3.1);
-3. recovers u = A^-1 (F - B^T f) by one substitution, and the multiplier lam_tau = f_t / beta
-   (beta = c_tau (u_n - g_a)_+^{m_t} omega; lam_tau = sign(u_tau) where beta = 0).  The traces of the
-   computed u differ from w0 - W f by the solve's round-off times cond(A), which a stiff compliance
-   (c_n = 1e10: N' = omega c_n ~ 1e8) turns into a visible KKT residual; then w0 is shifted by that
-   difference, the points are re-solved (one Newton step) and u moved with the forces,
-   u -= A^-1 B^T df (iterative refinement of the nonlinear system: the round-off of that
-   substitution is relative to the small df), at most ``MAX_CONSISTENCY`` times, so that the laws
-   hold at the traces of the returned u.
+1. builds the traces :math:`B` at those points (``ContactTraces`` of :mod:`ngdgfric.solvers.traces`) and
+   condenses the linear part onto them: :math:`W = B A^{-1} B^T` and :math:`w_0 = B A^{-1} F`, by one partial
+   factorisation (``Condensation`` of :mod:`ngdgfric.solvers.condensation`);
+2. solves the contact laws at the points for the forces :math:`f` with a globalised semismooth Newton
+   method on the dense :math:`2M \times 2M` problem (``ReducedContact`` of :mod:`ngdgfric.solvers.reduced`,
+   ``solve`` of :mod:`ngdgfric.solvers.semismooth`: energy descent for the symmetric methods with
+   :math:`m_t = 0`, a merit function with Levenberg-Marquardt safeguards for NIPG and :math:`m_t > 0`, both
+   inside a proximal point method where :math:`W` is singular and :math:`m_t = 0` (redundant points on hp
+   meshes); stopping test on the KKT residual of Lemma 3.1);
+3. recovers :math:`u = A^{-1} (F - B^T f)` by one substitution, and the multiplier
+   :math:`\lambda_\tau = f_t / \beta` (:math:`\beta = c_\tau (u_n - g_a)_+^{m_t} \omega`;
+   :math:`\lambda_\tau = \operatorname{sign}(u_\tau)` where :math:`\beta = 0`).  The traces of the computed
+   :math:`u` differ from :math:`w_0 - W f` by the solve's round-off times :math:`\operatorname{cond}(A)`, which a
+   stiff compliance (:math:`c_n = 10^{10}`: :math:`N' = \omega c_n \approx 10^8`) turns into a visible KKT
+   residual; then :math:`w_0` is shifted by that difference, the points are re-solved (one Newton step) and
+   :math:`u` moved with the forces, :math:`u \leftarrow u - A^{-1} B^T \delta f` (iterative refinement of the
+   nonlinear system: the round-off of that substitution is relative to the small :math:`\delta f`), at most
+   ``MAX_CONSISTENCY`` = 3 times, so that the laws hold at the traces of the returned :math:`u`.
 
 Each Newton step costs a dense solve with one row per penetrating or sticking point
 (milliseconds on small meshes, 0.4 s with 3500 rows), so on large hp meshes the iteration count
-matters; the whole solve costs about one sparse factorisation (results/solver_benchmark.md).
+matters; the whole solve costs about one sparse factorisation (the results page *Solver benchmark*).
 
 **Inexact solves** (``energy_tol``, used by the adaptive loop): the iteration also stops once the
-linearisation estimate eta_lin = (sum_q W_qq G_q^2)^(1/2), the KKT residual of the laws measured in
-the energy units of |||.|||_h (:meth:`ngdgfric.solvers.reduced.ReducedContact.linearization`), is at most
-``energy_tol``.  The returned ``state`` (:class:`NewtonState`: the factorisation, the condensed
-problem and the forces) continues such a solve to the full tolerance without factorising again
-(:func:`ngdgfric.solution.finish`).
+linearisation estimate :math:`\eta_{lin} = (\sum_q W_{qq} G_q^2)^{1/2}`, the KKT residual of the laws measured
+in the energy units of :math:`|\!|\!| \cdot |\!|\!|_h` (``ReducedContact.linearization`` of
+:mod:`ngdgfric.solvers.reduced`), is at most ``energy_tol``.  The returned ``state`` (``NewtonState``: the
+factorisation, the condensed problem and the forces) continues such a solve to the full tolerance without
+factorising again (:func:`ngdgfric.finish`).
 """
 
 import time
@@ -54,30 +55,53 @@ FALLBACK_BYTES = 2e9  # formulation "auto": the condensed solver takes over a fa
 
 @dataclass(frozen=True)
 class NewtonOptions(SolverOptions):
-    """The options of :func:`newton` (the keywords of ``solve(solver="newton")``).
+    r"""The options of the Newton solver (the keywords of ``solve(solver="newton")``, :func:`ngdgfric.solve`).
 
-    solver_tol: the relative KKT residual max_q W_qq |G_q| / max_q |w_q| at the contact points at which
-        the iteration stops (:mod:`ngdgfric.solvers.reduced`; round-off sets its floor).
+    The solver of :mod:`ngdgfric.solvers.newton`, the default: the problem condensed onto the contact points
+    and solved there by a globalised semismooth Newton method.
 
-    maxit: Newton iterations.
+    Parameters
+    ----------
+    solver_tol : float, optional
+        The relative KKT residual :math:`\max_q W_{qq} |G_q| / \max_q |w_q|` at the contact points at which the
+        iteration stops (:mod:`ngdgfric.solvers.reduced`; round-off sets its floor).  Default ``1e-13``.
+    maxit : int, optional
+        Newton iterations.  Default ``100``.
+    progress : callable or None, optional
+        ``progress(message)`` is called after each iteration with a line such as
+        ``"newton 3: KKT residual 1.2e-09"``.  Default ``None``: no messages.
+    linear_solver : str, optional
+        ``"auto"`` (default: MKL PARDISO if installed, else NGSolve), ``"pardiso"`` or ``"ngsolve"``
+        (the factorisation of :mod:`ngdgfric.solvers.condensation`).
+    energy_tol : float or None, optional
+        Also stop once the linearisation estimate :math:`\eta_{lin} \le` ``energy_tol`` (see
+        :mod:`ngdgfric.solvers.newton`); then ``Solution.state`` can continue the solve
+        (:func:`ngdgfric.finish`).  Default ``None``: no such stop.
+    max_seconds : float or None, optional
+        Stop with :class:`ngdgfric.TimeLimitError` (a :class:`ngdgfric.SolverError`) once the solve has run this
+        long (checked between iterations; the factorisation itself is not interrupted).  Default ``None``: no
+        limit.
+    formulation : str, optional
+        ``"auto"`` (default): the full space from ``FULL_SPACE_POINTS`` = 1000 contact points
+        (:mod:`ngdgfric.solvers.fullspace`) where it applies, else condensed; if the full-space iteration fails
+        and :math:`W` fits in ``FALLBACK_BYTES`` = 2e9 bytes, the condensed solver takes over and
+        ``info["fallback"]`` says why.  ``"condensed"``: the Delassus operator (see
+        :mod:`ngdgfric.solvers.newton`).  ``"full-space"``: :mod:`ngdgfric.solvers.fullspace` (symmetric methods,
+        :math:`m_t = 0`, MKL PARDISO, no ``energy_tol``).
 
-    progress: None, or callable(message) called after each iteration with a line such as
-        "newton 3: KKT residual 1.2e-09".
+    Raises
+    ------
+    ValueError
+        A value out of its range, named with the value.
 
-    linear_solver: "auto" (MKL PARDISO if installed, else NGSolve), "pardiso" or "ngsolve"
-        (:class:`ngdgfric.solvers.condensation.Condensation`).
+    See Also
+    --------
+    ngdgfric.UzawaOptions, ngdgfric.FixedPointOptions : The options of the other solvers.
 
-    energy_tol: None, or also stop once the linearisation estimate eta_lin <= energy_tol (module
-        docstring); then ``info["state"]`` can continue the solve (:class:`NewtonState`).
-
-    max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) once the solve has
-        run this long (checked between iterations; the factorisation itself is not interrupted).
-
-    formulation: "auto" (the full space from :data:`~ngdgfric.solvers.fullspace.FULL_SPACE_POINTS` contact points
-        where it applies, else condensed; if the full-space iteration fails and W fits in FALLBACK_BYTES, the
-        condensed solver takes over and ``info["fallback"]`` says why), "condensed" (the Delassus operator, module
-        docstring) or "full-space" (:mod:`ngdgfric.solvers.fullspace`: symmetric methods, m_t = 0, MKL PARDISO, no
-        ``energy_tol``).
+    Examples
+    --------
+    >>> ndf.NewtonOptions(maxit=20).solver_tol
+    1e-13
     """
 
     solver = "newton"
@@ -95,10 +119,10 @@ class NewtonOptions(SolverOptions):
 
 
 class NewtonState:
-    """One discretisation's condensed problem (:class:`~ngdgfric.solvers.condensation.Condensation`, one
-    factorisation) and :class:`~ngdgfric.solvers.reduced.ReducedContact`, with the current forces f.
+    """One discretisation's condensed problem (``Condensation``, one
+    factorisation) and ``ReducedContact``, with the current forces f.
 
-    ``traces``: the :class:`~ngdgfric.solvers.traces.ContactTraces` of the problem solved (``disc.traces``, or
+    ``traces``: the ``ContactTraces`` of the problem solved (``disc.traces``, or
     those of a fixed-point step's problem)."""
 
     def __init__(self, disc, traces, linear_solver="auto"):
@@ -115,8 +139,8 @@ class NewtonState:
         self.f = self.reduced.forces(w, self.disc.gauss.values(lam_tau).ravel())
 
     def run(self, options):
-        """Newton from the current f (zero if none) with the :class:`NewtonOptions` ``options``, then recover
-        u; returns (u, lam_tau, info) (see :func:`newton`).  The steps: solve the laws at the points, recover u
+        """Newton from the current f (zero if none) with the ``NewtonOptions`` ``options``, then recover
+        u; returns (u, lam_tau, info) (see ``newton``).  The steps: solve the laws at the points, recover u
         (and make the laws hold at its traces), the GridFunctions, the diagnostics."""
         start = time.perf_counter()
         least_squares = self.reduced.diagnostics["least_squares_solves"]
@@ -138,14 +162,14 @@ class NewtonState:
         return f, info, dict(newton=time.perf_counter() - start)
 
     def _recover(self, f, info, options, seconds, until):
-        """Step 2: u = A^-1 (F - B^T f), then :meth:`_make_consistent`; returns (f, u as an array, re-solves)."""
+        """Step 2: u = A^-1 (F - B^T f), then ``_make_consistent``; returns (f, u as an array, re-solves)."""
         start = time.perf_counter()
         u_vec = self.condensation.displacement(f)
         seconds["recover"] = time.perf_counter() - start
         return self._make_consistent(f, u_vec, info, options, seconds, until)
 
     def _grid_functions(self, u_vec, f):
-        """Step 3: u and lam_tau = f_t / beta (:meth:`~ngdgfric.solvers.reduced.ReducedContact.multiplier`) as
+        """Step 3: u and lam_tau = f_t / beta (``multiplier``) as
         GridFunctions on ``disc.V``, ``disc.Q``."""
         disc = self.disc
         u, lam_tau = starting_point(disc)
@@ -154,8 +178,8 @@ class NewtonState:
         return u, lam_tau
 
     def _diagnose(self, info, seconds, consistency, least_squares):
-        """Step 4: the solve's diagnostics into ``info`` (see :func:`newton`); a
-        :class:`~ngdgfric.errors.SolverWarning` if ``least_squares`` Newton systems of this run were singular."""
+        """Step 4: the solve's diagnostics into ``info`` (see ``newton``); a
+        ``SolverWarning`` if ``least_squares`` Newton systems of this run were singular."""
         info.update(contact_points=self.traces.M, linear_solver=self.condensation.linear_solver, factorizations=1,
                     refinements=self.condensation.refinements, consistency_steps=consistency,
                     least_squares_solves=least_squares, clamped_points=self.reduced.diagnostics["clamped_points"],
@@ -193,18 +217,18 @@ class NewtonState:
 
 
 def newton(disc, options=None, initial=None, problem=None):
-    """Solve (3.3)-(3.4) on ``disc`` (module docstring) with the :class:`NewtonOptions` ``options``
+    """Solve (3.3)-(3.4) on ``disc`` (module docstring) with the ``NewtonOptions`` ``options``
     (default: the defaults); returns (u, lam_tau, info).
 
     initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` (a warm start: the
     forces of the laws at u, with lam_tau).  problem: the problem whose contact law is solved (default
-    ``disc.problem``; the fixed point passes its frozen-bound problem, :func:`ngdgfric.contact.frozen_bound`).
+    ``disc.problem``; the fixed point passes its frozen-bound problem, ``ngdgfric.contact.frozen_bound``).
     info: ``iterations``, ``history`` (relative KKT residual after each iteration), ``steps``,
     ``initial_residual``, ``residual``, ``linearization`` (eta_lin at the end), ``converged`` (solver_tol
     met), ``state`` (None when converged), ``contact_points`` (M), ``penetrating``, ``stick`` (points at
     the end), ``linear_solver``, ``refinements``, ``least_squares_solves`` (singular Newton systems, solved by
-    least squares: a :class:`~ngdgfric.errors.SolverWarning`), ``clamped_points`` (diagonal entries of W raised
-    to a floor, :class:`~ngdgfric.solvers.reduced.ReducedContact`), ``timings`` (condense, newton, recover,
+    least squares: a ``SolverWarning``), ``clamped_points`` (diagonal entries of W raised
+    to a floor, ``ReducedContact``), ``timings`` (condense, newton, recover,
     total s).
     Raises :class:`ngdgfric.SolverError` if neither test is met within ``options.maxit``.
     """
@@ -230,7 +254,7 @@ def newton(disc, options=None, initial=None, problem=None):
 
 
 def _full_space(disc, traces, options):
-    """Whether :func:`newton` takes the full-space iteration (``options.formulation``); ValueError for "full-space"
+    """Whether ``newton`` takes the full-space iteration (``options.formulation``); ValueError for "full-space"
     where it does not apply."""
     if options.formulation == "condensed":
         return False

@@ -1,12 +1,12 @@
-"""MKL PARDISO through ctypes: a sparse factorisation that returns a Schur complement.
+r"""MKL PARDISO through ctypes: a sparse factorisation that returns a Schur complement.
 
-The contact solver (:mod:`ngdgfric.solvers.condensation`) needs the Schur complement of the last ``m``
-rows of a sparse matrix K, computed by one partial factorisation (PARDISO's ``iparm[35] = 2``:
-the other rows are eliminated first, the dense m x m Schur complement is returned), and solves
+The contact solver (:mod:`ngdgfric.solvers.condensation`) needs the Schur complement of the last :math:`m`
+rows of a sparse matrix :math:`K`, computed by one partial factorisation (PARDISO's ``iparm[35] = 2``:
+the other rows are eliminated first, the dense :math:`m \times m` Schur complement is returned), and solves
 with the eliminated block through the forward (phase 331) and backward (phase 333) substitutions
 of that factorisation.  NGSolve's own direct solvers (sparsecholesky, umfpack) have no Schur
 complement; PARDISO comes with the ``mkl`` wheel from PyPI (x86_64), which NGSolve's wheel also
-finds at run time.  :func:`available` says whether it is there; without it the contact solver
+finds at run time.  ``available()`` says whether it is there; without it the contact solver
 takes a slower path with NGSolve's solvers (same results).
 
 Reference: Intel oneMKL Developer Reference, "pardiso" and "pardiso iparm Parameter"
@@ -33,9 +33,29 @@ ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering pro
 
 
 class PardisoError(SolverError):
-    """PARDISO returned an error code: a failure of the contact solver (a :class:`~ngdgfric.errors.SolverError`,
-    exit code 1 of the command line).  ``phase``: PARDISO's phase number (None: the library is missing);
-    ``code``: its error code (oneMKL reference, "pardiso": -4 zero pivot, -2 out of memory, ...)."""
+    """PARDISO returned an error code: a failure of the contact solver.
+
+    A :class:`ngdgfric.SolverError` (exit code 1 of the command line), raised by :func:`ngdgfric.solve` with
+    ``linear_solver="pardiso"`` or ``"auto"`` (:class:`ngdgfric.NewtonOptions`) when MKL PARDISO fails.
+
+    Parameters
+    ----------
+    message : str
+        What failed.
+    phase : int or None, optional
+        PARDISO's phase number (e.g. ``11`` analysis, ``22`` numerical factorisation).  Default ``None``: the
+        library is missing.
+    code : int or None, optional
+        PARDISO's error code (oneMKL reference, "pardiso": ``-4`` zero pivot, ``-2`` out of memory, ...).
+        Default ``None``.
+
+    Attributes
+    ----------
+    phase : int or None
+        PARDISO's phase number.
+    code : int or None
+        PARDISO's error code.
+    """
 
     def __init__(self, message, phase=None, code=None):
         super().__init__(message, solver="MKL PARDISO")
@@ -84,7 +104,7 @@ class SchurFactorization:
     perturbed (iparm[9] = 13), so that block must be nonsingular, as a coercive B_h is.
 
     After construction ``schur`` holds K_SS - K_SI K_II^-1 K_IS (dense, n_schur x n_schur) and
-    :meth:`solve_eliminated` solves with K_II.
+    ``solve_eliminated`` solves with K_II.
     """
 
     def __init__(self, indptr, indices, data, n_schur, symmetric):
@@ -169,8 +189,8 @@ class SchurFactorization:
 class Factorization:
     """PARDISO factorisation of a real symmetric indefinite matrix K in CSR (upper triangle, diagonal stored,
     0-based, sorted columns) whose values change while its pattern stays: one analysis (phase 11), a numerical
-    factorisation per set of values (:meth:`factor`, phase 22) and solves with any number of right-hand sides
-    (:meth:`solve`, phase 33).  For the full-space contact solver (:mod:`ngdgfric.solvers.fullspace`), whose
+    factorisation per set of values (``factor``, phase 22) and solves with any number of right-hand sides
+    (``solve``, phase 33).  For the full-space contact solver (:mod:`ngdgfric.solvers.fullspace`), whose
     Newton matrices are saddle-point matrices [[A, B^T], [B, -C]] with C >= 0: Bunch-Kaufman pivots (type -2),
     pivots below 1e-8 perturbed (iparm[9] = 8), no iterative refinement (the Newton iteration refines).  Without
     weighted matching and scaling (iparm[10] = iparm[12] = 0): with them the analysis took 0.52 s instead of 0.24 s

@@ -1,25 +1,29 @@
-"""The Uzawa iteration of Section 6 for the characterisation (3.3)-(3.4).
+r"""The Uzawa iteration of Section 6 for the characterisation (3.3)-(3.4).
 
-    lam_tau^{k+1} = P_[-1,1](lam_tau^k + rho c_tau u_tau^k)    at the contact Gauss points,
-    u^{k+1}:  B_h(u, v) + j_n(u, v) = (f, v) - g(lam_tau^{k+1}, v)   (Newton on the compliance term),
+.. math::
 
-(lam_tau^{k+1} = sign(u_tau^k) where c_tau = 0: there lam_tau does not enter (3.3), only (3.4)).
-Uzawa keeps the full sparse system (NGSolve's factorisations), independent of the condensed linear
-algebra of the default solver, so the two check each other.
+    \lambda_\tau^{k+1} &= P_{[-1,1]}(\lambda_\tau^k + \rho\, c_\tau u_\tau^k)
+        \quad \text{at the contact Gauss points}, \\
+    u^{k+1}: \quad B_h(u, v) + j_n(u, v) &= (f, v) - g(\lambda_\tau^{k+1}, v)
+        \quad \text{(Newton on the compliance term)},
 
-**Stopping test.**  ||u^{k+1} - u^k||_inf <= solver_tol ||u^{k+1}||_inf (the paper's relative max-norm
-criterion, here on the coefficient vector of u_h) and the complementarity residual of (3.4)
-(:func:`complementarity`, the part of the KKT system that Uzawa's iterates do not satisfy exactly)
-<= max(solver_tol, kkt_tol): with a tiny rho the multiplier, and so u, moves by almost nothing per
-iteration far from the solution, and the change alone would report convergence (rho = 1e-12 stopped
-after 2 iterations, 45 % off).  At the paper's solver_tol = 1e-8 the residual is about 1e-6 (it falls at
-the iteration's rate, 100-500 times the change).
+(:math:`\lambda_\tau^{k+1} = \operatorname{sign}(u_\tau^k)` where :math:`c_\tau = 0`: there :math:`\lambda_\tau`
+does not enter (3.3), only (3.4)).  Uzawa keeps the full sparse system (NGSolve's factorisations), independent
+of the condensed linear algebra of the default solver, so the two check each other.
 
-**Failing fast.**  A :class:`SolverError` with the history of changes is raised when the iteration
+**Stopping test.**  :math:`\|u^{k+1} - u^k\|_\infty \le` ``solver_tol`` :math:`\|u^{k+1}\|_\infty` (the
+paper's relative max-norm criterion, here on the coefficient vector of :math:`u_h`) and the complementarity
+residual of (3.4) (``complementarity``, the part of the KKT system that Uzawa's iterates do not satisfy exactly)
+at most the larger of ``solver_tol`` and ``kkt_tol``: with a tiny :math:`\rho` the multiplier, and so
+:math:`u`, moves by almost nothing per iteration far from the solution, and the change alone would report
+convergence (:math:`\rho = 10^{-12}` stopped after 2 iterations, 45 % off).  At the paper's ``solver_tol`` =
+1e-8 the residual is about 1e-6 (it falls at the iteration's rate, 100-500 times the change).
+
+**Failing fast.**  A :class:`ngdgfric.SolverError` with the history of changes is raised when the iteration
 diverges (a non-finite change, or a change 1000 times above its minimum), when the KKT residual makes
-no progress over ``WINDOW`` iterations (its minimum over them above 0.99 times that over the window
-before: the multiplier oscillates, rho too large, or u does not move, rho too small), or when its rate
-of decrease over the last window predicts more than ten times ``maxit`` iterations.
+no progress over ``WINDOW`` = 250 iterations (its minimum over them above 0.99 times that over the window
+before: the multiplier oscillates, :math:`\rho` too large, or :math:`u` does not move, :math:`\rho` too small),
+or when its rate of decrease over the last window predicts more than ten times ``maxit`` iterations.
 """
 
 import time
@@ -46,21 +50,39 @@ REPORT_EVERY = 100  # iterations between two calls of ``progress``
 
 @dataclass(frozen=True)
 class UzawaOptions(SolverOptions):
-    """The options of :func:`uzawa` (the keywords of ``solve(solver="uzawa")``).
+    r"""The options of the Uzawa solver (the keywords of ``solve(solver="uzawa")``, :func:`ngdgfric.solve`).
 
-    solver_tol: the relative change of u at which the iteration stops (the paper's test, Section 6), once
-        the complementarity residual is <= max(solver_tol, kkt_tol) too (module docstring).
+    The paper's method (:mod:`ngdgfric.solvers.uzawa`), for :math:`m_t = 0` only.
 
-    maxit: iterations.
+    Parameters
+    ----------
+    solver_tol : float, optional
+        The relative change of :math:`u` at which the iteration stops (the paper's test, Section 6), once the
+        complementarity residual is at most the larger of ``solver_tol`` and ``kkt_tol`` too (see
+        :mod:`ngdgfric.solvers.uzawa`).  Default ``1e-8``.
+    maxit : int, optional
+        Iterations.  Default ``100000``.
+    progress : callable or None, optional
+        ``progress(message)`` is called every ``REPORT_EVERY`` = 100 iterations with a line
+        ``"uzawa k: relative change ..., complementarity ..."``.  Default ``None``: no messages.
+    rho : float or None, optional
+        The step size :math:`\rho` of the multiplier update.  Default ``None``: ``default_rho`` of
+        :mod:`ngdgfric.solvers.uzawa` (1.5 over the largest eigenvalue of the linearised Uzawa map).
+    kkt_tol : float, optional
+        The complementarity residual's part of the stopping test (``kkt_tol=solver_tol``: a strict test).
+        Default ``1e-6``.
+    max_seconds : float or None, optional
+        Stop with :class:`ngdgfric.TimeLimitError` (a :class:`ngdgfric.SolverError`) after this long.  Default
+        ``None``: no limit.
 
-    progress: None, or callable(message) called every ``REPORT_EVERY`` = 100 iterations with a line
-        "uzawa k: relative change ..., complementarity ...".
+    Raises
+    ------
+    ValueError
+        A value out of its range, named with the value.
 
-    rho: step size of the multiplier update; None: :func:`default_rho`.
-
-    kkt_tol: the complementarity residual's part of the stopping test (kkt_tol = solver_tol: a strict test).
-
-    max_seconds: None, or stop with :class:`~ngdgfric.errors.TimeLimitError` (a SolverError) after this long.
+    See Also
+    --------
+    ngdgfric.NewtonOptions, ngdgfric.FixedPointOptions : The options of the other solvers.
     """
 
     solver = "uzawa"
@@ -132,14 +154,14 @@ def complementarity(disc, u, lam_tau):
 
 
 def uzawa(disc, options=None, initial=None, problem=None):
-    """Uzawa's method of Section 6 with the :class:`UzawaOptions` ``options`` (default: the defaults);
+    """Uzawa's method of Section 6 with the ``UzawaOptions`` ``options`` (default: the defaults);
     returns (u, lam_tau, info) with info a dict of diagnostics.
 
     initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` to start from.
     problem: the problem whose contact law is solved (default ``disc.problem``; the fixed point passes its
-    frozen-bound problem, :func:`ngdgfric.contact.frozen_bound`).
+    frozen-bound problem, ``ngdgfric.contact.frozen_bound``).
     info: ``iterations``, ``history`` (changes), ``kkt_history`` (complementarity residuals), ``rho``,
-    ``inner_steps``, ``factorizations``, ``timings``.  Raises :class:`SolverError` (module docstring) and
+    ``inner_steps``, ``factorizations``, ``timings``.  Raises ``SolverError`` (module docstring) and
     ValueError for m_t > 0 (Uzawa solves the reduced law; the fixed point of :mod:`ngdgfric.solvers.fixed_point`
     runs it with the friction bound frozen).
     """
@@ -181,7 +203,7 @@ def uzawa(disc, options=None, initial=None, problem=None):
 
 
 def _operators(disc, problem, u, lam_tau, rho):
-    """Uzawa's inner operator F_lam_tau(u) (:class:`~ngdgfric.solvers.nonlinear.ContactOperator` with the friction force
+    """Uzawa's inner operator F_lam_tau(u) (``ContactOperator`` with the friction force
     density c_tau lam_tau) and the update lam_tau <- P_[-1,1](lam_tau + rho c_tau u_tau) (sign(u_tau) where
     c_tau = 0), a callable."""
     _, t = normal_tangent()
@@ -204,7 +226,7 @@ def _report(progress, k, history, kkt):
 
 
 def _check_divergence(rho, history, k):
-    """Raise :class:`SolverError` if the change is not finite, or (after 50 iterations) 1000 times its minimum."""
+    """Raise ``SolverError`` if the change is not finite, or (after 50 iterations) 1000 times its minimum."""
     change = history[-1]
     if not np.isfinite(change) or (k > 50 and change > 1e3 * min(history)):
         _fail(rho, history, f"diverged at iteration {k} (relative change {change:.3e}); rho is probably too "
