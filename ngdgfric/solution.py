@@ -114,6 +114,13 @@ class Solution:
         """Number of degrees of freedom of :math:`u_h`."""
         return self.u.space.ndof
 
+    def __repr__(self):
+        """One line a user can read: the problem, the method and degrees, the DOFs and the solver's work."""
+        low, high = int(self.orders.min()), self.max_order
+        degrees = f"p = {high}" if low == high else f"p = {low}..{high}"
+        return (f"Solution({self.problem.name!r}, {self.method} {degrees}, {self.ndof} DOFs, {self.solver} "
+                f"{self.iterations} iterations)")
+
 
 @limited_blas
 def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solver_tol=None, initial=None,

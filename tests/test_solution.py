@@ -100,3 +100,9 @@ def test_a_body_loaded_by_a_penetration_only_has_kkt_residuals_at_round_off():
         kkt = ndf.kkt_residuals(sol)
     assert kkt["equilibrium"] <= 1e-12 and kkt["complementarity"] <= 1e-14
     assert ndf.energy_norm(sol, scene.exact) <= 1e-10 * ndf.energy_norm(sol)
+
+
+def test_a_solution_prints_as_one_readable_line():
+    problem = ndf.example_6_2()
+    sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5), method="nipg", order=2)
+    assert repr(sol) == f"Solution('Example 6.2', nipg p = 2, {sol.ndof} DOFs, newton {sol.iterations} iterations)"
