@@ -2,12 +2,14 @@
 
 Porwal & Tanvi, "Unified analysis of DG methods for frictional contact problem with normal
 compliance": model (1.1)-(1.10), DG forms of Section 3, estimator of Section 4, Section 6's
-adaptive loop.  Everything a script needs is here (:data:`__all__`); the modules below are the
-data path problem -> :mod:`ngdgfric.dg` (methods, forms, liftings, discretisation) ->
-:mod:`ngdgfric.solvers` (the contact solvers) -> estimator -> marking -> refinement.
+adaptive loop.  Everything a script needs is here (``ngdgfric.__all__``); the modules below are the
+data path problem (:mod:`ngdgfric.problem`) -> :mod:`ngdgfric.dg` (methods, forms, liftings, discretisation) ->
+:mod:`ngdgfric.solvers` (the contact solvers) -> estimator (:mod:`ngdgfric.estimator`) -> marking
+(:mod:`ngdgfric.marking`) -> refinement (:mod:`ngdgfric.adaptivity`).
 
-The entry points (solve, finish, estimate, adapt) limit OpenBLAS to one thread while they run
-(:func:`ngdgfric.threads.blas_threads`); importing changes nothing.  Import paths of 0.1 that
+The entry points (:func:`~ngdgfric.solve`, :func:`~ngdgfric.finish`, :func:`~ngdgfric.estimate`,
+:func:`~ngdgfric.adapt`) limit OpenBLAS to one thread while they run (``blas_threads`` of
+:mod:`ngdgfric.threads`); importing changes nothing.  Import paths of 0.1 that
 moved in 0.2 still work for one release, with a DeprecationWarning (:mod:`ngdgfric._moved`).
 """
 

@@ -1,10 +1,11 @@
-"""The data of problem (1.4)-(1.10) and their bounds, in one table (:data:`DATA`).
+r"""The data of problem (1.4)-(1.10) and their bounds, in one table (``DATA``).
 
-E > 0 and -1 < nu < 1/2 (Young's modulus and Poisson ratio, Section 6), c_n >= 0 and m_n >= 1 (normal compliance
-(1.8)), c_tau >= 0 and m_t >= 0 (friction bound (1.9)); the loads f (1.5), g (1.7), the prescribed displacement u_D
-(1.6) and the gap g_a only finite.  :class:`ngdgfric.problem.ContactProblem` checks the numbers among them when it is
-made (:func:`check_datum`), :func:`ngdgfric.checks.check_data` the CoefficientFunctions pointwise on a mesh
-(:meth:`Datum.bad`), both from this table.
+:math:`E > 0` and :math:`-1 < \nu < 1/2` (Young's modulus and Poisson ratio, Section 6), :math:`c_n \ge 0` and
+:math:`m_n \ge 1` (normal compliance (1.8)), :math:`c_\tau \ge 0` and :math:`m_t \ge 0` (friction bound (1.9));
+the loads :math:`f` (1.5), :math:`g` (1.7), the prescribed displacement :math:`u_D` (1.6) and the gap :math:`g_a`
+only finite.  :class:`~ngdgfric.ContactProblem` checks the numbers among them when it is made (``check_datum``),
+``check_data`` of :mod:`ngdgfric.checks` the CoefficientFunctions pointwise on a mesh (``Datum.bad``), both from
+this table.
 """
 
 import math
@@ -67,7 +68,7 @@ def is_number(value):
 
 def check_datum(name, datum, value):
     """ValueError naming ``name`` unless ``value`` is of the :class:`Datum`'s kind and, if a number, within its
-    bounds (CoefficientFunctions are checked later, pointwise: :func:`ngdgfric.checks.check_data`)."""
+    bounds (CoefficientFunctions are checked later, pointwise: ``ngdgfric.checks.check_data``)."""
     if datum.kind == "vector":
         _check_vector(name, value)
         return

@@ -1,14 +1,14 @@
-"""Command line: ``ngdgfric solve|uniform|adaptive PROBLEM [options]`` (also ``python -m ngdgfric``).
+r"""Command line: ``ngdgfric solve|uniform|adaptive PROBLEM [options]`` (also ``python -m ngdgfric``).
 
 PROBLEM is ``6.1`` or ``6.2`` (the examples of Section 6) or a TOML problem file
 (:mod:`ngdgfric.problem_file`).  ``solve`` solves (3.1) once and writes a CSV summary, a VTK file
 (displacement, von Mises stress) and a PNG of the deformed mesh; ``uniform`` runs the study of
-Tables 6.1/6.2 (|||u_h - u_{h/2}|||_h on h = 2^-1, 2^-2, ...) and writes CSV and Markdown;
+Tables 6.1/6.2 (:math:`\|u_h - u_{h/2}\|_h` on :math:`h = 2^{-1}, 2^{-2}, \dots`) and writes CSV and Markdown;
 ``adaptive`` runs the SOLVE-ESTIMATE-MARK-REFINE loop of Section 6 and writes CSV and a PNG of
-eta_h against the number of DOFs.  ``solve`` and ``adaptive`` (for its final solution) also print the forces on
-the body (:mod:`ngdgfric.forces`: contact resultants and contact/stick/slip zones per contact side, reactions per
-Dirichlet and symmetry side, the equilibrium residual) and write them as ``*_forces.csv`` with a PNG of the zones
-along each contact side, ``*_contact.png``.  Bad input ends with one line ``ngdgfric: error: ...`` on
+:math:`\eta_h` against the number of DOFs.  ``solve`` and ``adaptive`` (for its final solution) also print the
+forces on the body (:mod:`ngdgfric.forces`: contact resultants and contact/stick/slip zones per contact side,
+reactions per Dirichlet and symmetry side, the equilibrium residual) and write them as ``*_forces.csv`` with a PNG
+of the zones along each contact side, ``*_contact.png``.  Bad input ends with one line ``ngdgfric: error: ...`` on
 stderr and exit code 2 before anything is computed where it can be known then (arguments, problem
 file and data, mesh size, output folder, outputs of an earlier run without ``--overwrite``); a
 solver failure with exit code 1.  Every file is written atomically, each as soon as it is

@@ -1,9 +1,9 @@
 """The commands of the command line (:mod:`ngdgfric.cli`): ``solve``, ``uniform`` and ``adaptive``.
 
-Each ``cmd_*`` takes the parsed arguments, the problem and its tag (:func:`load`), runs the library
-(:func:`ngdgfric.solve`, :func:`ngdgfric.studies.uniform_study`, :func:`ngdgfric.adapt`), prints what it did and
-writes its files (:func:`outputs`, made by :mod:`ngdgfric.output`), each as soon as it is finished.  The progress
-lines of the library come through the logger ``"ngdgfric"``, which :func:`ngdgfric.cli.run` prints
+Each ``cmd_*`` takes the parsed arguments, the problem and its tag (``load``), runs the library
+(:func:`ngdgfric.solve`, ``ngdgfric.studies.uniform_study``, :func:`ngdgfric.adapt`), prints what it did and
+writes its files (``outputs``, made by :mod:`ngdgfric.output`), each as soon as it is finished.  The progress
+lines of the library come through the logger ``"ngdgfric"``, which ``ngdgfric.cli.run`` prints
 (:mod:`ngdgfric.progress`).
 """
 

@@ -1,45 +1,55 @@
-"""Contact forces of a solution of (3.3), side by side: resultants and contact, stick and slip zones.
+r"""Contact forces of a solution of (3.3), side by side: resultants and contact, stick and slip zones.
 
-**Contact, (1.8)-(1.9).**  On a contact side S the foundation exerts on the body the traction
-sigma(u) n = sigma_n n + sigma_tau t, t = (-n_y, n_x), with sigma_n = -c_n (u_n - g_a)_+^{m_n} (1.8) and, in the
-discrete problem (Lemma 3.1), sigma_tau = -beta lam_tau, beta = c_tau (u_n - g_a)_+^{m_t} the friction bound of
-(1.9) (c_tau itself for the reduced law m_t = 0).  The resultants of S are
+**Contact, (1.8)-(1.9).**  On a contact side :math:`S` the foundation exerts on the body the traction
+:math:`\sigma(u) n = \sigma_n n + \sigma_\tau t`, :math:`t = (-n_y, n_x)`, with
+:math:`\sigma_n = -c_n (u_n - g_a)_+^{m_n}` (1.8) and, in the discrete problem (Lemma 3.1),
+:math:`\sigma_\tau = -\beta \lambda_\tau`, :math:`\beta = c_\tau (u_n - g_a)_+^{m_t}` the friction bound of (1.9)
+(:math:`c_\tau` itself for the reduced law :math:`m_t = 0`).  The resultants of :math:`S` are
 
-    normal       N_S = int_S c_n (u_hn - g_a)_+^{m_n} ds              (>= 0, a compression: it acts along -n)
-    tangential   T_S = int_S sigma_tau ds = -int_S beta lam_tau ds     (along t)
-    vector       F_S = -int_S (c_n (u_hn - g_a)_+^{m_n} n + beta lam_tau t) ds     (on the body)
+.. math::
 
-each with the contact Gauss rule of the discrete problem (p + 1 points per edge, weights omega_q of
-:class:`ngdgfric.solvers.traces.ContactTraces`, n and t at the points from its trace matrix B), so that
-F_S . e_i = -(j_n(u_h, e_i) + g(lam_tau, e_i)) over the edges of S: the discrete contact forces of (3.3), not an
-approximation of them.  Sign conventions: n is the outward normal, t = (-n_y, n_x) the direction in which the
-boundary runs with the body on its left (counter-clockwise around the body); T_S > 0 pushes the body along t.
-Since lam_tau u_tau = |u_tau| (3.4), the friction traction opposes the slip: sigma_tau u_tau <= 0 at every point.
+    N_S &= \int_S c_n (u_{hn} - g_a)_+^{m_n} \, ds
+    \quad (\ge 0, \text{ a compression: it acts along } -n), \\
+    T_S &= \int_S \sigma_\tau \, ds = -\int_S \beta \lambda_\tau \, ds \quad (\text{along } t), \\
+    F_S &= -\int_S \left(c_n (u_{hn} - g_a)_+^{m_n} n + \beta \lambda_\tau t\right) ds \quad (\text{on the body}),
 
-**Zones.**  A property of the Gauss points is turned into lengths by the points' weights: point q of an edge
-owns the cell [c_{q-1}, c_q] of the reference edge, c_q = w_1 + ... + w_q (Gauss weights on [0, 1]), which
-contains the point (the separation theorem of Chebyshev, Markov and Stieltjes for Gauss rules) and is mapped by
-the element mapping (curved sides too); a zone is the union of the cells of its points, its length the sum of
-their weights omega_q, the same measure with which (3.3) integrates the contact terms (so N_S is the sum over
-the contact zone only).  The zones of one contact side are
+each with the contact Gauss rule of the discrete problem (:math:`p + 1` points per edge, weights
+:math:`\omega_q` of ``ContactTraces`` in :mod:`ngdgfric.solvers.traces`, :math:`n` and :math:`t` at the points
+from its trace matrix :math:`B`), so that :math:`F_S \cdot e_i = -(j_n(u_h, e_i) + g(\lambda_\tau, e_i))` over the
+edges of :math:`S`: the discrete contact forces of (3.3), not an approximation of them.  Sign conventions:
+:math:`n` is the outward normal, :math:`t = (-n_y, n_x)` the direction in which the boundary runs with the body on
+its left (counter-clockwise around the body); :math:`T_S > 0` pushes the body along :math:`t`.  Since
+:math:`\lambda_\tau u_\tau = |u_\tau|` (3.4), the friction traction opposes the slip:
+:math:`\sigma_\tau u_\tau \le 0` at every point.
 
-* contact: u_hn - g_a > 0 (exactly the points with a compliance force, (1.8); no tolerance needed: the pressure
-  is continuous and vanishes at the zone's ends);
-* slip: beta > 0, |lam_tau| >= 1 - ``lam_tol`` (|sigma_tau| at the bound, (1.9)) and u_tau != 0, i.e.
-  |u_tau| > ``slip_tol`` max |u_h| on Gamma_C.  Every solver ends with a projection onto the bound (Newton: the
-  friction force onto [-beta omega, beta omega], lam_tau = f_t / (beta omega); Uzawa and the fixed point: lam_tau
-  onto [-1, 1]), so |lam_tau| = 1 to round-off where the points slip (1 - |lam_tau| <= 1.2e-16 measured with
-  Newton and Uzawa on Example 6.1, h = 1/8), while in a stick zone |lam_tau| < 1 varies continuously (at most 0.83
-  there): the default lam_tol = 1e-6 is far above round-off and counts only points within 1e-6 of the bound as
-  at it.  u_tau is not the criterion: sticking points have u_tau = 0 only up to the solver's accuracy (Newton:
-  3e-16 max |u_h|; Uzawa with the tolerance 1e-8 of Section 6: 2e-6 max |u_h|, against 2.6e-3 max |u_h| at the
-  least slipping point), so ``slip_tol`` (default 1e-8) only tells a point at the bound that does not move
-  (impending slip, counted as stick) from one that slips;
-* stick: beta > 0 and not slip.
+**Zones.**  A property of the Gauss points is turned into lengths by the points' weights: point :math:`q` of an
+edge owns the cell :math:`[c_{q-1}, c_q]` of the reference edge, :math:`c_q = w_1 + \dots + w_q` (Gauss weights on
+:math:`[0, 1]`), which contains the point (the separation theorem of Chebyshev, Markov and Stieltjes for Gauss
+rules) and is mapped by the element mapping (curved sides too); a zone is the union of the cells of its points,
+its length the sum of their weights :math:`\omega_q`, the same measure with which (3.3) integrates the contact
+terms (so :math:`N_S` is the sum over the contact zone only).  The zones of one contact side are
 
-Friction acts where beta > 0: on the contact zone for m_t > 0, but on all of Gamma_C for the reduced law
-m_t = 0 of the paper (1.10), whose friction bound c_tau does not depend on contact; stick and slip zones are
-parts of that region (and may lie outside the contact zone for m_t = 0).
+* contact: :math:`u_{hn} - g_a > 0` (exactly the points with a compliance force, (1.8); no tolerance needed: the
+  pressure is continuous and vanishes at the zone's ends);
+* slip: :math:`\beta > 0`, :math:`|\lambda_\tau| \ge 1 -` ``lam_tol`` (:math:`|\sigma_\tau|` at the bound, (1.9))
+  and :math:`u_\tau \ne 0`, i.e. :math:`|u_\tau| >` ``slip_tol`` :math:`\max |u_h|` on :math:`\Gamma_C`.  Every
+  solver ends with a projection onto the bound (Newton: the friction force onto
+  :math:`[-\beta \omega, \beta \omega]`, :math:`\lambda_\tau = f_t / (\beta \omega)`; Uzawa and the fixed point:
+  :math:`\lambda_\tau` onto :math:`[-1, 1]`), so :math:`|\lambda_\tau| = 1` to round-off where the points slip
+  (:math:`1 - |\lambda_\tau| \le 1.2 \cdot 10^{-16}` measured with Newton and Uzawa on Example 6.1,
+  :math:`h = 1/8`), while in a stick zone :math:`|\lambda_\tau| < 1` varies continuously (at most 0.83 there): the
+  default ``lam_tol = 1e-6`` is far above round-off and counts only points within :math:`10^{-6}` of the bound as
+  at it.  :math:`u_\tau` is not the criterion: sticking points have :math:`u_\tau = 0` only up to the solver's
+  accuracy (Newton: :math:`3 \cdot 10^{-16} \max |u_h|`; Uzawa with the tolerance :math:`10^{-8}` of Section 6:
+  :math:`2 \cdot 10^{-6} \max |u_h|`, against :math:`2.6 \cdot 10^{-3} \max |u_h|` at the least slipping point),
+  so ``slip_tol`` (default ``1e-8``) only tells a point at the bound that does not move (impending slip, counted as
+  stick) from one that slips;
+* stick: :math:`\beta > 0` and not slip.
+
+Friction acts where :math:`\beta > 0`: on the contact zone for :math:`m_t > 0`, but on all of :math:`\Gamma_C` for
+the reduced law :math:`m_t = 0` of the paper (1.10), whose friction bound :math:`c_\tau` does not depend on
+contact; stick and slip zones are parts of that region (and may lie outside the contact zone for
+:math:`m_t = 0`).
 """
 
 from dataclasses import dataclass, field

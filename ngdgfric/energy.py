@@ -1,12 +1,16 @@
-"""The DG energy norm of Section 3, the norm every error of the package is measured in:
+r"""The DG energy norm of Section 3, the norm every error of the package is measured in:
 
-    |||v|||_h^2 = sum_T int_T C eps(v) : eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2,
+.. math::
 
-h_e = |e|, [v] the symmetric tensor jump (:func:`ngdgfric.dg.forms.jump_inner`), on Gamma_D the jump v (or
-v - u_D for the solution itself), on symmetry sides that of the normal part (v . n) n.  :func:`energy_norm`
-evaluates it for a solution (against a GridFunction or an exact solution), :func:`energy_norm_squared_parts` its
-two parts, :func:`energy_matrix` its Gram matrix on a DG space (v^T G v = |||v|||_h^2), all from the same
-densities (:func:`_strain_energy`, :func:`_support_jumps`).
+    \|v\|_h^2 = \sum_T \int_T C \varepsilon(v) : \varepsilon(v) \, dx
+    + \sum_{e \in \mathcal{E}_h^o} h_e^{-1} \|[\![v]\!]\|_{0,e}^2,
+
+:math:`h_e = |e|`, :math:`[\![v]\!]` the symmetric tensor jump (``jump_inner`` of :mod:`ngdgfric.dg.forms`), on
+:math:`\Gamma_D` the jump :math:`v` (or :math:`v - u_D` for the solution itself), on symmetry sides that of the
+normal part :math:`(v \cdot n)\, n`.  :func:`~ngdgfric.energy_norm` evaluates it for a solution (against a
+GridFunction or an exact solution), ``energy_norm_squared_parts`` its two parts, ``energy_matrix`` its Gram matrix
+on a DG space (:math:`v^T G v = \|v\|_h^2`), all from the same densities (``_strain_energy``,
+``_support_jumps``).
 """
 
 import ngsolve as ngs
@@ -37,7 +41,7 @@ def _support_jumps(problem, mesh, a, b, n):
 
 def energy_matrix(problem, mesh, V):
     """The Gram matrix G of |||.|||_h on the DG space ``V`` (an NGSolve sparse matrix; v^T G v = |||v|||_h^2 for
-    the coefficients v of a function of V with the jump v on Gamma_D, as :func:`energy_norm_squared_parts`)."""
+    the coefficients v of a function of V with the jump v on Gamma_D, as ``energy_norm_squared_parts``)."""
     problem = problem.on(mesh)
     u, v = V.TnT()
     n, h_e = ngs.specialcf.normal(2), edge_length(mesh)
@@ -118,7 +122,7 @@ AGREE = 1e-6  # the largest difference of the symbolic and the numerical derivat
 
 def check_derivative(w, mesh):
     """ValueError unless the symbolic derivative of the 2-vector CoefficientFunction ``w`` (what
-    :func:`ngdgfric.problem.strain_of` differentiates) is the derivative of its values: at one point inside each of up
+    ``ngdgfric.problem.strain_of`` differentiates) is the derivative of its values: at one point inside each of up
     to :data:`DERIVATIVE_SAMPLES` elements of ``mesh``, each partial derivative agrees with the forward or the backward
     one-sided difference of second order (steps :data:`STEP` h_T; exact to about 1e-10 for smooth w, and one of the
     two is right on a kink of w through the point) to :data:`AGREE` of the largest derivative.  A CoefficientFunction
@@ -160,19 +164,53 @@ def problem_of(sol):
 
 
 def energy_norm(sol, w=None):
-    """|||u_h|||_h of a Solution, or |||u_h - w|||_h (Section 3):
+    r"""The DG energy norm of a solution, or of its difference to an exact solution (Section 3).
 
-    |||v|||_h^2 = sum_T int_T C eps(v):eps(v) dx + sum_{e in E_h^o} h_e^-1 ||[v]||_{0,e}^2.
+    .. math::
 
-    ``w``: a GridFunction (see :func:`difference`), or a continuous CoefficientFunction of x, y (an exact
-    solution): then eps(w) is its own derivative (:func:`ngdgfric.problem.strain_of`), C is the problem's
-    (the true material, also where a jump cuts elements), the volume integral uses a Gauss rule of degree
-    max(2 p + 4, :data:`EXACT_ORDER`) (a kink of w inside an element is integrated, not interpolated), and
-    [u_h - w] = [u_h] on interior edges.  With a prescribed displacement u_D != 0, |||u_h|||_h takes
-    [u_h] = u_h - u_D on Gamma_D (the jump the solution has there; u_h itself would add h^-1 ||u_D||^2).
-    A CoefficientFunction whose symbolic derivative is not the derivative of its values (one built from a
-    GridFunction, ``0.5 * sol.u``: symbolic differentiation sees a GridFunction as a constant) is refused with a
-    ValueError (:func:`check_derivative`); pass the GridFunction itself.
+        \|v\|_h^2 = \sum_T \int_T C \epsilon(v) : \epsilon(v) \, dx
+                    + \sum_{e \in \mathcal{E}_h^o} h_e^{-1} \|[v]\|_{0,e}^2,
+
+    for :math:`v = u_h` or :math:`v = u_h - w`.  With a prescribed displacement :math:`u_D \ne 0`,
+    :math:`\|u_h\|_h` takes :math:`[u_h] = u_h - u_D` on :math:`\Gamma_D` (the jump the solution has there;
+    :math:`u_h` itself would add :math:`h^{-1} \|u_D\|^2`).
+
+    Parameters
+    ----------
+    sol : Solution
+        A solution of :func:`ngdgfric.solve` (anything with ``problem``, ``mesh`` and ``u``).
+    w : ngsolve.GridFunction, CoefficientFunction or None, optional
+        Default ``None``: the norm of :math:`u_h`.  A GridFunction (see ``difference``), or a continuous
+        CoefficientFunction of ``x, y`` (an exact solution): then :math:`\epsilon(w)` is its own derivative
+        (``strain_of`` of :mod:`ngdgfric.problem`), :math:`C` is the problem's (the true material, also where a
+        jump cuts elements), the volume integral uses a Gauss rule of degree :math:`\max(2 p + 4,` ``EXACT_ORDER``
+        :math:`)` (a kink of :math:`w` inside an element is integrated, not interpolated), and
+        :math:`[u_h - w] = [u_h]` on interior edges.
+
+    Returns
+    -------
+    float
+        :math:`\|u_h\|_h` or :math:`\|u_h - w\|_h`.
+
+    Raises
+    ------
+    ValueError
+        For a CoefficientFunction ``w`` whose symbolic derivative is not the derivative of its values (one built
+        from a GridFunction, ``0.5 * sol.u``: symbolic differentiation sees a GridFunction as a constant;
+        ``check_derivative``); pass the GridFunction itself.
+
+    See Also
+    --------
+    ngdgfric.energy_error : The error against a stored reference solution.
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5))
+    >>> print(f"{ndf.energy_norm(sol):.2f}")
+    23.11
+    >>> print(f"{ndf.energy_norm(sol, sol.u):.2f}")
+    0.00
     """
     problem = problem_of(sol)
     if w is None or isinstance(w, ngs.GridFunction):

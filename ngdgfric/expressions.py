@@ -1,10 +1,10 @@
 """Safe arithmetic expressions in ``x`` and ``y`` for the data of a problem file (:mod:`ngdgfric.problem_file`).
 
 An expression is a number or a string in ``x`` and ``y``: numbers, ``pi``, ``+ - * / **``, unary ``-``, the
-functions of :data:`FUNCTIONS` (one argument: ``sin cos tan exp log sqrt atan abs``, and ``step(t)``, 1 for
+functions of ``FUNCTIONS`` (one argument: ``sin cos tan exp log sqrt atan abs``, and ``step(t)``, 1 for
 t > 0 and 0 otherwise), ``min(a, b)``, ``max(a, b)`` and ``if(condition, a, b)`` with one comparison ``<``,
-``<=``, ``>`` or ``>=`` as the condition (``if(x > 1.5, -300, 0)``).  :func:`parse_expression` parses it with
-:mod:`ast` and turns it into an NGSolve CoefficientFunction (conditions by ``ngs.IfPos``); nothing is ever passed
+``<=``, ``>`` or ``>=`` as the condition (``if(x > 1.5, -300, 0)``).  ``parse_expression`` parses it with
+``ast`` and turns it into an NGSolve CoefficientFunction (conditions by ``ngs.IfPos``); nothing is ever passed
 to ``eval``.  Constant expressions stay numbers.  Anything outside this grammar is a ValueError saying what is
 not allowed.
 """

@@ -1,6 +1,6 @@
 """Plane geometry of the problem's polygon: is it simple, and does a mesh fill it.
 
-Netgen is given only polygons that pass :func:`check_polygon` (a NaN vertex or a duplicate one
+Netgen is given only polygons that pass ``check_polygon`` (a NaN vertex or a duplicate one
 crashed it with a segmentation fault, a self-intersecting one made it loop for minutes without
 reacting to Ctrl-C, and vertices closer than about 1e-8 of the polygon's size made meshing fail).
 """

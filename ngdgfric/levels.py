@@ -1,10 +1,10 @@
-"""One level of the adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE), for :func:`ngdgfric.adapt`.
+r"""One level of the adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE), for :func:`ngdgfric.adapt`.
 
-:class:`AdaptiveLoop` holds what the levels hand on (the mesh, its :class:`~ngdgfric.hp.HPState`, the previous
-solution as a warm start, the eta_h the next level starts from) and does one step each: :meth:`~AdaptiveLoop.solve`
-(solve and estimate, inexactly where ``gamma_lin`` allows: :func:`settle`), :meth:`~AdaptiveLoop.decide` (stop, or
-Doerfler marking, :mod:`ngdgfric.marking`, and the size of the next mesh: :func:`too_large`, :func:`out_of_time`)
-and :meth:`~AdaptiveLoop.refine` (h or hp).  :func:`record` is a level's row of the CSV (:data:`FIELDS`).
+``AdaptiveLoop`` holds what the levels hand on (the mesh, its ``HPState``, the previous solution as a warm start,
+the :math:`\eta_h` the next level starts from) and does one step each: ``AdaptiveLoop.solve`` (solve and
+estimate, inexactly where ``gamma_lin`` allows: ``settle``), ``AdaptiveLoop.decide`` (stop, or Doerfler marking,
+:mod:`ngdgfric.marking`, and the size of the next mesh: ``too_large``, ``out_of_time``) and
+``AdaptiveLoop.refine`` (h or hp).  ``record`` is a level's row of the CSV (``FIELDS``).
 """
 
 import contextlib
@@ -37,7 +37,7 @@ FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", 
 @contextlib.contextmanager
 def frozen_older_objects():
     """The objects alive on entry moved out of the garbage collector's view until exit (``gc.freeze``): the full
-    collection of every level (:meth:`AdaptiveLoop.refine`) then scans only what the loop made, 17 ms -> about 1 ms."""
+    collection of every level (``AdaptiveLoop.refine``) then scans only what the loop made, 17 ms -> about 1 ms."""
     gc.freeze()
     try:
         yield
@@ -86,7 +86,7 @@ class AdaptiveLoop:
 
     def decide(self, level, sol, est, seconds, records, limits):
         """(sol, est, why the loop stops or None, the refinement to make): eta_h <= tol, the last level, the
-        time limit (:func:`out_of_time`), else Doerfler marking and the size of the refined mesh
+        time limit (``out_of_time``), else Doerfler marking and the size of the refined mesh
         (:meth:`too_large`); a level the loop stops at is solved to the full tolerance (:meth:`settle`).
         ``limits``: theta, max_levels, max_ndof, max_bytes, max_seconds and the loop's start time."""
         refinement = None
@@ -106,12 +106,12 @@ class AdaptiveLoop:
         return sol, est, stopped, refinement
 
     def settle(self, sol, est, returned, seconds):
-        """:func:`settle` with this loop's estimator, tolerances and gamma_lin."""
+        """``settle`` with this loop's estimator, tolerances and gamma_lin."""
         return settle(sol, est, self.estimator, (self.tol, self.solve_options["solver_tol"]), self.gamma_lin, returned,
                        seconds)
 
     def too_large(self, limits, refinement):
-        """:func:`too_large` for this mesh and state, counting the DOFs of the method's V_h (the conforming
+        """``too_large`` for this mesh and state, counting the DOFs of the method's V_h (the conforming
         baseline's are about half the DG count on the same mesh and orders)."""
         method = get_method(self.solve_options["method"])
         count = None if not method.conforming else lambda mesh, state: space(

@@ -1,10 +1,10 @@
 """Sides and loops of a scene: straight sides, circular arcs, and closed counter-clockwise chains of them.
 
 A :class:`Loop` is a closed counter-clockwise chain of sides, side k from ``vertices[k]`` to ``vertices[k+1]``
-(cyclic), each straight or a circular :class:`Arc` given by one more point it passes through.  Netgen gets every
+(cyclic), each straight or a circular ``Arc`` given by one more point it passes through.  Netgen gets every
 arc as spline segments of at most 90 degrees with the control point at the intersection of the end tangents
-(:meth:`Arc.pieces`): its rational quadratic segments are exact circles then.  The functions below answer what
-:class:`ngdgfric.domain.Geometry` asks of single sides and loops (a side's key, length, end tangents, overlap
+(``Arc.pieces``): its rational quadratic segments are exact circles then.  The functions below answer what
+``ngdgfric.domain.Geometry`` asks of single sides and loops (a side's key, length, end tangents, overlap
 with another side; whether a point lies inside a loop).
 """
 
@@ -121,10 +121,37 @@ def _pair(where, value):
 
 @dataclass(frozen=True)
 class Loop:
-    """A closed chain of sides, counter-clockwise: side k from ``vertices[k]`` to ``vertices[k+1]`` (cyclic),
-    named ``labels[k]``; ``arcs`` maps a side number k to a point the side passes through (a circular arc),
-    other sides are straight.  Checked: at least 2 vertices (3 if all sides are straight), a simple
-    counter-clockwise chain (:func:`ngdgfric.geometry.check_polygon` on the arcs drawn as polylines)."""
+    """A closed chain of named sides, counter-clockwise: straight sides and circular arcs.
+
+    The boundary of a region or a hole of a :class:`~ngdgfric.Domain`.  Checked on construction: at least 2
+    vertices (3 if all sides are straight), a simple counter-clockwise chain (``check_polygon`` of
+    :mod:`ngdgfric.geometry` on the arcs drawn as polylines).  ``Loop.circle(centre, radius, label)`` makes a
+    circle.
+
+    Parameters
+    ----------
+    vertices : sequence of (float, float)
+        The vertices, counter-clockwise; side ``k`` runs from ``vertices[k]`` to ``vertices[k+1]`` (cyclic).
+    labels : sequence of str
+        ``labels[k]`` names side ``k``.
+    arcs : dict or sequence of (int, (float, float)), optional
+        Maps a side number ``k`` to a point the side passes through: side ``k`` is the circular arc through its
+        ends and that point.  Default ``()``: every side straight.
+
+    Raises
+    ------
+    ValueError
+        If a vertex or arc point is not a pair of numbers, the labels do not match the sides, an arc is
+        degenerate, or the chain crosses itself or runs clockwise.
+
+    Examples
+    --------
+    A half-disk of radius 1 on the x axis, its round side an arc through (0, 1):
+
+    >>> half_disk = ndf.Loop([(-1, 0), (1, 0)], ["contact", "traction"], arcs={1: (0, 1)})
+    >>> print(f"{half_disk.area:.4f}")
+    1.5708
+    """
 
     vertices: tuple
     labels: tuple
@@ -173,7 +200,7 @@ class Loop:
         return cls(at, (label,) * 4, tuple(enumerate(middle)))
 
     def side(self, k):
-        """Side k: an :class:`Arc`, or the pair of its end points."""
+        """Side k: an ``Arc``, or the pair of its end points."""
         a, b = self.vertices[k], self.vertices[(k + 1) % len(self.vertices)]
         through = dict(self.arcs).get(k)
         return (a, b) if through is None else Arc(a, b, through)
@@ -207,7 +234,7 @@ def signed_area(v):
 
 
 def end_tangents(side):
-    """The unit tangents of a side (a pair of points or an :class:`Arc`) at its two ends (direction ignored)."""
+    """The unit tangents of a side (a pair of points or an ``Arc``) at its two ends (direction ignored)."""
     if not isinstance(side, Arc):
         direction = np.subtract(side[1], side[0], dtype=float)
         direction /= np.linalg.norm(direction)

@@ -1,8 +1,9 @@
-"""MARK (Section 6): Doerfler's bulk criterion, and its parameter near the tolerance.
+r"""MARK (Section 6): Doerfler's bulk criterion, and its parameter near the tolerance.
 
-:func:`dorfler_mark` takes the smallest set M of elements with sum_M eta_T^2 >= theta sum_T eta_T^2; the paper uses
-theta = 0.3, :func:`ngdgfric.adapt` 0.8 (why: :mod:`ngdgfric.adaptivity`) and, on the level before the tolerance,
-:func:`landing_theta`.
+:func:`~ngdgfric.dorfler_mark` takes the smallest set :math:`\mathcal{M}` of elements with
+:math:`\sum_{T \in \mathcal{M}} \eta_T^2 \ge \theta \sum_T \eta_T^2`; the paper uses :math:`\theta = 0.3`,
+:func:`~ngdgfric.adapt` 0.8 (why: :mod:`ngdgfric.adaptivity`) and, on the level before the tolerance,
+``landing_theta``.
 """
 
 import numpy as np
@@ -58,7 +59,7 @@ def dorfler_mark(element_indicators, theta=0.3):
 
 
 LANDING = 0.7
-"""The fraction of the tolerance :func:`landing_theta` aims the last level at."""
+"""The fraction of the tolerance ``landing_theta`` aims the last level at."""
 
 
 def landing_theta(theta, eta_h, tol):

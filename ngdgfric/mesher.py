@@ -4,7 +4,7 @@ Netgen does not react to SIGINT while it meshes, and some valid but thin polygon
 for minutes (a 1 x 1e-5 rectangle with maxh = 1: more than 6 minutes of CPU).  So the mesh is made
 in another process and sent back through files; this process waits in short polls, so Ctrl-C stops
 it at once, and a child still busy after ``timeout`` seconds is killed and reported as a TimeoutError
-(a ValueError from :func:`ngdgfric.meshes.netgen_mesh`).
+(a ValueError from :func:`~ngdgfric.netgen_mesh`).
 
 **Where the child comes from.**  It used to be forked from this process, which by then runs OpenBLAS and
 NGSolve's TaskManager threads: a forked child inherits the locks those threads may hold (deadlock risk;
@@ -17,9 +17,9 @@ multiprocessing's ``forkserver`` and ``spawn`` contexts were not used: their chi
 script calling ``netgen_mesh`` failed: tests/test_mesher.py).
 
 The server is this module's one piece of process state (``_SERVER``): started at the first
-:func:`generate`, again after it died or in a forked copy of this process; it ignores Ctrl-C and ends
-when this process ends (its stdin closes) or at :func:`shutdown`.  It is kept because a fresh interpreter
-per mesh costs the interpreter's start and Netgen's import every time.  Cost of :func:`generate` per mesh of
+``generate``, again after it died or in a forked copy of this process; it ignores Ctrl-C and ends
+when this process ends (its stdin closes) or at ``shutdown``.  It is kept because a fresh interpreter
+per mesh costs the interpreter's start and Netgen's import every time.  Cost of ``generate`` per mesh of
 Example 6.1's rectangle, best of 3 after the first, measured on 2 busy cores (2026-11; they vary with the load):
 
     | maxh (triangles) | forked from this process | fresh interpreter per mesh | mesh server |
@@ -97,7 +97,7 @@ def _submit(folder):
 
 
 def shutdown():
-    """End the mesh server (module docstring); the next :func:`generate` starts a new one."""
+    """End the mesh server (module docstring); the next ``generate`` starts a new one."""
     global _SERVER
     with _LOCK:
         if _SERVER is not None and _SERVER[1] == os.getpid():

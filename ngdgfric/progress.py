@@ -1,11 +1,11 @@
 """Progress lines of the long computations: logged, not printed.
 
-:func:`ngdgfric.adapt` (one line per level), :func:`ngdgfric.studies.runner.run_cases` (one per finished case),
-:func:`ngdgfric.studies.uniform.uniform_study` and :func:`ngdgfric.studies.strategies.strategy_run` take
-``progress=``: a callable(str) that receives every line, None for no lines, and by default :func:`log`, which sends
-them to the logger ``"ngdgfric"`` (:data:`LOGGER`) at level INFO, the convention of Python libraries: silent unless
+:func:`ngdgfric.adapt` (one line per level), ``ngdgfric.studies.runner.run_cases`` (one per finished case),
+``ngdgfric.studies.uniform.uniform_study`` and ``ngdgfric.studies.strategies.strategy_run`` take
+``progress=``: a callable(str) that receives every line, None for no lines, and by default ``log``, which sends
+them to the logger ``"ngdgfric"`` (``LOGGER``) at level INFO, the convention of Python libraries: silent unless
 the application configures logging, e.g. ``logging.basicConfig(format="%(message)s")`` and
-``logging.getLogger("ngdgfric").setLevel(logging.INFO)``.  The command line prints them (:func:`printed`).
+``logging.getLogger("ngdgfric").setLevel(logging.INFO)``.  The command line prints them (``printed``).
 """
 
 import contextlib
@@ -18,7 +18,7 @@ LOGGER = logging.getLogger("ngdgfric")
 
 
 def log(line):
-    """The default ``progress``: ``line`` to :data:`LOGGER` at INFO."""
+    """The default ``progress``: ``line`` to ``LOGGER`` at INFO."""
     LOGGER.info(line)
 
 
@@ -38,7 +38,7 @@ def reporter(progress):
 
 @contextlib.contextmanager
 def printed(stream=None):
-    """Within the block, the INFO lines of :data:`LOGGER` written to ``stream`` (default: ``sys.stdout`` on entry),
+    """Within the block, the INFO lines of ``LOGGER`` written to ``stream`` (default: ``sys.stdout`` on entry),
     the message alone, and not passed on to the root logger's handlers."""
     handler = logging.StreamHandler(sys.stdout if stream is None else stream)
     handler.setFormatter(logging.Formatter("%(message)s"))

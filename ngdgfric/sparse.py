@@ -1,9 +1,9 @@
-"""Sparse-matrix plumbing: add contact blocks to a fixed linear matrix without re-assembly.
+r"""Sparse-matrix plumbing: add contact blocks to a fixed linear matrix without re-assembly.
 
-The nonlinearity of (3.1) lives on Gamma_C only, so every Jacobian is J = A + K with the linear
-DG matrix A assembled once and K nonzero only in the blocks coupling the degrees of freedom of
-the elements on Gamma_C.  :class:`BlockSum` builds the pattern of J once and refreshes its values
-with two numpy scatters.
+The nonlinearity of (3.1) lives on :math:`\Gamma_C` only, so every Jacobian is :math:`J = A + K` with the linear
+DG matrix :math:`A` assembled once and :math:`K` nonzero only in the blocks coupling the degrees of freedom of the
+elements on :math:`\Gamma_C`.  ``BlockSum`` builds the pattern of :math:`J` once and refreshes its values with two
+numpy scatters.
 """
 
 import ngsolve as ngs

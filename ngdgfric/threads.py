@@ -4,7 +4,7 @@ On a machine with few cores, idle OpenBLAS threads busy-wait and take the cores 
 TaskManager; small sparse work gains nothing from threads.  Everything here is scoped to a call
 (a context manager or a decorator); importing changes nothing and nothing is cached: the environment
 variable ``NGDGFRIC_BLAS_THREADS`` is read, and the loaded OpenBLAS libraries are found, each time a limit
-is set (:func:`blas_threads`), so a change of either takes effect at the next call.  Finding them costs
+is set (``blas_threads``), so a change of either takes effect at the next call.  Finding them costs
 0.3 ms (``threadpoolctl.ThreadpoolController().select(internal_api="openblas")``, best of 3 x 50 calls,
 2026-11), against the solve, estimate or adapt call, or the dense solve of 1000 or more rows (tens of
 milliseconds and up), that each limit wraps.
@@ -38,7 +38,7 @@ DENSE_PARALLEL_FROM = 1000
 
 
 def default_blas_threads():
-    """OpenBLAS threads inside :func:`blas_threads` by default: the environment variable NGDGFRIC_BLAS_THREADS
+    """OpenBLAS threads inside ``blas_threads`` by default: the environment variable NGDGFRIC_BLAS_THREADS
     (an integer >= 1) when it is set, else 1; read at each call.  ValueError naming the variable if it is not
     such an integer."""
     value = os.environ.get(BLAS_THREADS_VARIABLE, "1")
@@ -74,13 +74,13 @@ def blas_threads(count=None):
 
 
 def call_limited(function, *args, **kwargs):
-    """``function(*args, **kwargs)`` inside :func:`blas_threads` (module level: picklable for process pools)."""
+    """``function(*args, **kwargs)`` inside ``blas_threads`` (module level: picklable for process pools)."""
     with blas_threads():
         return function(*args, **kwargs)
 
 
 def limited_blas(function):
-    """``function`` run inside :func:`blas_threads` (the entry points solve, adapt, estimate)."""
+    """``function`` run inside ``blas_threads`` (the entry points solve, adapt, estimate)."""
     @functools.wraps(function)
     def limited(*args, **kwargs):
         return call_limited(function, *args, **kwargs)

@@ -6,5 +6,5 @@ Data path: :mod:`~ngdgfric.dg.methods` (the table of the five methods and the co
 kernels of :mod:`~ngdgfric.dg.moments`, added into the matrix by element blocks, :mod:`~ngdgfric.dg.blocks`) ->
 :mod:`~ngdgfric.dg.discretization` (the space, the assembled linear part and the contact data of one
 problem on one mesh), which the solvers of :mod:`ngdgfric.solvers` take; :mod:`~ngdgfric.dg.spaces` counts the
-DOFs of V_h.
+DOFs of :math:`V_h`.
 """

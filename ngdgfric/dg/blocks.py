@@ -1,14 +1,17 @@
-"""Element blocks of V_h and of its sparse matrices: dense local matrices added into an assembled pattern.
+r"""Element blocks of :math:`V_h` and of its sparse matrices: dense local matrices added into an assembled pattern.
 
-V_h = Q x Q (:func:`ngdgfric.dg.discretization.dg_space`) numbers its DOFs component by component and, within a
-component, element by element: the n_T = (p_T + 1)(p_T + 2) / 2 scalar functions of element T are the DOFs
-first_T .. first_T + n_T - 1 of component 0, and those plus dim Q of component 1.  A sparse matrix on V_h whose rows
-of an element R couple to all DOFs of a set ring(R) of elements (R and its neighbours across edges for a DG matrix;
-also the neighbours' neighbours for the global lifting) stores, in every row of R, the columns of ring(R) in
-increasing order: component 0 element by element, then component 1.  So the entry (row (c, R, k), column
-(c', S, k')) sits at rowptr[row] + offset(R, S) + c' N(R) + k' (N(R): the DOFs of ring(R) per component), and a
-dense block over two elements lands at positions computed from a few numbers per element pair
-(:class:`Pattern`), without a search among the matrix's columns.  :meth:`Pattern.build` checks the row lengths.
+:math:`V_h = Q \times Q` (``dg_space`` of :mod:`ngdgfric.dg.discretization`) numbers its DOFs component by
+component and, within a component, element by element: the :math:`n_T = (p_T + 1)(p_T + 2) / 2` scalar functions
+of element :math:`T` are the DOFs :math:`\mathrm{first}_T, \dots, \mathrm{first}_T + n_T - 1` of component 0,
+and those plus :math:`\dim Q` of component 1.  A sparse matrix on :math:`V_h` whose rows of an element :math:`R`
+couple to all DOFs of a set :math:`\mathrm{ring}(R)` of elements (:math:`R` and its neighbours across edges for a
+DG matrix; also the neighbours' neighbours for the global lifting) stores, in every row of :math:`R`, the columns
+of :math:`\mathrm{ring}(R)` in increasing order: component 0 element by element, then component 1.  So the entry
+(row :math:`(c, R, k)`, column :math:`(c', S, k')`) sits at
+:math:`\mathrm{rowptr}[\mathrm{row}] + \mathrm{offset}(R, S) + c' N(R) + k'` (:math:`N(R)`: the DOFs of
+:math:`\mathrm{ring}(R)` per component), and a dense block over two elements lands at positions computed from a
+few numbers per element pair (``Pattern``), without a search among the matrix's columns.  ``Pattern.build``
+checks the row lengths.
 """
 
 from dataclasses import dataclass

@@ -1,34 +1,42 @@
-"""The DG bilinear forms B_h^(1..5) of Section 3 and the load functional, as one construction.
+r"""The DG bilinear forms :math:`B_h^{(1..5)}` of Section 3 and the load functional, as one construction.
 
 All five methods share the volume term and the consistency terms
 
-    B_h(u, v) = (sigma_h(u), eps_h(v)) - s <[u], {sigma_h(v)}> - <[v], {sigma_h(u)}> + stabilisation,
+.. math::
 
-with s = +1 except NIPG (s = -1), and differ only in the stabilisation: the edge penalty
-eta p^2 / h_e [u]:[v] or the local liftings sum_e eta (C r_e[u], r_e[v]) (:mod:`ngdgfric.dg.liftings`),
-and the global lifting (C r_0[u], r_0[v]); the rows are :data:`ngdgfric.dg.methods.METHODS`.  The material
-enters every term from the element's own side (:class:`ngdgfric.dg.material.Material`): the averages
-{sigma} are weighted by the stiffness of the two neighbours and the penalty is an
-:class:`~ngdgfric.dg.material.EdgeCoefficient` (harmonic means across material jumps).
+    B_h(u, v) = (\sigma_h(u), \varepsilon_h(v)) - s \langle [\![u]\!], \{\!\{\sigma_h(v)\}\!\} \rangle
+    - \langle [\![v]\!], \{\!\{\sigma_h(u)\}\!\} \rangle + \text{stabilisation},
 
-Jumps are the symmetric tensor jumps of Section 2.1, [v] = sym(v+ (x) n+ + v- (x) n-), on
-interior edges and [v] = sym((v - u_D) (x) n) on Dirichlet edges (E_h^o = E_h^i u E_h^D; the paper has
-u_D = 0; a prescribed displacement moves its part to the right-hand side, :func:`load_terms`), and
-[v] = sym((v . n) n (x) n) on symmetry sides (u . n = 0, tangential part free); the
-averages are {sigma} = (sigma+ + sigma-)/2 and {sigma} = sigma on the boundary.  For p = 1 the
-edge penalty is the paper's eta h_e^-1; for p > 1 it carries the usual factor p_e^2, which keeps
-the coercivity threshold of eta independent of h and p up to a constant.  With a variable order
-per element (hp), p_e = max(p_T+, p_T-) on interior edges (the inverse trace inequality of the
-higher-order neighbour decides coercivity) and p_e = p_T on boundary edges.
+with :math:`s = +1` except NIPG (:math:`s = -1`), and differ only in the stabilisation: the edge penalty
+:math:`\eta\, p^2 / h_e\, [\![u]\!] : [\![v]\!]` or the local liftings
+:math:`\sum_e \eta\, (C r_e([\![u]\!]), r_e([\![v]\!]))` (:mod:`ngdgfric.dg.liftings`), and the global lifting
+:math:`(C r_0([\![u]\!]), r_0([\![v]\!]))`; the rows are :data:`ngdgfric.METHODS`.  The material enters every
+term from the element's own side (``Material`` of :mod:`ngdgfric.dg.material`): the averages
+:math:`\{\!\{\sigma\}\!\}` are weighted by the stiffness of the two neighbours and the penalty is an
+``EdgeCoefficient`` (harmonic means across material jumps).
 
-The length in the penalty (:func:`penalty_length`) is h_e = min(|e|, 2 h_T+, 2 h_T-), h_T = 2 |T| / |e|
-the height of T over e: the paper's |e| on the meshes of Section 6 and the neighbours' heights on thin
-triangles.  The inverse trace inequality ||v||_e^2 <= (p+1)(p+2)/2 |e| / |T| ||v||_T^2 (Warburton &
-Hesthaven 2003) scales with 1 / h_T, so eta p^2 / |e| is too weak on the long edges of a thin triangle
-(B_h loses coercivity; tests/test_forms.py).  With A, B the angles of T at the ends of e,
-2 h_T = 2 |e| / (cot A + cot B), so h_e = |e| wherever cot A + cot B <= 2: on the structured meshes of
-Section 6 (the diagonals, 2 h_T = |e|, are the edges on which the SIPG thresholds of
-:mod:`ngdgfric.dg.methods` were measured; the legs have 2 h_T = 2 |e|) and on equilateral triangles.
+Jumps are the symmetric tensor jumps of Section 2.1,
+:math:`[\![v]\!] = \operatorname{sym}(v^+ \otimes n^+ + v^- \otimes n^-)`, on interior edges and
+:math:`[\![v]\!] = \operatorname{sym}((v - u_D) \otimes n)` on Dirichlet edges
+(:math:`\mathcal{E}_h^o = \mathcal{E}_h^i \cup \mathcal{E}_h^D`; the paper has :math:`u_D = 0`; a prescribed
+displacement moves its part to the right-hand side, ``load_terms``), and
+:math:`[\![v]\!] = \operatorname{sym}((v \cdot n)\, n \otimes n)` on symmetry sides (:math:`u \cdot n = 0`,
+tangential part free); the averages are :math:`\{\!\{\sigma\}\!\} = (\sigma^+ + \sigma^-)/2` and
+:math:`\{\!\{\sigma\}\!\} = \sigma` on the boundary.  For :math:`p = 1` the edge penalty is the paper's
+:math:`\eta\, h_e^{-1}`; for :math:`p > 1` it carries the usual factor :math:`p_e^2`, which keeps the coercivity
+threshold of :math:`\eta` independent of :math:`h` and :math:`p` up to a constant.  With a variable order per
+element (hp), :math:`p_e = \max(p_{T^+}, p_{T^-})` on interior edges (the inverse trace inequality of the
+higher-order neighbour decides coercivity) and :math:`p_e = p_T` on boundary edges.
+
+The length in the penalty (``penalty_length``) is :math:`h_e = \min(|e|, 2 h_{T^+}, 2 h_{T^-})`, with
+:math:`h_T = 2 |T| / |e|` the height of :math:`T` over :math:`e`: the paper's :math:`|e|` on the meshes of
+Section 6 and the neighbours' heights on thin triangles.  The inverse trace inequality
+:math:`\|v\|_e^2 \le \frac{(p+1)(p+2)}{2} \frac{|e|}{|T|} \|v\|_T^2` (Warburton & Hesthaven 2003) scales with
+:math:`1 / h_T`, so :math:`\eta p^2 / |e|` is too weak on the long edges of a thin triangle (:math:`B_h` loses
+coercivity; ``tests/test_forms.py``).  With :math:`A, B` the angles of :math:`T` at the ends of :math:`e`,
+:math:`2 h_T = 2 |e| / (\cot A + \cot B)`, so :math:`h_e = |e|` wherever :math:`\cot A + \cot B \le 2`: on the
+structured meshes of Section 6 (the diagonals, :math:`2 h_T = |e|`, are the edges on which the SIPG thresholds of
+:mod:`ngdgfric.dg.methods` were measured; the legs have :math:`2 h_T = 2 |e|`) and on equilateral triangles.
 """
 
 import ngsolve as ngs
@@ -71,7 +79,7 @@ def _smaller(a, b):
 
 
 def penalty_length(mesh):
-    """The :class:`~ngdgfric.dg.material.EdgeCoefficient` h_e = min(|e|, 2 h_T+, 2 h_T-) of the penalty (module
+    """The ``EdgeCoefficient`` h_e = min(|e|, 2 h_T+, 2 h_T-) of the penalty (module
     docstring); on boundary edges min(|e|, 2 h_T).  ``specialcf.mesh_size`` on a facet is the height h_T of
     the element integrated over; the neighbour's is 2 |T-| / |e|.  Compiled (``Compile()``: one fused
     expression): uncompiled, the two IfPos made SIPG's skeleton assembly twice as slow (0.21 s against
@@ -107,9 +115,9 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
     caller from :mod:`ngdgfric.dg.liftings`.  ``u``, ``v`` are trial and test functions (or any
     vector proxies) of a DG space with ``dgjumps=True`` (or of H^1 for the conforming baseline: no terms on
     interior edges); ``material``: the
-    :class:`~ngdgfric.dg.material.Material` on the mesh; ``penalty``: eta as an
-    :class:`~ngdgfric.dg.material.EdgeCoefficient`; ``order``: p, or the element order GridFunction of a
-    variable-order space; ``h``: the penalty length (default :func:`penalty_length`).
+    ``Material`` on the mesh; ``penalty``: eta as an
+    ``EdgeCoefficient``; ``order``: p, or the element order GridFunction of a
+    variable-order space; ``h``: the penalty length (default ``penalty_length``).
 
     On the symmetry sides the boundary terms act on the normal component only (Nitsche's method for
     u . n = 0 with a free tangential component): [u] = sym((u . n) n (x) n), {sigma(v)} . [u] = (u . n)

@@ -1,37 +1,49 @@
-"""Lifting operators r_e and r_0 (Arnold, Brezzi, Cockburn, Marini 2002) for B_h^(3), B_h^(4), B_h^(5), edge by edge.
+r"""Lifting operators :math:`r_e` and :math:`r_0` (Arnold, Brezzi, Cockburn, Marini 2002) for the lifting methods.
 
-For a symmetric tensor phi on an edge e in E_h^o, r_e(phi) in Sigma_h is defined by
+The methods :math:`B_h^{(3)}`, :math:`B_h^{(4)}` and :math:`B_h^{(5)}` use them, edge by edge.  For a symmetric
+tensor :math:`\phi` on an edge :math:`e \in \mathcal{E}_h^o`, :math:`r_e(\phi) \in \Sigma_h` is defined by
 
-    int_Omega r_e(phi) : tau dx = - int_e phi : {tau} ds      for all tau in Sigma_h,
+.. math::
 
-and r_0 = sum_{e in E_h^o} r_e.  Sigma_h: discontinuous symmetric 2x2 tensors of degree p (the largest order of
-V_h).  It contains eps_h(V_h), as ABCM require; degree p rather than p - 1 because the jumps [v] of V_h are of degree
-p on the edges, and only then is r_e injective on them (||r_e([v])|| ~ h_e^-1/2 ||[v]||_e), so that the local
-lifting penalty of Bassi et al. controls every jump.  With a varying material {tau} = w+ tau+ + w- tau- is the
-weighted average of :mod:`ngdgfric.dg.material` and C is each element's own.  On symmetry sides the lifting sees
-the normal part (u . n) n of u (:func:`ngdgfric.dg.forms.normal_part`).
+    \int_\Omega r_e(\phi) : \tau \, dx = - \int_e \phi : \{\!\{\tau\}\!\} \, ds
+    \qquad \text{for all } \tau \in \Sigma_h,
 
-r_e lives on the (one or two) elements of e, and on an element T it depends on [u] only through its moments
-m_e = (int_e [u]_c psi_a ds) against a basis psi_0..psi_p of polynomials of degree p on e, c = xx, yy, xy: the
-traces on e of the scalar basis phi_k of Sigma_h(T) lie in their span (on a curved edge too: both are polynomials
-of the edge's reference coordinate), phi_k = sum_a (E_T N_e^-1)_ka psi_a with E_T = (int_e w_T phi_k psi_a) and
-N_e = (int_e psi_a psi_b), so
+and :math:`r_0 = \sum_{e \in \mathcal{E}_h^o} r_e`.  :math:`\Sigma_h`: discontinuous symmetric :math:`2 \times 2`
+tensors of degree :math:`p` (the largest order of :math:`V_h`).  It contains :math:`\varepsilon_h(V_h)`, as ABCM
+require; degree :math:`p` rather than :math:`p - 1` because the jumps :math:`[\![v]\!]` of :math:`V_h` are of
+degree :math:`p` on the edges, and only then is :math:`r_e` injective on them
+(:math:`\|r_e([\![v]\!])\| \sim h_e^{-1/2} \|[\![v]\!]\|_e`), so that the local lifting penalty of Bassi et al.
+controls every jump.  With a varying material :math:`\{\!\{\tau\}\!\} = w^+ \tau^+ + w^- \tau^-` is the weighted
+average of :mod:`ngdgfric.dg.material` and :math:`C` is each element's own.  On symmetry sides the lifting sees
+the normal part :math:`(u \cdot n)\, n` of :math:`u` (``normal_part`` of :mod:`ngdgfric.dg.forms`).
 
-    (C r_e[u], r_e[v])_T = m_e[u]^T S_T,ee m_e[v],      S_T = (E_T N^-1)^T M_T^-1 M_T^C M_T^-1 (E_T N^-1),
+:math:`r_e` lives on the (one or two) elements of :math:`e`, and on an element :math:`T` it depends on
+:math:`[\![u]\!]` only through its moments :math:`m_e = (\int_e [\![u]\!]_c \psi_a \, ds)` against a basis
+:math:`\psi_0, \dots, \psi_p` of polynomials of degree :math:`p` on :math:`e`, :math:`c = xx, yy, xy`: the traces
+on :math:`e` of the scalar basis :math:`\phi_k` of :math:`\Sigma_h(T)` lie in their span (on a curved edge too:
+both are polynomials of the edge's reference coordinate),
+:math:`\phi_k = \sum_a (E_T N_e^{-1})_{ka} \psi_a` with :math:`E_T = (\int_e w_T \phi_k \psi_a)` and
+:math:`N_e = (\int_e \psi_a \psi_b)`, so
 
-with M_T the mass matrix of Sigma_h(T) and M_T^C that of (C sigma, tau): S_T is a small kernel on the moments of
-T's three edges (3 (p + 1) per edge and component; 2 mu and lam in two scalar kernels), and
-(C r_0[u], r_0[v])_T = sum_{e, e' in T} m_e[u]^T S_T,ee' m_e'[v].  With a weight w_T that varies along a curved
-interface (a material that varies inside its elements) the moments are the quadrature-free projection of w_T phi_k
-onto polynomials of degree p on e.
+.. math::
 
-Assembly (:func:`lifting_terms`), no loop over edges or elements: NGSolve assembles the moment matrix
-(element-boundary integrals of sym(u (x) n) against a facet space of degree p, both sides of an edge adding up to
-the jump) and the small matrices E, N, M, M^C; numpy forms the kernels element by element and the local matrices
-b^T S b edge by edge (Bassi et al.) or element by element over the element and its neighbours (the global lifting
-of Brezzi et al. and LDG, whose stencil reaches the neighbours' neighbours), batched by block size, and adds them
-into the matrix by positions computed from the element blocks of its rows (:mod:`ngdgfric.dg.blocks`).  The
-operators are built by :mod:`ngdgfric.dg.moments`.
+    (C r_e([\![u]\!]), r_e([\![v]\!]))_T = m_e[u]^T S_{T,ee}\, m_e[v], \qquad
+    S_T = (E_T N^{-1})^T M_T^{-1} M_T^C M_T^{-1} (E_T N^{-1}),
+
+with :math:`M_T` the mass matrix of :math:`\Sigma_h(T)` and :math:`M_T^C` that of :math:`(C \sigma, \tau)`:
+:math:`S_T` is a small kernel on the moments of :math:`T`'s three edges (:math:`3 (p + 1)` per edge and component;
+:math:`2 \mu` and :math:`\lambda` in two scalar kernels), and
+:math:`(C r_0([\![u]\!]), r_0([\![v]\!]))_T = \sum_{e, e' \in T} m_e[u]^T S_{T,ee'}\, m_{e'}[v]`.  With a weight
+:math:`w_T` that varies along a curved interface (a material that varies inside its elements) the moments are
+the quadrature-free projection of :math:`w_T \phi_k` onto polynomials of degree :math:`p` on :math:`e`.
+
+Assembly (``lifting_terms``), no loop over edges or elements: NGSolve assembles the moment matrix
+(element-boundary integrals of :math:`\operatorname{sym}(u \otimes n)` against a facet space of degree :math:`p`,
+both sides of an edge adding up to the jump) and the small matrices :math:`E, N, M, M^C`; numpy forms the kernels
+element by element and the local matrices :math:`b^T S b` edge by edge (Bassi et al.) or element by element over
+the element and its neighbours (the global lifting of Brezzi et al. and LDG, whose stencil reaches the neighbours'
+neighbours), batched by block size, and adds them into the matrix by positions computed from the element blocks of
+its rows (:mod:`ngdgfric.dg.blocks`).  The operators are built by :mod:`ngdgfric.dg.moments`.
 """
 
 import numpy as np

@@ -1,12 +1,13 @@
-"""The lifting operators of :mod:`ngdgfric.dg.liftings` in moment form: the matrix of the jumps' moments on the edges
-and the kernels S_T of every element (a :class:`Liftings`), from a few small NGSolve forms.
+r"""The lifting operators of :mod:`ngdgfric.dg.liftings` in moment form, from a few small NGSolve forms.
 
-m_e[u] = (int_e [u]_c psi_a ds) for the tensor components c = xx, yy, xy and a basis psi_a of the polynomials of
-degree p on e (an NGSolve facet space: Legendre on straight edges, so that N_e is diagonal there), assembled from
-element-boundary integrals of sym(u (x) n) (both sides of an interior edge adding up to the jump);
-S_T = (E_T N^-1)^T M_T^-1 M_T^C M_T^-1 (E_T N^-1) from E_T = (int_e w_T phi_k psi_a), the Gram matrices N_e of the
-facet basis and the mass matrices of Sigma_h(T), unweighted and weighted by 2 mu and lam (by the element's value
-when the material is constant on it).
+The matrix of the jumps' moments on the edges and the kernels :math:`S_T` of every element (a ``Liftings``):
+:math:`m_e[u] = (\int_e [\![u]\!]_c \psi_a \, ds)` for the tensor components :math:`c = xx, yy, xy` and a basis
+:math:`\psi_a` of the polynomials of degree :math:`p` on :math:`e` (an NGSolve facet space: Legendre on straight
+edges, so that :math:`N_e` is diagonal there), assembled from element-boundary integrals of
+:math:`\operatorname{sym}(u \otimes n)` (both sides of an interior edge adding up to the jump);
+:math:`S_T = (E_T N^{-1})^T M_T^{-1} M_T^C M_T^{-1} (E_T N^{-1})` from :math:`E_T = (\int_e w_T \phi_k \psi_a)`,
+the Gram matrices :math:`N_e` of the facet basis and the mass matrices of :math:`\Sigma_h(T)`, unweighted and
+weighted by :math:`2 \mu` and :math:`\lambda` (by the element's value when the material is constant on it).
 """
 
 
@@ -75,7 +76,7 @@ class Liftings:
 
 
 def liftings(problem, material, mesh, V, orders):
-    """The :class:`Liftings` of V_h (``V``: its space, element degrees ``orders``; Sigma_h of the largest) on
+    """The ``Liftings`` of V_h (``V``: its space, element degrees ``orders``; Sigma_h of the largest) on
     ``mesh``."""
     order = int(np.max(orders))
     q = order + 1

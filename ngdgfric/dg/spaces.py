@@ -1,9 +1,9 @@
-"""The size of the DG space V_h of Section 3: vector-valued polynomials of degree p_T on every triangle T.
+r"""The size of the DG space :math:`V_h` of Section 3: vector polynomials of degree :math:`p_T` on each triangle.
 
-A triangle of degree p carries (p + 1)(p + 2) / 2 scalar basis functions per component, so
-dim V_h = sum_T (p_T + 1)(p_T + 2).  Everything that counts DOFs before a space exists (the size checks, the hp
-state, the coefficient layout of :func:`ngdgfric.transfer.copy_orders`, studies that stop at a number of DOFs)
-counts them here.
+A triangle :math:`T` of degree :math:`p` carries :math:`(p + 1)(p + 2) / 2` scalar basis functions per component,
+so :math:`\dim V_h = \sum_T (p_T + 1)(p_T + 2)`.  Everything that counts DOFs before a space exists (the size
+checks, the hp state, the coefficient layout of ``copy_orders`` in :mod:`ngdgfric.transfer`, studies that stop at
+a number of DOFs) counts them here.
 """
 
 import numpy as np

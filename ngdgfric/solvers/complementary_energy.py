@@ -1,21 +1,25 @@
-"""The complementary energy of the condensed contact problem and its descent step (B_h symmetric, m_t = 0).
+r"""The complementary energy :math:`\Theta` of the condensed contact problem and its descent step.
 
-For a symmetric B_h and the reduced law m_t = 0 the forces f of :class:`ngdgfric.solvers.reduced.ReducedContact`
-minimise the convex complementary energy
+For a symmetric :math:`B_h` and the reduced law :math:`m_t = 0` the forces :math:`f` of ``ReducedContact``
+(:mod:`ngdgfric.solvers.reduced`) minimise the convex complementary energy
 
-    Theta(f) = 1/2 f.W f - w0.f + sum_q Phi_q*(f_n,q)   over   K = {f_n >= 0, |f_t| <= beta},
+.. math::
 
-with Phi*(s) = g_a s + m/(m+1) (omega c_n)^{-1/m} s^{(m+1)/m} the conjugate of the compliance energy
-(f_n = 0 where c_n = 0).  One step of the iteration (:func:`energy_step`): the Newton point, projected
-onto K, is accepted when it lowers Theta by a fixed fraction sigma of what a diagonally scaled
-projected-gradient step promises (delta = -grad Theta . p with p = P_K(f - D^-1 grad Theta) - f), or,
-once the relative KKT residual is below 1e-6, when the next Newton point from it does (a watchdog:
-near the solution a step with a few wrong stick/slip guesses may raise Theta by more than its
-round-off while the next step lands on the solution); otherwise a projected Newton step with Armijo
-backtracking (:func:`projected_newton_step`).  Theta decreases by at least sigma x (a forcing
-function of the projected gradient) at every step, so every limit point minimises Theta (Bertsekas,
-Nonlinear Programming, 2nd ed., Prop. 2.3.3); near the solution the Newton steps are accepted, the
-sets settle, and for m_n = 1 (G piecewise affine) the step with the final sets is exact.
+    \Theta(f) = \tfrac12 f \cdot W f - w_0 \cdot f + \sum_q \Phi_q^*(f_{n,q})
+    \quad \text{over} \quad K = \{f_n \ge 0, |f_t| \le \beta\},
+
+with :math:`\Phi^*(s) = g_a s + \frac{m}{m+1} (\omega c_n)^{-1/m} s^{(m+1)/m}` the conjugate of the compliance
+energy (:math:`f_n = 0` where :math:`c_n = 0`).  One step of the iteration (``energy_step``): the Newton point,
+projected onto :math:`K`, is accepted when it lowers :math:`\Theta` by a fixed fraction :math:`\sigma` of what a
+diagonally scaled projected-gradient step promises (:math:`\delta = -\nabla\Theta \cdot p` with
+:math:`p = P_K(f - D^{-1} \nabla\Theta) - f`), or, once the relative KKT residual is below :math:`10^{-6}`, when
+the next Newton point from it does (a watchdog: near the solution a step with a few wrong stick/slip guesses may
+raise :math:`\Theta` by more than its round-off while the next step lands on the solution); otherwise a projected
+Newton step with Armijo backtracking (``projected_newton_step``).  :math:`\Theta` decreases by at least
+:math:`\sigma` times a forcing function of the projected gradient at every step, so every limit point minimises
+:math:`\Theta` (Bertsekas, Nonlinear Programming, 2nd ed., Prop. 2.3.3); near the solution the Newton steps are
+accepted, the sets settle, and for :math:`m_n = 1` (:math:`G` piecewise affine) the step with the final sets is
+exact.
 """
 
 import numpy as np

@@ -1,24 +1,30 @@
-"""Static condensation of (3.3) onto the contact traces: the Delassus operator W = B A^-1 B^T.
+r"""Static condensation of (3.3) onto the contact traces: the Delassus operator :math:`W = B A^{-1} B^T`.
 
-The nonlinearity of (3.1) lives at the M Gauss points of Gamma_C (:mod:`ngdgfric.solvers.traces`):
+The nonlinearity of (3.1) lives at the :math:`M` Gauss points of :math:`\Gamma_C` (:mod:`ngdgfric.solvers.traces`):
 
-    A u + B^T f = F,   w = B u   =>   w = w0 - W f,   w0 = B A^-1 F,   W = B A^-1 B^T,
+.. math::
 
-with f the contact forces and w the traces (u_n, u_t) at the points.  W is the Delassus operator
-of contact mechanics (a 2M x 2M dense matrix, M = (p + 1) x edges on Gamma_C); once it is known
-the contact problem is a small dense one (:mod:`ngdgfric.solvers.reduced`), and u = A^-1 (F - B^T f)
-comes back with one more substitution.  Two ways to get W:
+    A u + B^T f = F, \quad w = B u \quad \Longrightarrow \quad w = w_0 - W f, \quad w_0 = B A^{-1} F,
+    \quad W = B A^{-1} B^T,
 
-* ``"pardiso"``: the matrix K = [[A, B^T], [B, 0]] factorised by MKL PARDISO with the Schur
-  complement of its trace block, K_SS - B A^-1 B^T = -W, in one partial factorisation (it costs
-  1.3-2 factorisations of A, measured in results/linear_solvers.md); w0 comes from its forward
-  substitution and u from its backward substitution (:class:`ngdgfric.solvers.pardiso.SchurFactorization`).
-* ``"ngsolve"``: A factorised by NGSolve (sparsecholesky for symmetric A, else umfpack) and W
-  assembled column by column from 2M back-substitutions: the same W, slower on large meshes.
-  Used when the ``mkl`` wheel is not installed.
+with :math:`f` the contact forces and :math:`w` the traces :math:`(u_n, u_t)` at the points.  :math:`W` is the
+Delassus operator of contact mechanics (a :math:`2M \times 2M` dense matrix, :math:`M = (p + 1) \times` edges on
+:math:`\Gamma_C`); once it is known the contact problem is a small dense one (:mod:`ngdgfric.solvers.reduced`),
+and :math:`u = A^{-1} (F - B^T f)` comes back with one more substitution.  Two ways to get :math:`W`:
 
-The recovered u is improved by iterative refinement with A while its residual A u + B^T f - F is
-above 1e-13 ||F|| (condition numbers of A reach 1e8 for nu -> 1/2).
+* ``"pardiso"``: the matrix :math:`K = \begin{pmatrix} A & B^T \\ B & 0 \end{pmatrix}` factorised by MKL PARDISO
+  with the Schur complement of its trace block, :math:`K_{SS} - B A^{-1} B^T = -W`, in one partial factorisation
+  (it costs 1.3-2 factorisations of :math:`A`, measured on the results page *Sparse direct solvers for the
+  contact solver*); :math:`w_0` comes
+  from its forward substitution and :math:`u` from its backward substitution (``SchurFactorization`` of
+  :mod:`ngdgfric.solvers.pardiso`).
+* ``"ngsolve"``: :math:`A` factorised by NGSolve (sparsecholesky for symmetric :math:`A`, else umfpack) and
+  :math:`W` assembled column by column from :math:`2M` back-substitutions: the same :math:`W`, slower on large
+  meshes.  Used when the ``mkl`` wheel is not installed.
+
+The recovered :math:`u` is improved by iterative refinement with :math:`A` while its residual
+:math:`A u + B^T f - F` is above :math:`10^{-13} \|F\|` (condition numbers of :math:`A` reach :math:`10^8` for
+:math:`\nu \to 1/2`).
 """
 
 import time

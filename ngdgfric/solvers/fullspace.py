@@ -1,39 +1,50 @@
-"""The contact solver for many contact points: semismooth Newton on the whole system, no Delassus operator.
+r"""The contact solver for many contact points: semismooth Newton on the whole system, no Delassus operator.
 
-The condensed solver (:mod:`ngdgfric.solvers.newton`) forms the dense 2M x 2M Delassus operator W = B A^-1 B^T
-and solves dense Newton systems with one row per active point: memory 32 M^2 bytes and time of order M^3, so
-a long contact side at high order (M = 10,000 points: 3.2 GB for W alone) is out of its reach.  Here the
-unknowns are u and the contact forces f together, (3.3)-(3.4) written as
+The condensed solver (:mod:`ngdgfric.solvers.newton`) forms the dense :math:`2M \times 2M` Delassus operator
+:math:`W = B A^{-1} B^T` and solves dense Newton systems with one row per active point: memory :math:`32 M^2`
+bytes and time of order :math:`M^3`, so a long contact side at high order (:math:`M = 10{,}000` points: 3.2 GB for
+:math:`W` alone) is out of its reach.  Here the unknowns are :math:`u` and the contact forces :math:`f` together,
+(3.3)-(3.4) written as
 
-    A u + B^T f = F,     G(B u, f) = 0   (the laws at the points, :mod:`ngdgfric.solvers.reduced`),
+.. math::
 
-and each Newton step solves the sparse saddle-point system
+    A u + B^T f = F, \qquad G(B u, f) = 0
 
-    [[A, B_a^T], [B_a, -C]] [du; df_a] = [-(A u + B^T f - F) + B_i^T G_i; b_a],
+(the laws at the points, :mod:`ngdgfric.solvers.reduced`), and each Newton step solves the sparse saddle-point
+system
 
-where the rows of the *active* points are kept (a penetrating point's normal row with C = 1 / N'(w_n), a
-sticking point's tangential row with C = 0, up to STICK_REGULARIZATION) and those of the others are eliminated
-(df_i = -G_i: no force without penetration, f_t = +- beta when slipping), their rows of B set to zero in the same
-pattern.  The pattern never changes: PARDISO analyses it once (:class:`ngdgfric.solvers.pardiso.Factorization`).
-The active set changes in every row on the first step from zero and by 1-20 rows per step after that (the ends of
-the contact and stick zones, where PDAS moves one point at a time), so a step factorises again only after a large
-change; otherwise it corrects the last factorisation for the changed rows by the Sherman-Morrison-Woodbury formula
-(:meth:`FullSpace._solve`: two solves per changed row, once), which costs a fraction of a factorisation (a
-factorisation took 5 solves at 105,042 unknowns, 4.8 at 410,082).  While the active set stays, a step is
-iterative refinement of the nonlinear system.  With the linear compliance law (m_n = 1) and m_t = 0 the laws are
-piecewise linear and the iteration is the primal-dual active set method (Hintermueller, Ito & Kunisch, SIAM J.
-Optim. 13, 2003): it ends one step after the active set is right.
+.. math::
 
-Scope: a symmetric B_h (every method but NIPG) and the reduced friction law m_t = 0, with m_n >= 1; anything else
-goes to the condensed solver.  r_q = R_FACTOR / d_q in the stick/slip decision (any r > 0 gives the same
-solutions) with d_q = sum_j B_qj^2 / A_jj, the Jacobi approximation of W_qq, and r divided by 10 whenever an active
-set comes back (a cycle); the stopping test is the condensed solver's with d_q in place of W_qq (:func:`kkt_residual`)
-and the margin JACOBI_MARGIN.  There is no globalisation: if the iteration has not converged within ``maxit``
-steps, or its active set has settled and refinement stalls above solver_tol, a SolverError says so (then
-``formulation="auto"`` hands the problem to the condensed solver).  The solutions agree with the condensed
-solver's to 1e-12 on the examples, all symmetric methods, hp levels with redundant points, stiff and nonlinear
-compliance (tests/test_fullspace.py).
-The cross-over with the condensed solver, FULL_SPACE_POINTS, and the costs: results/long_contact_side.md.
+    \begin{pmatrix} A & B_a^T \\ B_a & -C \end{pmatrix}
+    \begin{pmatrix} \delta u \\ \delta f_a \end{pmatrix}
+    = \begin{pmatrix} -(A u + B^T f - F) + B_i^T G_i \\ b_a \end{pmatrix},
+
+where the rows of the *active* points are kept (a penetrating point's normal row with :math:`C = 1 / N'(w_n)`, a
+sticking point's tangential row with :math:`C = 0`, up to ``STICK_REGULARIZATION``) and those of the others are
+eliminated (:math:`\delta f_i = -G_i`: no force without penetration, :math:`f_t = \pm\beta` when slipping), their
+rows of :math:`B` set to zero in the same pattern.  The pattern never changes: PARDISO analyses it once
+(``Factorization`` of :mod:`ngdgfric.solvers.pardiso`).  The active set changes in every row on the first step
+from zero and by 1-20 rows per step after that (the ends of the contact and stick zones, where PDAS moves one
+point at a time), so a step factorises again only after a large change; otherwise it corrects the last
+factorisation for the changed rows by the Sherman-Morrison-Woodbury formula (``FullSpace._solve``: two solves per
+changed row, once), which costs a fraction of a factorisation (a factorisation took 5 solves at 105,042 unknowns,
+4.8 at 410,082).  While the active set stays, a step is iterative refinement of the nonlinear system.  With the
+linear compliance law (:math:`m_n = 1`) and :math:`m_t = 0` the laws are piecewise linear and the iteration is the
+primal-dual active set method (Hintermueller, Ito & Kunisch, SIAM J. Optim. 13, 2003): it ends one step after the
+active set is right.
+
+Scope: a symmetric :math:`B_h` (every method but NIPG) and the reduced friction law :math:`m_t = 0`, with
+:math:`m_n \ge 1`; anything else goes to the condensed solver.  :math:`r_q = \mathrm{R\_FACTOR} / d_q` in the
+stick/slip decision (any :math:`r > 0` gives the same solutions) with :math:`d_q = \sum_j B_{qj}^2 / A_{jj}`, the
+Jacobi approximation of :math:`W_{qq}`, and :math:`r` divided by 10 whenever an active set comes back (a cycle);
+the stopping test is the condensed solver's with :math:`d_q` in place of :math:`W_{qq}` (``kkt_residual``) and
+the margin ``JACOBI_MARGIN``.  There is no globalisation: if the iteration has not converged within ``maxit``
+steps, or its active set has settled and refinement stalls above ``solver_tol``, a :class:`~ngdgfric.SolverError`
+says so (then ``formulation="auto"`` hands the problem to the condensed solver).  The solutions agree with the
+condensed solver's to :math:`10^{-12}` on the examples, all symmetric methods, hp levels with redundant points,
+stiff and nonlinear compliance (``tests/test_fullspace.py``).  The cross-over with the condensed solver,
+``FULL_SPACE_POINTS``, and the costs: the results page *Many contact points: contact solve against linear solve
+on a long contact side*.
 """
 
 import time
@@ -59,7 +70,7 @@ and as the residual G_t = -r w_t is not regularised, the iteration still drives 
 that picks a small step in the kernel, as the condensed solver's 1e-8 on its sticking diagonal)."""
 WOODBURY_ROWS, WOODBURY_RANK = 32, 256
 """A Newton step factorises again when more than WOODBURY_ROWS trace rows would need new solves, or the rows changed
-since the factorisation pass WOODBURY_RANK (:meth:`FullSpace._solve`)."""
+since the factorisation pass WOODBURY_RANK (``FullSpace._solve``)."""
 JACOBI_MARGIN = 100.0
 """The stopping test is d_q |G_q| <= solver_tol D / JACOBI_MARGIN: d_q falls 2-150 times below W_qq (see R_FACTOR), so
 that the condensed solver's test W_qq |G_q| <= solver_tol D holds too (with solver_tol 1e-13 and d_q alone the

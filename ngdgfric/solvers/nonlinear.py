@@ -1,15 +1,17 @@
-"""The contact operator on the full sparse system, with factorisation reuse (Uzawa's inner problem).
+r"""The contact operator on the full sparse system, with factorisation reuse (Uzawa's inner problem).
 
 Uzawa's inner problem (:mod:`ngdgfric.solvers.uzawa`) is the equation
 
-    F(u)(v) = B_h(u, v) + j_n(u, v) + int_{Gamma_C} c_tau lam_tau v_tau ds - (f, v) = 0
+.. math::
 
-(Gauss rule) for a fixed multiplier lam_tau, solved by Newton's method on the compliance term.  The
-Jacobian of F is A + K_n(u), with K_n nonzero only in the blocks of the contact elements
-(:class:`ngdgfric.sparse.BlockSum`); it changes only when the set of penetrating Gauss points
-(or, for m_n > 1, the penetrations) change, and the last factorisation is reused until then.
-This path works on the whole sparse system with NGSolve's factorisations, independently of the
-condensation used by the default solver (:mod:`ngdgfric.solvers.newton`).
+    F(u)(v) = B_h(u, v) + j_n(u, v) + \int_{\Gamma_C} c_\tau \lambda_\tau v_\tau \, ds - (f, v) = 0
+
+(Gauss rule) for a fixed multiplier :math:`\lambda_\tau`, solved by Newton's method on the compliance term.  The
+Jacobian of :math:`F` is :math:`A + K_n(u)`, with :math:`K_n` nonzero only in the blocks of the contact elements
+(``BlockSum`` of :mod:`ngdgfric.sparse`); it changes only when the set of penetrating Gauss points (or, for
+:math:`m_n > 1`, the penetrations) change, and the last factorisation is reused until then.  This path works on
+the whole sparse system with NGSolve's factorisations, independently of the condensation used by the default
+solver (:mod:`ngdgfric.solvers.newton`).
 """
 
 import time

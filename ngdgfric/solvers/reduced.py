@@ -1,38 +1,44 @@
-"""The contact problem condensed onto the Gauss points of Gamma_C: the laws, their residual and Jacobian.
+r"""The contact problem condensed onto the Gauss points of :math:`\Gamma_C`: the laws, their residual and Jacobian.
 
-Unknowns: the contact forces f = (f_n, f_t) at the M Gauss points (f = omega x traction density,
-:mod:`ngdgfric.solvers.traces`), with the traces w(f) = w0 - W f of the displacement (W the Delassus
-operator, :mod:`ngdgfric.solvers.condensation`).  The compliance law (1.8), the friction law (1.9) and
-Lemma 3.1 hold at every point q iff G(f) = 0, where
+Unknowns: the contact forces :math:`f = (f_n, f_t)` at the :math:`M` Gauss points (:math:`f = \omega \times`
+traction density, :mod:`ngdgfric.solvers.traces`), with the traces :math:`w(f) = w_0 - W f` of the displacement
+(:math:`W` the Delassus operator, :mod:`ngdgfric.solvers.condensation`).  The compliance law (1.8), the friction
+law (1.9) and Lemma 3.1 hold at every point :math:`q` iff :math:`G(f) = 0`, where
 
-    G_n = f_n - N(w_n),                N(w_n) = omega c_n (w_n - g_a)_+^{m_n},
-    G_t = f_t - P_[-beta, beta](f_t + r w_t),   beta(w_n) = omega c_tau (w_n - g_a)_+^{m_t}
+.. math::
 
-(beta = omega c_tau for the reduced law m_t = 0); the multiplier is lam_tau = f_t / beta, so
-|lam_tau| <= 1 and lam_tau u_tau = |u_tau| (3.4).  Any r > 0 gives the same solutions; r_q = 1 / W_{t_q t_q},
-the point's own tangential stiffness, makes the stick/slip decision scale-free (the Alart-Curnier
-choice; Acary, Bremond & Huber, "On solving contact problems with Coulomb friction:
-formulations and numerical comparisons", 2018).
+    G_n = f_n - N(w_n), \qquad N(w_n) = \omega c_n (w_n - g_a)_+^{m_n},
 
-**Newton step.**  J d = -G with J an element of the generalised Jacobian of G: the identity row
-for a point without penetration (G_n = f_n) or slipping with a fixed bound (G_t = f_t -+ beta),
-e_q + N'(w_n) W_q for a penetrating point, r W_q for a sticking one (G_t = -r w_t), and
-e_q +- beta'(w_n) W_q for a slipping one with m_t > 0.  Identity rows are eliminated, so the dense
-system has one row per penetrating or sticking point.  The globalised iteration is
-:func:`ngdgfric.solvers.semismooth.solve`; for a symmetric B_h and m_t = 0 it descends the complementary
-energy of :mod:`ngdgfric.solvers.complementary_energy` over the set K of :meth:`ReducedContact.project`.
+    G_t = f_t - P_{[-\beta, \beta]}(f_t + r w_t), \qquad \beta(w_n) = \omega c_\tau (w_n - g_a)_+^{m_t}
 
-**Stopping test** (on the KKT system, not on the change of f): W_qq |G_q| <= max(solver_tol D, W_qq e_q)
-at every point: each point's residual force measured by the displacement it causes there (at a sticking
-point W_tt |G_t| = |u_tau|, the complementarity of (3.4)), relative to the largest trace D
-(:meth:`ReducedContact.trace_scale`), and e_q the round-off in evaluating G_q (8 eps times the sizes of
-its terms; it matters for stiff compliance, c_n -> 1e10).
+(:math:`\beta = \omega c_\tau` for the reduced law :math:`m_t = 0`); the multiplier is
+:math:`\lambda_\tau = f_t / \beta`, so :math:`|\lambda_\tau| \le 1` and :math:`\lambda_\tau u_\tau = |u_\tau|`
+(3.4).  Any :math:`r > 0` gives the same solutions; :math:`r_q = 1 / W_{t_q t_q}`, the point's own tangential
+stiffness, makes the stick/slip decision scale-free (the Alart-Curnier choice; Acary, Bremond & Huber, "On
+solving contact problems with Coulomb friction: formulations and numerical comparisons", 2018).
 
-**Redundant points** (``redundant``: an element with two edges on Gamma_C, or p_T < p on hp
-meshes): W is singular and the forces at those points are not unique (the displacement is).  For
-m_t = 0 (with or without energy) the proximal point method of :mod:`ngdgfric.solvers.semismooth` handles
-them; for m_t > 0 the sticking rows of J get 1e-8 on the diagonal instead (r W_qq = 1 there), which
-leaves the solutions unchanged (d = 0 iff G = 0) and picks a small step in the kernel.
+**Newton step.**  :math:`J d = -G` with :math:`J` an element of the generalised Jacobian of :math:`G`: the
+identity row for a point without penetration (:math:`G_n = f_n`) or slipping with a fixed bound
+(:math:`G_t = f_t \mp \beta`), :math:`e_q + N'(w_n) W_q` for a penetrating point, :math:`r W_q` for a sticking
+one (:math:`G_t = -r w_t`), and :math:`e_q \pm \beta'(w_n) W_q` for a slipping one with :math:`m_t > 0`.
+Identity rows are eliminated, so the dense system has one row per penetrating or sticking point.  The globalised
+iteration is ``solve`` of :mod:`ngdgfric.solvers.semismooth`; for a symmetric :math:`B_h` and :math:`m_t = 0` it
+descends the complementary energy of :mod:`ngdgfric.solvers.complementary_energy` over the set :math:`K` of
+``ReducedContact.project``.
+
+**Stopping test** (on the KKT system, not on the change of :math:`f`):
+:math:`W_{qq} |G_q| \le \max(\mathrm{solver\_tol}\, D, W_{qq} e_q)` at every point: each point's residual force
+measured by the displacement it causes there (at a sticking point :math:`W_{tt} |G_t| = |u_\tau|`, the
+complementarity of (3.4)), relative to the largest trace :math:`D` (``ReducedContact.trace_scale``), and
+:math:`e_q` the round-off in evaluating :math:`G_q` (:math:`8 \epsilon` times the sizes of its terms; it matters
+for stiff compliance, :math:`c_n \to 10^{10}`).
+
+**Redundant points** (``redundant``: an element with two edges on :math:`\Gamma_C`, or :math:`p_T < p` on hp
+meshes): :math:`W` is singular and the forces at those points are not unique (the displacement is).  For
+:math:`m_t = 0` (with or without energy) the proximal point method of :mod:`ngdgfric.solvers.semismooth` handles
+them; for :math:`m_t > 0` the sticking rows of :math:`J` get :math:`10^{-8}` on the diagonal instead
+(:math:`r W_{qq} = 1` there), which leaves the solutions unchanged (:math:`d = 0` iff :math:`G = 0`) and picks a
+small step in the kernel.
 """
 
 import numpy as np

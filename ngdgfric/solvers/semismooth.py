@@ -1,71 +1,79 @@
-"""The globalised semismooth Newton method for the condensed contact problem G(f) = 0
-(:mod:`ngdgfric.solvers.reduced`).
+r"""The globalised semismooth Newton method for the condensed contact problem :math:`G(f) = 0`.
 
-Newton directions J d = -G (:meth:`ngdgfric.solvers.reduced.ReducedContact.newton_direction`) with one of
-three globalisations, and two outer loops around them:
+The problem :math:`G(f) = 0` is that of :mod:`ngdgfric.solvers.reduced`.  Newton directions :math:`J d = -G`
+(``ReducedContact.newton_direction`` of :mod:`ngdgfric.solvers.reduced`) with one of three globalisations, and two
+outer loops around them:
 
-* B_h symmetric and m_t = 0: descent of the complementary energy Theta over K
+* :math:`B_h` symmetric and :math:`m_t = 0`: descent of the complementary energy :math:`\Theta` over :math:`K`
   (:mod:`ngdgfric.solvers.complementary_energy`).
-* NIPG with m_t = 0 (no energy): merit Psi(f) = 1/2 sum_q W_qq G_q^2 (energy units).  Newton steps
-  with non-monotone Armijo backtracking (reference: the largest of the last five Psi; Grippo,
-  Lampariello & Lucidi 1986); when that fails, a Levenberg-Marquardt step
-  (J^T S J + mu diag(J^T S J)) d = -J^T S G with mu raised until Psi decreases (More 1978; for
-  semismooth equations Facchinei & Kanzow 1997).  For a coercive B_h (W's symmetric part positive
-  definite) J is nonsingular, so Psi's smooth stationary points solve G = 0; Psi's kinks can still
-  stop it (seen from poor starting points with c_n = 1e6).  Then a continuation from the symmetric
-  problem: W(s) = sym(W) + s skew(W), s = 0 (solved by the energy method), 1/16, 1/8, ... 1,
-  the step in s doubled after a success and halved after a failure, each solve started from the last.
-* m_t > 0 (a quasi-variational inequality, (1.4)): let T(f) be the solution with the friction bound
-  frozen at beta(w_n(f)) (the reduced law with a spatially varying c_tau, solved by this method with
-  its own globalisation).  The merit is the fixed-point residual r(f) = |f - T(f)|_inf: the Newton
-  point (or half a step) is taken if it lowers r by the fraction sigma, else the fixed-point step
-  f <- T(f).  Where T is a contraction with constant L, the regime in which the QVI is known to have
-  a unique solution (small c_tau m_t (u_n - g_a)^{m_t - 1}), r falls at least by max(1 - sigma/2, L)
-  per step, and the coupled Newton finishes quadratically.  (The merit Psi stalled here: seen with
-  c_n = 0, m_t = 2.)  If r stops falling (T no contraction, no Newton progress: seen with c_n = 0,
-  m_t = 1, where T cycles between two states), a continuation in c_tau follows: c_tau scaled by
-  s = 1e-6, then s multiplied by 4 (the factor squared after a success, square-rooted after a
-  failure) up to 1, so the solution branch is followed from the contractive regime of small c_tau.
+* NIPG with :math:`m_t = 0` (no energy): merit :math:`\Psi(f) = \frac12 \sum_q W_{qq} G_q^2` (energy units).
+  Newton steps with non-monotone Armijo backtracking (reference: the largest of the last five :math:`\Psi`;
+  Grippo, Lampariello & Lucidi 1986); when that fails, a Levenberg-Marquardt step
+  :math:`(J^T S J + \mu \operatorname{diag}(J^T S J))\, d = -J^T S G` with :math:`\mu` raised until :math:`\Psi`
+  decreases (More 1978; for semismooth equations Facchinei & Kanzow 1997).  For a coercive :math:`B_h`
+  (:math:`W`'s symmetric part positive definite) :math:`J` is nonsingular, so :math:`\Psi`'s smooth stationary
+  points solve :math:`G = 0`; :math:`\Psi`'s kinks can still stop it (seen from poor starting points with
+  :math:`c_n = 10^6`).  Then a continuation from the symmetric problem:
+  :math:`W(s) = \operatorname{sym}(W) + s \operatorname{skew}(W)`, :math:`s = 0` (solved by the energy method),
+  1/16, 1/8, ... 1, the step in :math:`s` doubled after a success and halved after a failure, each solve started
+  from the last.
+* :math:`m_t > 0` (a quasi-variational inequality, (1.4)): let :math:`T(f)` be the solution with the friction bound
+  frozen at :math:`\beta(w_n(f))` (the reduced law with a spatially varying :math:`c_\tau`, solved by this method
+  with its own globalisation).  The merit is the fixed-point residual :math:`r(f) = |f - T(f)|_\infty`: the Newton
+  point (or half a step) is taken if it lowers :math:`r` by the fraction :math:`\sigma`, else the fixed-point step
+  :math:`f \leftarrow T(f)`.  Where :math:`T` is a contraction with constant :math:`L`, the regime in which the QVI
+  is known to have a unique solution (small :math:`c_\tau m_t (u_n - g_a)^{m_t - 1}`), :math:`r` falls at least by
+  :math:`\max(1 - \sigma/2, L)` per step, and the coupled Newton finishes quadratically.  (The merit :math:`\Psi`
+  stalled here: seen with :math:`c_n = 0`, :math:`m_t = 2`.)  If :math:`r` stops falling (:math:`T` no
+  contraction, no Newton progress: seen with :math:`c_n = 0`, :math:`m_t = 1`, where :math:`T` cycles between two
+  states), a continuation in :math:`c_\tau` follows: :math:`c_\tau` scaled by :math:`s = 10^{-6}`, then :math:`s`
+  multiplied by 4 (the factor squared after a success, square-rooted after a failure) up to 1, so the solution
+  branch is followed from the contractive regime of small :math:`c_\tau`.
 
-**Proximal point method** (redundant points, m_t = 0, :mod:`ngdgfric.solvers.reduced`).  With W singular
-whole groups of points are degenerate (stick and slip both hold for some of the optimal forces) and the
-Newton iterates wander along the set of solutions: with energy, the captured final hp level of Example
-6.1, M = 1926: the stick set swinging by 200 points, no convergence in 100 iterations (83 on the level
-before); without energy (NIPG), level 17 of ``adapt(example_6_1(), method="nipg", tol=1e-4)``, M = 1992:
-W has 1472 of its 3984 singular values below 1e-10 times the largest, 542 of them in the block of the
-sticking points; the Newton steps (1e-8 on the sticking diagonal) stay in that kernel, 20-30 points at
-|f_t + r w_t| = beta within 1e-9 flip between stick and slip at every step and the KKT residual stays
-at 2e-8 ... 3e-9 from iteration 25 to 100 (the dense Newton systems are solved to a relative residual
-of 8e-15: not round-off).  So such a problem is solved by the proximal point method (Rockafellar, SIAM
-J. Control Optim. 14, 1976, for maximal monotone operators, so also for the non-symmetric W of NIPG,
-whose symmetric part is positive semidefinite):
+**Proximal point method** (redundant points, :math:`m_t = 0`, :mod:`ngdgfric.solvers.reduced`).  With :math:`W`
+singular whole groups of points are degenerate (stick and slip both hold for some of the optimal forces) and the
+Newton iterates wander along the set of solutions: with energy, the captured final hp level of Example 6.1,
+:math:`M = 1926`: the stick set swinging by 200 points, no convergence in 100 iterations (83 on the level before);
+without energy (NIPG), level 17 of ``adapt(example_6_1(), method="nipg", tol=1e-4)``, :math:`M = 1992`: :math:`W`
+has 1472 of its 3984 singular values below :math:`10^{-10}` times the largest, 542 of them in the block of the
+sticking points; the Newton steps (:math:`10^{-8}` on the sticking diagonal) stay in that kernel, 20-30 points at
+:math:`|f_t + r w_t| = \beta` within :math:`10^{-9}` flip between stick and slip at every step and the KKT
+residual stays at :math:`2 \cdot 10^{-8} \dots 3 \cdot 10^{-9}` from iteration 25 to 100 (the dense Newton
+systems are solved to a relative residual of :math:`8 \cdot 10^{-15}`: not round-off).  So such a problem is
+solved by the proximal point method (Rockafellar, SIAM J. Control Optim. 14, 1976, for maximal monotone
+operators, so also for the non-symmetric :math:`W` of NIPG, whose symmetric part is positive semidefinite):
 
-    with energy:  f_{k+1} = argmin_K Theta(f) + mu_k/2 (f - f_k).D (f - f_k),    D = diag(W),
-    in general:   f_{k+1} solves the laws with W + mu_k D and w0 + mu_k D f_k,
+.. math::
 
-a problem of the same class with unique forces and a well-conditioned Newton system, solved by the
-problem's own iteration from f_k; mu_0 = 1e-3, mu_{k+1} = mu_k / 100 (the steps 1 / mu_k grow, so the
-outer iteration converges superlinearly: Luque, SIAM J. Control Optim. 22, 1984).  A subproblem not
-solved within ``PROXIMAL_BUDGET`` = 10 iterations (without energy; with energy within the remaining
-maxit), or whose globalisation gives up, is continued from where it stopped with 10 mu_k (an inexact
-proximal step: the iteration stops as soon as the original problem meets the stopping test, so the
-subproblems only steer it).  If the proximal method fails, the
-plain iteration follows (then, without energy, the continuation): on random NIPG-like problems with 3 of 8
-points per edge redundant (M = 240, tests/reduced_problems.py) the proximal method failed on all 8 tried,
-the old order (plain iteration, then the continuation) solved 23 of 24, and with the fallback all 20
-tried were solved, the one of the old order's failures among them.  The proximal map is
-nonexpansive, so which of the optimal forces is returned depends continuously on the data and the
-start; the multiplier lam_tau = f_t / beta enters the estimator (eta_4), and with the plain iteration
-Example 6.1 adapted to tol = 5e-4 with E x (1 +- 1e-13) gave final eta_h differing by 3e-3 relative
-(now 4e-7).  Measured on the captured levels of Example 6.1 with energy (M = 945 ... 1926), each subproblem
-with the whole remaining budget: 20-27 Newton steps in all where the plain iteration took 42, 44, 83 and
-failed.  (A budget of 10 there too made hp SIPG on Example 6.1, tol = 1e-4, run past 22 levels with eta_h
-rising to 5e-3, against 14 levels and 26 s.)  (Also tried: mu_0 = 1e-2,
-1e-1 or mu / 10 per step: 19-33 steps; a smaller r in the stick/slip decision needed fewer steps only
-because it loosened the stopping test at sticking points.)  NIPG, levels 14-17 of the run above (M =
-1320 ... 1992): 23, 35, 32, 45 steps (4, 10, 13, 38 s) where the plain iteration took 96, 71, 39 steps
-and failed after 100 (170 s); with the whole remaining budget per subproblem instead of 10: 35, 26, 90,
-42 steps (17-85 s).
+    \text{with energy:} \quad
+    f_{k+1} = \operatorname{argmin}_K \Theta(f) + \tfrac{\mu_k}{2} (f - f_k) \cdot D (f - f_k),
+    \qquad D = \operatorname{diag}(W),
+
+    \text{in general:} \quad f_{k+1} \text{ solves the laws with } W + \mu_k D \text{ and } w_0 + \mu_k D f_k,
+
+a problem of the same class with unique forces and a well-conditioned Newton system, solved by the problem's own
+iteration from :math:`f_k`; :math:`\mu_0 = 10^{-3}`, :math:`\mu_{k+1} = \mu_k / 100` (the steps
+:math:`1 / \mu_k` grow, so the outer iteration converges superlinearly: Luque, SIAM J. Control Optim. 22, 1984).
+A subproblem not solved within ``PROXIMAL_BUDGET`` = 10 iterations (without energy; with energy within the
+remaining ``maxit``), or whose globalisation gives up, is continued from where it stopped with :math:`10 \mu_k`
+(an inexact proximal step: the iteration stops as soon as the original problem meets the stopping test, so the
+subproblems only steer it).  If the proximal method fails, the plain iteration follows (then, without energy, the
+continuation): on random NIPG-like problems with 3 of 8 points per edge redundant (:math:`M = 240`,
+``tests/reduced_problems.py``) the proximal method failed on all 8 tried, the old order (plain iteration, then
+the continuation) solved 23 of 24, and with the fallback all 20 tried were solved, the one of the old order's
+failures among them.  The proximal map is nonexpansive, so which of the optimal forces is returned depends
+continuously on the data and the start; the multiplier :math:`\lambda_\tau = f_t / \beta` enters the estimator
+(:math:`\eta_4`), and with the plain iteration Example 6.1 adapted to ``tol = 5e-4`` with
+:math:`E \times (1 \pm 10^{-13})` gave final :math:`\eta_h` differing by :math:`3 \cdot 10^{-3}` relative (now
+:math:`4 \cdot 10^{-7}`).  Measured on the captured levels of Example 6.1 with energy (:math:`M = 945 \dots 1926`),
+each subproblem with the whole remaining budget: 20-27 Newton steps in all where the plain iteration took 42, 44,
+83 and failed.  (A budget of 10 there too made hp SIPG on Example 6.1, ``tol = 1e-4``, run past 22 levels with
+:math:`\eta_h` rising to :math:`5 \cdot 10^{-3}`, against 14 levels and 26 s.)  (Also tried:
+:math:`\mu_0 = 10^{-2}`, :math:`10^{-1}` or :math:`\mu / 10` per step: 19-33 steps; a smaller :math:`r` in the
+stick/slip decision needed fewer steps only because it loosened the stopping test at sticking points.)  NIPG,
+levels 14-17 of the run above (:math:`M = 1320 \dots 1992`): 23, 35, 32, 45 steps (4, 10, 13, 38 s) where the
+plain iteration took 96, 71, 39 steps and failed after 100 (170 s); with the whole remaining budget per
+subproblem instead of 10: 35, 26, 90, 42 steps (17-85 s).
 """
 
 import numpy as np

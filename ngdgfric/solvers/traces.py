@@ -1,18 +1,22 @@
-"""Displacement traces at the contact Gauss points, and the point data of the contact laws.
+r"""Displacement traces at the contact Gauss points, and the point data of the contact laws.
 
-Every contact term of (3.1) is a sum over the Gauss points x_q of Gamma_C (p + 1 per edge, the rule
-of :mod:`ngdgfric.contact`), q = 1 ... M, with weights omega_q (Gauss weight times |dx/ds| of the edge's
-mapping: the edge length on straight edges, :func:`edge_jacobians`):
+Every contact term of (3.1) is a sum over the Gauss points :math:`x_q` of :math:`\Gamma_C` (:math:`p + 1` per
+edge, the rule of :mod:`ngdgfric.contact`), :math:`q = 1, \dots, M`, with weights :math:`\omega_q` (Gauss weight
+times :math:`|dx/ds|` of the edge's mapping: the edge length on straight edges, ``edge_jacobians``):
 
-    j_n(u, v) + g(lam_tau, v) = sum_q f_n,q v_n(x_q) + f_t,q v_t(x_q) = v^T B^T f,
+.. math::
 
-    f_n,q = omega_q c_n (u_n - g_a)_+^{m_n}(x_q),   f_t,q = omega_q c_tau (u_n - g_a)_+^{m_t}(x_q) lam_tau(x_q),
+    j_n(u, v) + g(\lambda_\tau, v) = \sum_q f_{n,q}\, v_n(x_q) + f_{t,q}\, v_t(x_q) = v^T B^T f,
 
-where B (2M x N) is the trace matrix, (B u)_q = u_n(x_q) and (B u)_{M+q} = u_t(x_q), and f the
-contact forces at the points.  B is built from the Gauss-rule mass matrices int (u . n) mu ds and
-int (u . t) mu ds with mu in the multiplier space Q (degree p per edge): for edge e with
-Vandermonde matrix V_e (values of Q's basis at its points) and weights D_e = diag(omega), those
-matrices are B_e^T D_e V_e, so B_e = D_e^-1 V_e^-T (mass matrix)_e^T.
+    f_{n,q} = \omega_q c_n (u_n - g_a)_+^{m_n}(x_q), \qquad
+    f_{t,q} = \omega_q c_\tau (u_n - g_a)_+^{m_t}(x_q)\, \lambda_\tau(x_q),
+
+where :math:`B` (:math:`2M \times N`) is the trace matrix, :math:`(B u)_q = u_n(x_q)` and
+:math:`(B u)_{M+q} = u_t(x_q)`, and :math:`f` the contact forces at the points.  :math:`B` is built from the
+Gauss-rule mass matrices :math:`\int (u \cdot n) \mu \, ds` and :math:`\int (u \cdot t) \mu \, ds` with :math:`\mu`
+in the multiplier space :math:`Q` (degree :math:`p` per edge): for edge :math:`e` with Vandermonde matrix
+:math:`V_e` (values of :math:`Q`'s basis at its points) and weights :math:`D_e = \operatorname{diag}(\omega)`,
+those matrices are :math:`B_e^T D_e V_e`, so :math:`B_e = D_e^{-1} V_e^{-T} (\text{mass matrix})_e^T`.
 """
 
 import ngsolve as ngs

@@ -1,29 +1,33 @@
-"""Curved boundaries: Hertz's line contact on a half-disk, and convergence rates on an annulus.
+r"""Curved boundaries: Hertz's line contact on a half-disk, and convergence rates on an annulus.
 
-Hertz (scripts/hertz.py): the half-disk of radius R, centre (0, R), below its diameter, pressed onto the rigid
-plane y = 0 by a prescribed displacement u_D = (0, -delta) of its flat top (:func:`hertz_problem`).  Gamma_C
-is the lower half circle, with the outward normal n = (x, y - R) / R; the normal ray from a point (x, y) of the
-circle meets the plane after the length
+Hertz (the script ``scripts/hertz.py``, the results page *Hertz's line contact on a curved half-disk*): the
+half-disk of radius :math:`R`, centre :math:`(0, R)`, below its diameter, pressed onto the rigid plane :math:`y = 0`
+by a prescribed displacement :math:`u_D = (0, -\delta)` of its flat top (``hertz_problem``). :math:`\Gamma_C` is the
+lower half circle, with the outward normal :math:`n = (x, y - R) / R`; the normal ray from a point :math:`(x, y)` of
+the circle meets the plane after the length
 
-    g_a = y R / (R - y)        (:func:`hertz_gap`),
+.. math::
 
-the initial gap of (1.8).  Frictionless (c_tau = 0), m_n = 1, a stiff compliance c_n: the Signorini problem is
-the limit c_n -> infinity.  :func:`hertz_measures` compares the discrete contact with Hertz's line contact of
-a cylinder on a half-space in plane strain (:func:`ngdgfric.studies.scenes.hertz_solution`) for the force F the
-solution transmits: half-width a = (4 F R / (pi E*))^(1/2), E* = E / (1 - nu^2), peak pressure
-p0 = 2 F / (pi a).  :func:`discrete_energy` is the energy J_h that the discrete solution minimises (SIPG and
-the symmetric lifting methods, m_t = 0), so that 2 (J_h(u_h) - J_h(u_ref)) measures the squared energy error
-against a much finer reference u_ref of the same problem (asymptotically: the penalties of J_h and J_h_ref differ
-on the edges u_h jumps across, so the difference is not a norm on coarse meshes; :func:`reference_error` measures
-|||u_h - u_ref|||_h directly).  ``sides``: the same problem on an inscribed
-polygon (straight sides, the same data).
+    g_a = \frac{y R}{R - y}
 
-Rates (scripts/curved_rates.py): the smooth manufactured solution of :func:`annulus_problem` on the annulus
-r_i < r < 1 (Gamma_D the upper half of the outer circle, Gamma_F its lower half, Gamma_C the inner circle,
-where sigma(u) n = 0 and the gap is too large for contact), and the same construction on the unit square
-(:func:`square_problem`); :func:`uniform_meshes` refines a Netgen mesh uniformly (new boundary points on the
-circles), :func:`inscribed` rebuilds such a mesh with straight boundary edges (the domain becomes the
-inscribed polygons: no curving).
+(``hertz_gap``), the initial gap of (1.8).  Frictionless (:math:`c_\tau = 0`), :math:`m_n = 1`, a stiff
+compliance :math:`c_n`: the Signorini problem is the limit :math:`c_n \to \infty`.  ``hertz_measures`` compares
+the discrete contact with Hertz's line contact of a cylinder on a half-space in plane strain (``hertz_solution``
+of :mod:`ngdgfric.studies.scenes`) for the force :math:`F` the solution transmits: half-width
+:math:`a = (4 F R / (\pi E^*))^{1/2}`, :math:`E^* = E / (1 - \nu^2)`, peak pressure :math:`p_0 = 2 F / (\pi a)`.
+``discrete_energy`` is the energy :math:`J_h` that the discrete solution minimises (SIPG and the symmetric lifting
+methods, :math:`m_t = 0`), so that :math:`2 (J_h(u_h) - J_h(u_\mathrm{ref}))` measures the squared energy error
+against a much finer reference :math:`u_\mathrm{ref}` of the same problem (asymptotically: the penalties of
+:math:`J_h` and :math:`J_{h_\mathrm{ref}}` differ on the edges :math:`u_h` jumps across, so the difference is not
+a norm on coarse meshes; ``reference_error`` measures :math:`\|u_h - u_\mathrm{ref}\|_h` directly).  ``sides``:
+the same problem on an inscribed polygon (straight sides, the same data).
+
+Rates (the script ``scripts/curved_rates.py``): the smooth manufactured solution of ``annulus_problem`` on the
+annulus :math:`r_i < r < 1` (:math:`\Gamma_D` the upper half of the outer circle, :math:`\Gamma_F` its lower half,
+:math:`\Gamma_C` the inner circle, where :math:`\sigma(u) n = 0` and the gap is too large for contact), and the
+same construction on the unit square (``square_problem``); ``uniform_meshes`` refines a Netgen mesh uniformly
+(new boundary points on the circles), ``inscribed`` rebuilds such a mesh with straight boundary edges (the domain
+becomes the inscribed polygons: no curving).
 """
 
 import dataclasses
@@ -130,7 +134,7 @@ def half_width(x, gap):
 
 
 def hertz_measures(sol, per_edge=33):
-    """The contact of a Solution of :func:`hertz_problem` against Hertz for the force it transmits, a dict:
+    """The contact of a Solution of ``hertz_problem`` against Hertz for the force it transmits, a dict:
     F (vertical force, :func:`contact_force`), F_n (integral of the pressure), a (half-width where u_n - g_a
     changes sign, :func:`half_width` on :func:`contact_profile`), x_left, x_right, p0 (pressure at x = 0: the mean
     of the two edges meeting there), p_max, x_p_max, the gaps the contact zone holds inside (``holes``, 0 if it

@@ -1,8 +1,8 @@
-"""Manufactured solutions: f and g from a chosen u, for convergence, locking and solver studies.
+r"""Manufactured solutions (:math:`f`, :math:`g` from a chosen :math:`u`) for convergence, locking and solver studies.
 
-:func:`elasticity_manufactured`: smooth linear elasticity without contact forces.
-:func:`contact_manufactured` (m_t = 0) and :func:`friction_manufactured` (m_t >= 1): frictional
-contact with normal compliance, with contact and no-contact, stick and slip zones on Gamma_C (the
+``elasticity_manufactured``: smooth linear elasticity without contact forces.
+``contact_manufactured`` (:math:`m_t = 0`) and ``friction_manufactured`` (:math:`m_t \ge 1`): frictional
+contact with normal compliance, with contact and no-contact, stick and slip zones on :math:`\Gamma_C` (the
 constructions are in their docstrings).
 """
 
@@ -115,7 +115,7 @@ def contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=50.0):
 def friction_manufactured(m_t=1, E=1000.0, nu=0.3, c_n=10.0, c_tau=100.0, K=50.0, M=32.0):
     """(problem, u_exact) with the penetration-dependent friction bound c_tau (u_n - g_a)_+^{m_t}.
 
-    Same domain and boundary parts as :func:`contact_manufactured`; on Gamma_C (y = 0) n = (0, -1),
+    Same domain and boundary parts as ``contact_manufactured``; on Gamma_C (y = 0) n = (0, -1),
     t = (1, 0).  Three zones along Gamma_C:
 
         x < 1/4:        contact, stick   (u_tau = 0,  |sigma_tau| < bound),
@@ -160,14 +160,14 @@ def friction_manufactured(m_t=1, E=1000.0, nu=0.3, c_n=10.0, c_tau=100.0, K=50.0
 def incompressible_contact_manufactured(E=1000.0, nu=0.3, c_n=10.0, K=16.0):
     """(problem, u_exact) of a contact problem (m_t = 0) with a divergence-free solution.
 
-    Same domain and boundary parts as :func:`contact_manufactured` (Gamma_C = bottom, n = (0, -1),
+    Same domain and boundary parts as ``contact_manufactured`` (Gamma_C = bottom, n = (0, -1),
     t = (1, 0); Gamma_D = top).  u is the curl of the stream function psi = phi(y) T(x),
 
         u = (phi'(y) T(x), -phi(y) T'(x)),   phi(y) = -(1 - y)^2 e^y,
 
     so div u = 0 for every nu: sigma(u) = 2 mu eps(u) does not depend on lam, and neither do the
     data f, g, c_tau, g_a.  This is the physically meaningful nearly incompressible limit (stresses
-    stay bounded as nu -> 1/2), unlike :func:`contact_manufactured`, whose stresses grow with lam.
+    stay bounded as nu -> 1/2), unlike ``contact_manufactured``, whose stresses grow with lam.
     phi(0) = -1, phi'(0) = phi''(0) = 1 give at y = 0
 
         u_tau = T,  u_n = -T',  sigma_n = sigma_22 = -2 mu T',  sigma_tau = -sigma_12 = -mu (T + T'').

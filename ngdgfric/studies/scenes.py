@@ -1,26 +1,27 @@
-"""Scenes a user writes every day, beyond the paper's two rectangles (scripts/scenes.py, results/scenes.md).
+r"""Scenes a user writes every day, beyond the paper's two rectangles.
 
-Each :class:`Scene` is a problem, a family of meshes and what its answer is measured against: an
-exact solution (``exact``, a CoefficientFunction of x, y) or, where none is known, a reference
-solution computed by hp-adaptive SIPG far beyond the accuracy studied (``exact=None``).
+Studied by ``scripts/scenes.py`` (the results page *User scenes*). Each ``Scene`` is a problem, a family of meshes
+and what its answer is measured against: an exact solution (``exact``, a CoefficientFunction of :math:`x, y`) or,
+where none is known, a reference solution computed by hp-adaptive SIPG far beyond the accuracy studied
+(``exact=None``).
 
-The exact solutions of the layered scenes are piecewise linear: a block on (0, 1)^2 with nu = 0 and
-E = E0 below y = c, E1 above (or left and right of x = c), in uniaxial stress.  With
-L = int_0^1 ds / E(s) (a series of springs):
+The exact solutions of the layered scenes are piecewise linear: a block on :math:`(0, 1)^2` with :math:`\nu = 0`
+and :math:`E = E_0` below :math:`y = c`, :math:`E_1` above (or left and right of :math:`x = c`), in uniaxial
+stress.  With :math:`L = \int_0^1 ds / E(s)` (a series of springs):
 
-* :func:`layers_pressure`: fixed at the bottom, a pressure p on top, u = (0, -p int_0^y ds / E);
-  Gamma_C (the left side, a gap of 1, no friction) stays open.
-* :func:`layers_indented`: fixed at the bottom and pushed down at the top by a rigid plane that
-  penetrates it by d (g_a = -d: no loads, f = 0, g = 0), compliance c_n, m_n = 1, friction c_tau:
-  the contact pressure P solves P = c_n (d - P L), u = (0, -P int_0^y ds / E); the top sticks
-  (u_tau = 0, sigma_tau = 0).
-* :func:`columns`: fixed on the left, pulled by -p on the right, E = E0 left of x = c, E1 right of it:
-  u = (-p int_0^x ds / E, 0).
+* ``layers_pressure``: fixed at the bottom, a pressure :math:`p` on top,
+  :math:`u = (0, -p \int_0^y ds / E)`; :math:`\Gamma_C` (the left side, a gap of 1, no friction) stays open.
+* ``layers_indented``: fixed at the bottom and pushed down at the top by a rigid plane that penetrates it by
+  :math:`d` (:math:`g_a = -d`: no loads, :math:`f = 0`, :math:`g = 0`), compliance :math:`c_n`, :math:`m_n = 1`,
+  friction :math:`c_\tau`: the contact pressure :math:`P` solves :math:`P = c_n (d - P L)`,
+  :math:`u = (0, -P \int_0^y ds / E)`; the top sticks (:math:`u_\tau = 0`, :math:`\sigma_\tau = 0`).
+* ``columns``: fixed on the left, pulled by :math:`-p` on the right, :math:`E = E_0` left of :math:`x = c`,
+  :math:`E_1` right of it: :math:`u = (-p \int_0^x ds / E, 0)`.
 
-Traction data are sigma(u) n of the exact solution (``g = sigma n`` with NGSolve's normal), so one g
-serves every traction side.  Every consistent method reproduces these solutions to round-off on a mesh
-whose edges follow the jump (c = 1/2 on the meshes h = 2^-k), and converges like h^(1/2) where the
-jump cuts elements (c = 1/3: :func:`layers_indented` with ``c=1/3``).
+Traction data are :math:`\sigma(u) n` of the exact solution (``g = sigma n`` with NGSolve's normal), so one
+:math:`g` serves every traction side.  Every consistent method reproduces these solutions to round-off on a mesh
+whose edges follow the jump (:math:`c = 1/2` on the meshes :math:`h = 2^{-k}`), and converges like
+:math:`h^{1/2}` where the jump cuts elements (:math:`c = 1/3`: ``layers_indented`` with ``c=1/3``).
 """
 
 import dataclasses

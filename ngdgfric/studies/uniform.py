@@ -1,5 +1,7 @@
-"""Convergence on uniform meshes h = 2^-k (Tables 6.1, 6.2): solutions, the norms of the differences of
-consecutive solutions and the observed rates, as plain records."""
+r"""Convergence on uniform meshes :math:`h = 2^{-k}` (Tables 6.1, 6.2): solutions, differences and rates.
+
+The norms of the differences of consecutive solutions and the observed rates, as plain records.
+"""
 
 import math
 import time
