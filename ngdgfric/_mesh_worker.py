@@ -1,6 +1,6 @@
 """The child side of :mod:`ngdgfric.mesher`: mesh a Netgen ``SplineGeometry`` and write the result to files.
 
-Run as a script by a fresh interpreter (``python -c`` + :func:`runpy.run_path`, so neither the ngdgfric package nor
+Run as a script by a fresh interpreter (``python -c`` + ``runpy.run_path``, so neither the ngdgfric package nor
 the user's ``__main__`` is imported; Netgen and numpy only, with ``OPENBLAS_NUM_THREADS=1``: a single thread).
 
 * ``python _mesh_worker.py FOLDER``: mesh the request in FOLDER and exit.

@@ -104,7 +104,7 @@ class Solution:
 
     @property
     def order(self):
-        """Deprecated: the largest degree, ``max_order`` (see ``orders`` for the degree per element)."""
+        """The largest degree, ``max_order`` (deprecated; ``orders`` has the degree per element)."""
         warn("Solution.order is deprecated: it is the largest degree, Solution.max_order (the degree of "
              "every element: Solution.orders)", DeprecationWarning)
         return self.max_order

@@ -108,7 +108,7 @@ class FixedPointOptions(SolverOptions):
 
     @property
     def inner_options(self):
-        """The options of the inner solves: ``inner``, or for None Newton's defaults with the outer solver_tol."""
+        """The inner solves' options (``inner``, or for None Newton's defaults with the outer solver_tol)."""
         return NewtonOptions(solver_tol=self.solver_tol) if self.inner is None else self.inner
 
     @classmethod
