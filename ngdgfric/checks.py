@@ -1,16 +1,16 @@
-"""Checks of a problem on a mesh before anything is assembled: the data pointwise, and the size.
+r"""Checks of a problem on a mesh before anything is assembled: the data pointwise, and the size.
 
-:class:`ngdgfric.problem.ContactProblem` checks numbers when it is made; data given as
-CoefficientFunctions can only be checked where they are used.  :func:`check_data` samples them
-at the points where the forms evaluate them (each triangle's Gauss points of degrees 2p - 2 ...
-2p + 2, its edges' Gauss points and its vertices; the Gauss points, among them the contact rule's,
-and end points of the edges of Gamma_F and Gamma_C; p the largest order) and names the datum and
-a point where it fails (a datum invalid only at isolated points between these can pass):
-``g_a = "sqrt(x - 2)"`` or ``E = "2000*(0.5 - x)"`` used to end in a no-contact answer or a complex
-energy norm.
+:class:`~ngdgfric.ContactProblem` checks numbers when it is made; data given as
+CoefficientFunctions can only be checked where they are used.  ``check_data`` samples them
+at the points where the forms evaluate them (each triangle's Gauss points of degrees :math:`2p - 2, \dots,
+2p + 2`, its edges' Gauss points and its vertices; the Gauss points, among them the contact rule's,
+and end points of the edges of :math:`\Gamma_F` and :math:`\Gamma_C`; :math:`p` the largest order) and names the
+datum and a point where it fails with a :class:`~ngdgfric.DataError` (a datum invalid only at isolated points
+between these can pass): ``g_a = "sqrt(x - 2)"`` or ``E = "2000*(0.5 - x)"`` used to end in a no-contact answer
+or a complex energy norm.
 
-:func:`check_size` refuses a discretisation whose estimated memory is above a budget (``max_bytes``, default
-:data:`MEMORY_BUDGET`) before it is assembled.
+``check_size`` refuses a discretisation whose estimated memory is above a budget (``max_bytes``, default
+``MEMORY_BUDGET``, 8 GB) before it is assembled.
 """
 
 import ngsolve as ngs
@@ -29,12 +29,17 @@ MEMORY_BUDGET = 8e9
 
 
 class DataError(ValueError):
-    """A datum of the problem is invalid somewhere on the mesh; its message starts with the datum's name."""
+    """A datum of the problem is invalid somewhere on the mesh.
+
+    Raised before assembly (by :func:`ngdgfric.solve` and :class:`~ngdgfric.Discretization`) where a datum given
+    as a CoefficientFunction leaves its range at a point where the forms evaluate it.  A subclass of
+    ValueError; its message starts with the datum's name and names the point.
+    """
 
 
 def _rule(order, shape):
-    """Sampling points on a reference element of ``shape`` (TRIG or SEGM): the Gauss points of
-    degrees 2p - 2 ... 2p + 2 (the forms' rules; on edges 2p + 1 is the contact rule), the edges'
+    r"""Sampling points on a reference element of ``shape`` (TRIG or SEGM): the Gauss points of
+    degrees :math:`2p - 2, \dots, 2p + 2` (the forms' rules; on edges :math:`2p + 1` is the contact rule), the edges'
     Gauss points and the vertices."""
     degrees = range(max(2 * order - 2, 0), 2 * order + 3)
     gauss = [tuple(p)[0] for d in degrees for p in ngs.IntegrationRule(ngs.SEGM, d).points]
@@ -56,8 +61,9 @@ BOUNDARY = {part: {name: datum for name, datum in DATA.items() if datum.part == 
 
 
 def check_data(problem, mesh, order):
-    """ValueError naming the datum and a point unless every CoefficientFunction datum is finite
-    (and E > 0, -1 < nu < 1/2, c_n >= 0, c_tau >= 0) at the points where the forms of order ``order`` use it."""
+    r"""ValueError naming the datum and a point unless every CoefficientFunction datum is finite
+    (and :math:`E > 0`, :math:`-1 < \nu < 1/2`, :math:`c_n \ge 0`, :math:`c_\tau \ge 0`) at the points where the
+    forms of order ``order`` use it."""
     if _varying(problem, VOLUME):
         _check_on(problem, VOLUME, mesh.MapToAllElements(_rule(order, ngs.TRIG), ngs.VOL), "Omega")
     for part, data in BOUNDARY.items():
@@ -112,8 +118,8 @@ def estimated_bytes(orders, elements=None):
 
 def check_size(orders, max_ndof=None, elements=None, max_bytes=MEMORY_BUDGET):
     """ValueError before assembly if the DOFs of elements of ``orders`` exceed ``max_ndof``, or, for
-    ``max_ndof=None``, if the estimated memory exceeds ``max_bytes`` (bytes; default :data:`MEMORY_BUDGET`, 8 GB;
-    the memory model: :func:`estimated_bytes`).  With ``elements``, ``orders`` is one order p for that many
+    ``max_ndof=None``, if the estimated memory exceeds ``max_bytes`` (bytes; default ``MEMORY_BUDGET``, 8 GB;
+    the memory model: ``estimated_bytes``).  With ``elements``, ``orders`` is one order p for that many
     elements (an estimate before meshing)."""
     ndof, memory = _size(orders, elements)
     if max_ndof is None:

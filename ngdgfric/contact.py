@@ -1,22 +1,28 @@
-"""Normal compliance and friction on Gamma_C: integrands, contact forms, multiplier, Gauss points, KKT residuals.
+r"""Normal compliance and friction on :math:`\Gamma_C`: integrands, contact forms, multiplier, Gauss points, KKT
+residuals.
 
-In 2D the tangent space of Gamma_C is one-dimensional: with t = (-n_y, n_x) the multiplier of
-Lemma 3.1 is lam_tau t with a scalar function lam_tau, |lam_tau t| = |lam_tau|, and
+In 2D the tangent space of :math:`\Gamma_C` is one-dimensional: with :math:`t = (-n_y, n_x)` the multiplier of
+Lemma 3.1 is :math:`\lambda_\tau t` with a scalar function :math:`\lambda_\tau`,
+:math:`|\lambda_\tau t| = |\lambda_\tau|`, and
 
-    g(lam_tau, v) = int_{Gamma_C} c_tau lam_tau (v . t) ds,     (3.4):  lam_tau (u . t) = |u . t|.
+.. math::
 
-For m_t > 0 the friction bound c_tau is replaced by c_tau (u_n - g_a)_+^{m_t} (1.9), so g depends
-on u too; where that bound vanishes (no contact) u_tau is free and lam_tau = sign(u_tau) is one valid
-multiplier.  The residual of (3.3) (:func:`residual`) is written once for both: its friction term
-carries the bound at u (c_tau itself for m_t = 0).  The fixed point on the bound solves problems with
-the bound frozen (:func:`frozen_bound`).
+    g(\lambda_\tau, v) = \int_{\Gamma_C} c_\tau \lambda_\tau (v \cdot t) \, ds, \qquad
+    \text{(3.4)}: \ \lambda_\tau (u \cdot t) = |u \cdot t|.
 
-All contact integrals use the same (p+1)-point Gauss rule per edge: the discrete problem (3.1)
-is the one with j_tau and j_n evaluated by this rule.  The multiplier lam_tau lives in a facet space
-of degree p on Gamma_C; a degree-p polynomial is determined by its p+1 Gauss values, and the
-Gauss-rule L2 projection onto it is interpolation at those points, so every pointwise relation
-(|lam_tau| <= 1, lam_tau u_tau = |u_tau|, the projection P_[-1,1]) holds exactly at the Gauss points
-(:func:`contact_state`, :func:`kkt_residuals`).
+For :math:`m_t > 0` the friction bound :math:`c_\tau` is replaced by :math:`c_\tau (u_n - g_a)_+^{m_t}` (1.9), so
+:math:`g` depends on :math:`u` too; where that bound vanishes (no contact) :math:`u_\tau` is free and
+:math:`\lambda_\tau = \operatorname{sign}(u_\tau)` is one valid multiplier.  The residual of (3.3) (``residual``)
+is written once for both: its friction term carries the bound at :math:`u` (:math:`c_\tau` itself for
+:math:`m_t = 0`).  The fixed point on the bound solves problems with the bound frozen (``frozen_bound``).
+
+All contact integrals use the same :math:`(p+1)`-point Gauss rule per edge: the discrete problem (3.1)
+is the one with :math:`j_\tau` and :math:`j_n` evaluated by this rule.  The multiplier :math:`\lambda_\tau` lives in
+a facet space of degree :math:`p` on :math:`\Gamma_C`; a degree-:math:`p` polynomial is determined by its
+:math:`p+1` Gauss values, and the Gauss-rule :math:`L^2` projection onto it is interpolation at those points, so
+every pointwise relation (:math:`|\lambda_\tau| \le 1`, :math:`\lambda_\tau u_\tau = |u_\tau|`, the projection
+:math:`P_{[-1,1]}`) holds exactly at the Gauss points (:func:`ngdgfric.contact_state`,
+:func:`ngdgfric.kkt_residuals`).
 """
 
 import dataclasses
@@ -247,12 +253,38 @@ class GaussValues:
 
 
 def contact_state(sol):
-    """Arrays over the contact Gauss points of a Solution (in the order of ``disc.contact_points()``).
+    r"""The state of a solution at the contact Gauss points.
 
-    x, y: coordinates; u_n, u_tau: normal and tangential displacement (u_tau = u . t);
-    gap: u_n - g_a; pressure: c_n (u_n - g_a)_+^{m_n}; lam_tau: the multiplier (Lemma 3.1);
-    sigma_n, sigma_tau: normal and tangential stress of u_h (sigma_tau = sigma_h(u) n . t);
-    c_tau: friction coefficient; bound: friction bound c_tau (u_n - g_a)_+^{m_t} (1.9) (c_tau for m_t = 0).
+    The points are those of the discrete problem's contact rule on :math:`\Gamma_C`, :math:`p + 1` per edge, in
+    the order of :meth:`ngdgfric.Discretization.contact_points`.
+
+    Parameters
+    ----------
+    sol : Solution
+        A solution of :func:`ngdgfric.solve`.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        One array over the points each:
+
+        - ``x``, ``y``: coordinates;
+        - ``u_n``, ``u_tau``: normal and tangential displacement (:math:`u_\tau = u \cdot t`);
+        - ``gap``: :math:`u_n - g_a`;
+        - ``pressure``: :math:`c_n (u_n - g_a)_+^{m_n}`;
+        - ``lam_tau``: the multiplier :math:`\lambda_\tau` (Lemma 3.1);
+        - ``sigma_n``, ``sigma_tau``: normal and tangential stress of :math:`u_h`
+          (:math:`\sigma_\tau = \sigma_h(u) n \cdot t`);
+        - ``c_tau``: the friction coefficient;
+        - ``bound``: the friction bound :math:`c_\tau (u_n - g_a)_+^{m_t}` (1.9) (:math:`c_\tau` for
+          :math:`m_t = 0`).
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> state = ndf.contact_state(ndf.solve(problem, ndf.uniform_mesh(problem, 0.5)))
+    >>> len(state["x"]), bool(abs(state["lam_tau"]).max() <= 1 + 1e-12)
+    (4, True)
     """
     points = sol.discretization.contact_points()
     n, t = normal_tangent()
@@ -297,11 +329,33 @@ def _relative_residual(disc, u, lam_tau):
 
 
 def kkt_residuals(sol):
-    """Violations of the discrete KKT system (3.3)-(3.4) of a Solution at the Gauss points of Gamma_C.
+    r"""Violations of the discrete KKT system (3.3)-(3.4) of a solution at the Gauss points of :math:`\Gamma_C`.
 
-    lam_excess: max(|lam_tau| - 1, 0);  complementarity: max |lam_tau u_tau - |u_tau|| / max(|u|);
-    equilibrium: || :func:`residual` ||_2 relative to the largest of its terms B_h(u_h, .), j_n, g and (f, .)
-    (round-off level at a solution), the friction term with the bound at u_h.
+    All three are at round-off level at a solution.
+
+    Parameters
+    ----------
+    sol : Solution
+        A solution of :func:`ngdgfric.solve`.
+
+    Returns
+    -------
+    dict of str to float
+        - ``lam_excess``: :math:`\max(|\lambda_\tau| - 1, 0)`;
+        - ``complementarity``: :math:`\max |\lambda_\tau u_\tau - |u_\tau|| / \max |u|` (:math:`\max |u|` over
+          the coefficients of :math:`u_h`);
+        - ``equilibrium``: the Euclidean norm of the residual of (3.3) relative to the largest of its terms
+          :math:`B_h(u_h, \cdot)`, :math:`j_n`, :math:`g` and :math:`(f, \cdot)`, the friction term with the bound
+          at :math:`u_h` (``residual`` of :mod:`ngdgfric.contact`).
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> residuals = ndf.kkt_residuals(ndf.solve(problem, ndf.uniform_mesh(problem, 0.5)))
+    >>> sorted(residuals)
+    ['complementarity', 'equilibrium', 'lam_excess']
+    >>> all(value < 1e-10 for value in residuals.values())
+    True
     """
     state = contact_state(sol)
     scale = max(np.max(np.abs(sol.u.vec.FV().NumPy())), 1e-300)

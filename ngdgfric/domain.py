@@ -1,20 +1,20 @@
 """The geometry of a scene: named regions bounded by straight sides and circular arcs, with holes.
 
-One small interface, :class:`Geometry`, serves every domain (the paper's rectangles, a user's
+One small interface, ``Geometry``, serves every domain (the paper's rectangles, a user's
 polygon, a half-disk, a block with a hole, two materials side by side):
 
-* :meth:`Geometry.spline_geometry` - the Netgen ``SplineGeometry`` (meshing, refinement that puts new
+* ``spline_geometry()`` - the Netgen ``SplineGeometry`` (meshing, refinement that puts new
   boundary points on the true curve, and ``mesh.Curve`` for curved elements of any order);
 * ``side_names`` / ``region_names`` - the names of the sides and of the regions;
-* :meth:`Geometry.check_fit` - whether a mesh (as arrays) fills the domain: every boundary vertex on a
-  side of its name, and the area of the triangles plus the circular segments cut off by the chords of
-  curved sides equal to the domain's area;
-* ``area``, ``perimeter``, ``bounds``, :meth:`Geometry.outline` (for plots).
+* ``side_distances()``, ``side_length()`` and ``chord_correction()`` - whether a mesh (as arrays) fills the
+  domain (:func:`ngdgfric.check_mesh`): every boundary vertex on a side of its name, and the area of the triangles
+  plus the circular segments cut off by the chords of curved sides equal to the domain's area;
+* ``area``, ``perimeter``, ``bounds``, ``outline()`` (for plots).
 
-A :class:`Domain` is a set of named regions (each bounded by a :class:`~ngdgfric.loops.Loop` of straight
+A :class:`~ngdgfric.Domain` is a set of named regions (each bounded by a :class:`~ngdgfric.Loop` of straight
 sides and circular arcs, :mod:`ngdgfric.loops`; loops of two regions may share sides, which become interfaces,
 or one region's loop may lie inside another's, an inclusion) and holes (loops inside a region).  Boundary points
-of refined meshes lie on the circles to round-off (:meth:`ngdgfric.loops.Arc.pieces`).
+of refined meshes lie on the circles to round-off (``Arc.pieces`` of :mod:`ngdgfric.loops`).
 """
 
 import functools
@@ -34,7 +34,7 @@ NAME = "a name of letters, digits and underscores, starting with a letter"
 
 def check_name(kind, name, interface=False):
     """``name`` as a str; ValueError unless it is a name NGSolve's region patterns can select exactly (and not
-    :data:`INTERFACE` unless ``interface``)."""
+    ``INTERFACE`` unless ``interface``)."""
     if interface and name == INTERFACE:
         return name
     if not isinstance(name, str) or not name or not (name[0].isalpha() and all(c.isalnum() or c == "_" for c in name)):
@@ -46,7 +46,7 @@ def check_name(kind, name, interface=False):
 
 class Geometry:
     """What the rest of the package asks of a domain (module docstring).  Subclasses define
-    ``region_loops`` (pairs (name, :class:`Loop`)) and ``hole_loops`` (loops)."""
+    ``region_loops`` (pairs (name, :class:`~ngdgfric.Loop`)) and ``hole_loops`` (loops)."""
 
     region_loops = ()
     hole_loops = ()
@@ -104,7 +104,7 @@ class Geometry:
     def corners(self):
         """The points where the solution may be singular, an (n, 2) array: the ends of sides where the boundary
         turns (its tangent changes direction), where two sides with different conditions or regions meet, or
-        where an interface meets the boundary (:func:`ngdgfric.hp.hp_refine` grades meshes towards them)."""
+        where an interface meets the boundary (:func:`ngdgfric.hp_refine` grades meshes towards them)."""
         meeting = {}
         for side, label, left, right in self.segments:
             ends = (side.a, side.b) if isinstance(side, Arc) else side
@@ -138,7 +138,10 @@ class Geometry:
 
     @property
     def area(self):
-        """The area of the domain (exact for arcs): the top-level regions' loops minus the holes."""
+        """The area of the domain, exact for arcs.
+
+        The top-level regions' loops minus the holes.
+        """
         loops = [loop for _, loop in self.region_loops]
         top = [loop for i, loop in enumerate(loops) if self._parent(loop, i) is None]
         return sum(loop.area for loop in top) - sum(hole.area for hole in self.hole_loops)
@@ -222,12 +225,40 @@ class Geometry:
 
 @dataclass(frozen=True)
 class Domain(Geometry):
-    """Named regions and holes (module docstring).
+    """A domain of named regions and holes, bounded by straight sides and circular arcs.
 
-    ``regions``: a mapping {name: :class:`Loop`} or a sequence of (name, Loop) pairs; ``holes``: loops
-    inside a region, whose sides are boundary sides with their own labels.  Region names and side labels
-    are checked (:data:`NAME`); every side that is not shared by two regions or inside another region needs
-    a label that the problem gives a condition.
+    Loops of two regions may share sides, which become interfaces (Netgen's boundary name ``"interface"``), or
+    one region's loop may lie inside another's (an inclusion); holes are loops inside a region (module
+    docstring of :mod:`ngdgfric.domain`).  Every side that is not shared by two regions or inside another region
+    needs a label that the problem gives a condition.
+
+    Parameters
+    ----------
+    regions : dict or sequence of (str, Loop)
+        The regions: a mapping ``{name: Loop}`` or a sequence of ``(name, Loop)`` pairs; stored as a tuple of
+        pairs.  Region names (and side labels) are letters, digits and underscores, starting with a letter.
+    holes : sequence of Loop, optional
+        Loops inside a region, whose sides are boundary sides with their own labels.  Default ``()``: none.
+
+    Raises
+    ------
+    ValueError
+        If a name or label is not valid, two loops cross, a side runs along part of another, a hole covers a
+        region, or the domain has no boundary side.
+
+    See Also
+    --------
+    ngdgfric.Polygon : One region with straight sides.
+
+    Examples
+    --------
+    A square with a circular hole:
+
+    >>> square = ndf.Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["contact", "dirichlet", "traction", "traction"])
+    >>> hole = ndf.Loop.circle((0.5, 0.5), 0.2, "hole")
+    >>> domain = ndf.Domain({"omega": square}, holes=[hole])
+    >>> domain.side_names
+    ('contact', 'dirichlet', 'traction', 'hole')
     """
 
     regions: tuple

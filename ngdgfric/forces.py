@@ -1,22 +1,32 @@
-"""Forces on the body as the discrete problem (3.3) sees them: support reactions, loads and their balance with
-the contact forces (:mod:`ngdgfric.contact_forces`: resultants and zones per contact side, (1.8)-(1.9)).
+r"""Forces on the body as the discrete problem (3.3) sees them: support reactions, loads and their balance.
 
-**Reactions.**  For v = e_i, a constant, eps(e_i) = 0 and [e_i] = 0 on interior edges, so (3.3) keeps only
-boundary terms:
+The contact forces are in :mod:`ngdgfric.contact_forces` (resultants and zones per contact side, (1.8)-(1.9));
+:func:`ngdgfric.force_balance` collects all of them in a :class:`~ngdgfric.ForceBalance`.
 
-    sum_{S supported} b_S(u_h, e_i) + j_n(u_h, e_i) + g(lam_tau, e_i) = (f, e_i) + int_{Gamma_F} g . e_i ds,
+**Reactions.**  For :math:`v = e_i`, a constant, :math:`\epsilon(e_i) = 0` and :math:`[e_i] = 0` on interior edges,
+so (3.3) keeps only boundary terms:
 
-b_S the part of B_h(u_h, e_i), minus the part of the right-hand side that u_D carries, on the edges of the
-Dirichlet or symmetry side S (:func:`ngdgfric.dg.forms.dg_terms`, :func:`ngdgfric.dg.forms.load_terms`):
--e_i . sigma_h(u_h) n + w eta p^2 / h_e [u_h - u_D] : [e_i] ds, with only normal parts (u . n) n and the weight
-w = :data:`~ngdgfric.dg.forms.SYMMETRY_WEIGHT` on symmetry sides, plus for Bassi, Brezzi and LDG the lifting terms
-of its edges, eta sum_{e in S} (C r_e[u_h - u_D], r_e[e_i]) and sum_{e in S} (C r_0[u_h - u_D], r_e[e_i])
-(:mod:`ngdgfric.dg.liftings`).  The reaction of S, the force the support exerts on the body, is R_S = -b_S(u_h, e_i)
-(the DG flux: int_S sigma_h(u_h) n ds minus the penalty), so that
+.. math::
 
-    sum_S R_S + F_f + F_g + sum_C F_C = 0,      F_f = (f, e_i) (body force, (1.5)),  F_g = int_{Gamma_F} g ds (1.7),
+    \sum_{S \text{ supported}} b_S(u_h, e_i) + j_n(u_h, e_i) + g(\lambda_\tau, e_i)
+    = (f, e_i) + \int_{\Gamma_F} g \cdot e_i \, ds,
 
-to round-off at a solution of (3.3) (:attr:`ForceBalance.residual`).  Every term is assembled with the
+:math:`b_S` the part of :math:`B_h(u_h, e_i)`, minus the part of the right-hand side that :math:`u_D` carries, on
+the edges of the Dirichlet or symmetry side :math:`S` (``dg_terms`` and ``load_terms`` of
+:mod:`ngdgfric.dg.forms`): :math:`-e_i \cdot \sigma_h(u_h) n + w \eta p^2 / h_e [u_h - u_D] : [e_i]`, integrated
+over the edges, with only normal parts :math:`(u \cdot n) n` and the weight :math:`w` = ``SYMMETRY_WEIGHT`` of
+:mod:`ngdgfric.dg.forms` on symmetry sides, plus for Bassi, Brezzi and LDG the lifting terms of its edges,
+:math:`\eta \sum_{e \in S} (C r_e([u_h - u_D]), r_e([e_i]))` and
+:math:`\sum_{e \in S} (C r_0([u_h - u_D]), r_e([e_i]))` (:mod:`ngdgfric.dg.liftings`).  The reaction of
+:math:`S`, the force the support exerts on the body, is :math:`R_S = -b_S(u_h, e_i)` (the DG flux:
+:math:`\int_S \sigma_h(u_h) n \, ds` minus the penalty), so that
+
+.. math::
+
+    \sum_S R_S + F_f + F_g + \sum_C F_C = 0, \qquad
+    F_f = (f, e_i) \text{ (body force, (1.5))}, \qquad F_g = \int_{\Gamma_F} g \, ds \text{ (1.7)},
+
+to round-off at a solution of (3.3) (:attr:`ngdgfric.ForceBalance.residual`).  Every term is assembled with the
 integrands and quadrature of the discrete problem.
 """
 
@@ -37,7 +47,7 @@ __all__ = ["Zone", "ContactSide", "Reaction", "ForceBalance", "force_balance", "
 
 @dataclass(frozen=True)
 class Reaction:
-    """The reaction R_S, the (x, y) force that the support of side ``side`` (``part``: "dirichlet" or
+    """The reaction :math:`R_S`, the (x, y) force that the support of side ``side`` (``part``: "dirichlet" or
     "symmetry") exerts on the body (module docstring)."""
 
     side: str
@@ -47,10 +57,32 @@ class Reaction:
 
 @dataclass(frozen=True)
 class ForceBalance:
-    """The forces on the body of a solution of (3.3) (module docstring); every vector an (x, y) array.
+    r"""The forces on the body of a solution of (3.3), side by side; every vector an (x, y) array.
 
-    ``contact``: {contact side: :class:`ContactSide`}; ``reactions``: {Dirichlet or symmetry side:
-    :class:`Reaction`}; ``traction``: {traction side: int_S g ds}; ``body``: (f, e_i), the body force.
+    Made by :func:`ngdgfric.force_balance`; the terms and their balance: module docstring of
+    :mod:`ngdgfric.forces`.
+
+    Parameters
+    ----------
+    contact : dict
+        ``{contact side: ContactSide}``: per contact side the normal and tangential resultants :math:`N_S`,
+        :math:`T_S` (``normal``, ``tangential``), the force of the foundation on the body :math:`F_S`
+        (``force``), the side's ``length`` and its ``contact``, ``stick`` and ``slip`` zones
+        (``ContactSide`` and ``Zone`` of :mod:`ngdgfric.contact_forces`).
+    reactions : dict
+        ``{Dirichlet or symmetry side: Reaction}``: the reaction :math:`R_S` of each support (its ``force``;
+        ``part`` says ``"dirichlet"`` or ``"symmetry"``).
+    traction : dict
+        ``{traction side: vector}``: the load :math:`\int_S g \, ds` of each traction side.
+    body : numpy.ndarray
+        :math:`(f, e_i)`, the body force.
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> balance = ndf.force_balance(ndf.solve(problem, ndf.uniform_mesh(problem, 0.5)))
+    >>> balance.relative_residual < 1e-10
+    True
     """
 
     contact: dict
@@ -66,17 +98,22 @@ class ForceBalance:
 
     @property
     def residual(self):
-        """sum of reactions + body force + traction + contact forces: zero to round-off (global equilibrium)."""
+        """The sum of reactions, body force, tractions and contact forces.
+
+        Zero to round-off (global equilibrium).
+        """
         return np.sum([vector for _, _, vector in self.vectors()], axis=0)
 
     @property
     def scale(self):
-        """The largest force of :meth:`vectors` (Euclidean norm), to judge :attr:`residual` by."""
+        """The largest force of :meth:`~ngdgfric.ForceBalance.vectors` (Euclidean norm), to judge
+        :attr:`~ngdgfric.ForceBalance.residual` by."""
         return max(float(np.linalg.norm(vector)) for _, _, vector in self.vectors())
 
     @property
     def relative_residual(self):
-        """|residual| / scale (0 if every force vanishes)."""
+        """The length of :attr:`~ngdgfric.ForceBalance.residual` over :attr:`~ngdgfric.ForceBalance.scale` (0 if
+        every force vanishes)."""
         scale = self.scale
         return float(np.linalg.norm(self.residual)) / scale if scale > 0 else 0.0
 
@@ -138,11 +175,36 @@ def _point_text(xy):
 
 
 def force_balance(sol, lam_tol=LAM_TOL, slip_tol=SLIP_TOL):
-    """The forces on the body of a :class:`~ngdgfric.solution.Solution`: a :class:`ForceBalance`.
+    r"""The forces on the body of a solution, and their balance.
 
     Contact resultants and zones per contact side, reactions per Dirichlet and symmetry side, the loads
-    (module docstring).  ``lam_tol``: |lam_tau| >= 1 - lam_tol is at the friction bound; ``slip_tol``: a point
-    at the bound slips where |u_tau| > slip_tol max |u_h| on Gamma_C (module docstring for both).
+    (module docstring of :mod:`ngdgfric.forces`; the zones: :mod:`ngdgfric.contact_forces`).
+
+    Parameters
+    ----------
+    sol : Solution
+        A solution of :func:`ngdgfric.solve`.
+    lam_tol : float, optional
+        A point with :math:`|\lambda_\tau| \ge 1 - \mathtt{lam\_tol}` is at the friction bound.
+        Default ``1e-6``.
+    slip_tol : float, optional
+        A point at the bound slips where :math:`|u_\tau| > \mathtt{slip\_tol} \max |u_h|` on :math:`\Gamma_C`.
+        Default ``1e-8``.
+
+    Returns
+    -------
+    ForceBalance
+        The forces (:class:`~ngdgfric.ForceBalance`); their sum, :attr:`~ngdgfric.ForceBalance.residual`, is zero
+        to round-off.
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> balance = ndf.force_balance(ndf.solve(problem, ndf.uniform_mesh(problem, 0.5)))
+    >>> sorted(balance.contact), sorted(balance.reactions), sorted(balance.traction)
+    (['contact'], ['dirichlet'], ['traction'])
+    >>> balance.relative_residual < 1e-10
+    True
     """
     disc = sol.discretization
     constants = constant_vectors(disc.V)

@@ -1,8 +1,10 @@
-"""Meshes of a problem's domain with named sides (Gamma_D, Gamma_F, Gamma_C, symmetry) and regions.
+r"""Meshes of a problem's domain with named sides and regions.
 
-The mesh generators estimate the number of elements before meshing and refuse above
-``max_elements`` (default :data:`MAX_ELEMENTS`), with the estimate in the message: h = 1e-5 on the
-unit square asked for 74 GiB, and Netgen with maxh = 1e-9 grew past 2 GB without reacting to Ctrl-C.
+The boundary names of a mesh are the problem's side names (:math:`\Gamma_D`, :math:`\Gamma_F`, :math:`\Gamma_C`,
+symmetry), its materials the names of the regions.  The mesh generators estimate the number of elements before
+meshing and refuse above ``max_elements`` (default ``MAX_ELEMENTS``, :math:`10^6`), with the estimate in the
+message: :math:`h = 10^{-5}` on the unit square asked for 74 GiB, and Netgen with ``maxh = 1e-9`` grew past
+2 GB without reacting to Ctrl-C.
 """
 
 import math
@@ -52,15 +54,50 @@ def _check_elements(problem, max_elements, **size):
 
 
 def uniform_mesh(problem, h, diagonal="sw-ne", max_elements=MAX_ELEMENTS):
-    """Structured mesh of the problem's rectangle: squares of side ``h``, each cut by one diagonal.
+    r"""Structured mesh of the problem's rectangle: squares of side ``h``, each cut by one diagonal.
 
-    This is the kind of mesh behind the paper's h = 2^-k (Section 6).  ``diagonal`` is
-    ``"sw-ne"`` (from the lower-left to the upper-right corner of each square) or ``"nw-se"``.
-    Meshes for h and h/2 are nested.  Side lengths must be integer multiples of ``h``.
-    ValueError above ``max_elements`` triangles (None: no limit).  Not ``ngsolve.meshes.
-    MakeStructured2DMesh``: it numbers the two triangles of each square together, cuts only along
-    one diagonal and names the sides bottom/right/top/left, and its vertices differ from these in
-    the last bit (1.1e-16 at h = 1/20); every stored result would move in round-off.
+    This is the kind of mesh behind the paper's :math:`h = 2^{-k}` (Section 6).  Meshes for :math:`h` and
+    :math:`h/2` are nested.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        A problem whose geometry is an axis-parallel rectangle (:class:`~ngdgfric.Polygon`).
+    h : float
+        The side of the squares; the side lengths of the rectangle must be integer multiples of it.
+    diagonal : str, optional
+        ``"sw-ne"`` (from the lower-left to the upper-right corner of each square) or ``"nw-se"``.
+        Default ``"sw-ne"``.
+    max_elements : int or None, optional
+        The most triangles allowed; None: no limit.  Default ``MAX_ELEMENTS`` (:math:`10^6`).
+
+    Returns
+    -------
+    ngsolve.Mesh
+        The mesh, its boundaries named by the rectangle's side labels.
+
+    Raises
+    ------
+    ValueError
+        If the geometry is not a rectangle, ``h`` does not divide its sides, ``diagonal`` is unknown, or the
+        mesh would have more than ``max_elements`` triangles.
+
+    See Also
+    --------
+    ngdgfric.netgen_mesh : Unstructured meshes of any domain.
+
+    Notes
+    -----
+    Not ``ngsolve.meshes.MakeStructured2DMesh``: it numbers the two triangles of each square together, cuts only
+    along one diagonal and names the sides bottom/right/top/left, and its vertices differ from these in the last
+    bit (1.1e-16 at :math:`h = 1/20`); every stored result would move in round-off.
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> mesh = ndf.uniform_mesh(problem, 0.25)
+    >>> mesh.ne, sorted(mesh.GetBoundaries())
+    (32, ['contact', 'dirichlet', 'traction'])
     """
     geometry = problem.geometry
     if not geometry.is_rectangle:
@@ -165,15 +202,43 @@ def mesh_arrays(mesh):
 
 
 def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
-    """Unstructured Netgen triangulation of the problem's domain with mesh size ``maxh`` (following the
-    interfaces of its regions; with its geometry attached, so that it can be curved, :func:`curve`, and
-    refined onto curved sides).
+    """Unstructured Netgen triangulation of the problem's domain with mesh size ``maxh``.
 
-    ValueError above about ``max_elements`` triangles (:func:`estimated_elements`; None: no limit),
-    when Netgen fails, or when it has not finished after ``timeout`` seconds (default
-    :func:`ngdgfric.mesher.default_timeout` of the estimate); Netgen runs in a child process, so
-    Ctrl-C stops it (:mod:`ngdgfric.mesher`).  The polygon itself is checked by
-    :class:`ngdgfric.problem.Polygon`.
+    The mesh follows the interfaces of the domain's regions and has its geometry attached, so that it can be
+    curved (``curve``, done by :class:`~ngdgfric.Discretization` for curved sides) and refined onto curved sides.
+    Netgen runs in a child process, so Ctrl-C stops it (:mod:`ngdgfric.mesher`).  The polygon itself is checked
+    by :class:`~ngdgfric.Polygon`.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        The problem whose domain is meshed.
+    maxh : float
+        The largest element size.
+    max_elements : int or None, optional
+        The most triangles allowed, by an estimate before meshing (``estimated_elements``); None: no limit.
+        Default ``MAX_ELEMENTS`` (:math:`10^6`).
+    timeout : float or None, optional
+        Seconds Netgen may take.  Default ``None``: ``default_timeout`` of :mod:`ngdgfric.mesher` for the
+        estimated number of elements.
+
+    Returns
+    -------
+    ngsolve.Mesh
+        The mesh, boundaries named by the side labels, materials by the region names.
+
+    Raises
+    ------
+    ValueError
+        Above about ``max_elements`` triangles, when Netgen fails or makes no elements, or when it has not
+        finished after ``timeout`` seconds.
+
+    Examples
+    --------
+    >>> problem = ndf.example("half_disk")
+    >>> mesh = ndf.netgen_mesh(problem, 0.3)
+    >>> mesh.ne > 0
+    True
     """
     if not _is_size(maxh):
         raise ValueError(f"maxh must be a positive number, got {maxh!r}")
@@ -201,10 +266,26 @@ def _shown(geometry, count=6):
 
 
 def check_mesh(problem, mesh):
-    """Raise ValueError unless ``mesh`` is a mesh of the problem's domain: its boundary names are the
-    problem's (and the interfaces between regions), its regions the domain's, every boundary edge lies on a
-    side of the domain with its name, and the mesh has the domain's area and side lengths (to FIT relative;
-    on curved sides the chords' segments are added exactly, :meth:`ngdgfric.domain.Geometry.chord_correction`)."""
+    """Check that ``mesh`` is a mesh of the problem's domain.
+
+    Its boundary names must be the problem's (and the interfaces between regions), its regions the domain's,
+    every boundary edge must lie on a side of the domain with its name, and the mesh must have the domain's
+    area and side lengths (to ``FIT`` = 1e-8 relative; on curved sides the circular segments cut off by the
+    chords are added exactly, ``Geometry.chord_correction`` of :mod:`ngdgfric.domain`).
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        The problem.
+    mesh : ngsolve.Mesh
+        A 2D mesh, for example of :func:`ngdgfric.uniform_mesh` or :func:`ngdgfric.netgen_mesh`, or one made
+        elsewhere with the problem's boundary names.
+
+    Raises
+    ------
+    ValueError
+        If the mesh does not fit the problem; the message says where.
+    """
     if not isinstance(mesh, ngs.Mesh) or mesh.dim != 2:
         raise ValueError(f"mesh must be a 2D NGSolve Mesh, got {mesh!r}")
     geometry = problem.geometry
@@ -340,9 +421,37 @@ def refine(mesh, marked, bisections=1):
 
 
 def refined(mesh, marked, bisections=1):
-    """A refined copy of ``mesh``: the marked elements bisected ``bisections`` (1 or 2) times, plus the
-    closure (:func:`refine` on a :func:`snapshot`); ``mesh`` itself is left as it is.  The hand-written
-    SOLVE -> ESTIMATE -> MARK -> REFINE loop: ``mesh = refined(mesh, dorfler_mark(est.eta_T_squared, 0.3))``."""
+    r"""A refined copy of ``mesh``: the marked elements bisected, plus the closure.
+
+    Newest vertex bisection (``refine`` on a ``snapshot`` of the mesh); ``mesh`` itself is left as it is.  The
+    step REFINE of a hand-written loop SOLVE :math:`\to` ESTIMATE :math:`\to` MARK :math:`\to` REFINE:
+    ``mesh = ndf.refined(mesh, ndf.dorfler_mark(est.eta_T_squared, 0.3))``.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+        The mesh.
+    marked : array_like of bool
+        One flag per element of ``mesh``.
+    bisections : int, optional
+        1 (the paper's h refinement) or 2 (each marked triangle four grandchildren similar to it).
+        Default ``1``.
+
+    Returns
+    -------
+    ngsolve.Mesh
+        The refined copy.
+
+    Raises
+    ------
+    ValueError
+        If ``marked`` has not one entry per element or ``bisections`` is not 1 or 2.
+
+    See Also
+    --------
+    ngdgfric.dorfler_mark : The marking step.
+    ngdgfric.adapt : The whole adaptive loop.
+    """
     copy = snapshot(mesh)
     refine(copy, marked, bisections)
     return copy

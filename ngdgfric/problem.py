@@ -1,13 +1,14 @@
-"""Problem data of the frictional contact problem (1.4)-(1.10) with normal compliance.
+r"""Problem data of the frictional contact problem (1.4)-(1.10) with normal compliance.
 
-A :class:`ContactProblem` is a frozen dataclass of numbers and NGSolve
-CoefficientFunctions of ``x, y``; it also carries its geometry (a :class:`Polygon`, or a
-:class:`ngdgfric.domain.Domain` with regions, holes and circular arcs) whose sides are named, and which
-names belong to Gamma_D (prescribed displacement u_D), Gamma_F (traction g), Gamma_C (contact) and the
-symmetry sides (u . n = 0, no tangential traction).  Data may be given per named part: a dict
-{region: value} for E, nu, f, a dict {side: value} for g, u_D and the contact data c_n, g_a, c_tau; on a
-mesh they become CoefficientFunctions (:meth:`ContactProblem.on`), so the forms see one datum each.
-Validation runs in ``__post_init__``, so ``dataclasses.replace`` checks the new values too.
+A :class:`~ngdgfric.ContactProblem` is a frozen dataclass of numbers and NGSolve
+CoefficientFunctions of ``x, y``; it also carries its geometry (a :class:`~ngdgfric.Polygon`, or a
+:class:`~ngdgfric.Domain` with regions, holes and circular arcs) whose sides are named, and which
+names belong to :math:`\Gamma_D` (prescribed displacement :math:`u_D`), :math:`\Gamma_F` (traction :math:`g`),
+:math:`\Gamma_C` (contact) and the symmetry sides (:math:`u \cdot n = 0`, no tangential traction).  Data may be
+given per named part: a dict ``{region: value}`` for ``E``, ``nu``, ``f``, a dict ``{side: value}`` for ``g``,
+``u_D`` and the contact data ``c_n``, ``g_a``, ``c_tau``; on a mesh they become CoefficientFunctions
+(:meth:`ngdgfric.ContactProblem.on`), so the forms see one datum each.  Validation runs in ``__post_init__``,
+so ``dataclasses.replace`` checks the new values too.
 """
 
 import dataclasses
@@ -35,13 +36,35 @@ def _point(k, vertex):
 
 @dataclass(frozen=True)
 class Polygon(Geometry):
-    """A polygonal domain Omega, vertices counter-clockwise (one region, named "omega").
+    r"""A polygonal domain, vertices counter-clockwise (one region, named "omega").
 
-    Validated on construction (:func:`ngdgfric.geometry.check_polygon`): finite, at least 3
-    vertices, no (near-)duplicates, a simple polygon, counter-clockwise.
+    The domain :math:`\Omega` of the paper's examples.  Validated on construction (``check_polygon`` of
+    :mod:`ngdgfric.geometry`): finite, at least 3 vertices, no (near-)duplicates, a simple polygon,
+    counter-clockwise.
 
-    ``labels[i]`` names the side from ``vertices[i]`` to ``vertices[i+1]`` (cyclic);
-    each label is one of the problem's boundary names.
+    Parameters
+    ----------
+    vertices : sequence of (float, float)
+        The corners, counter-clockwise; stored as a tuple of pairs of floats.
+    labels : sequence of str
+        ``labels[i]`` names the side from ``vertices[i]`` to ``vertices[i+1]`` (cyclic); each label is one of
+        the problem's boundary names.
+
+    Raises
+    ------
+    ValueError
+        If a vertex is not a pair of numbers, the polygon is not simple or not counter-clockwise, or the
+        number of labels is not the number of sides.
+
+    See Also
+    --------
+    ngdgfric.Domain : Regions with curved sides, holes and interfaces.
+
+    Examples
+    --------
+    >>> square = ndf.Polygon.rectangle(0, 0, 1, 1, "contact", "dirichlet", "traction", "traction")
+    >>> square.labels
+    ('contact', 'dirichlet', 'traction', 'traction')
     """
 
     vertices: tuple
@@ -70,7 +93,22 @@ class Polygon(Geometry):
 
     @classmethod
     def rectangle(cls, x0, y0, x1, y1, bottom, right, top, left):
-        """The rectangle (x0, x1) x (y0, y1) with its four sides labelled."""
+        r"""The rectangle :math:`(x_0, x_1) \times (y_0, y_1)` with its four sides labelled.
+
+        Parameters
+        ----------
+        x0, y0 : float
+            The lower left corner.
+        x1, y1 : float
+            The upper right corner (``x1 > x0``, ``y1 > y0``).
+        bottom, right, top, left : str
+            The labels of the four sides.
+
+        Returns
+        -------
+        Polygon
+            The rectangle, vertices counter-clockwise from ``(x0, y0)``.
+        """
         if not (x1 > x0 and y1 > y0):
             raise ValueError(f"rectangle needs x0 < x1 and y0 < y1, got ({x0}, {y0}, {x1}, {y1})")
         return cls(((x0, y0), (x1, y0), (x1, y1), (x0, y1)), (bottom, right, top, left))
@@ -83,7 +121,7 @@ class Polygon(Geometry):
 
     @property
     def is_rectangle(self):
-        """True for an axis-parallel rectangle given as by :meth:`rectangle`."""
+        """True for an axis-parallel rectangle given as by :meth:`ngdgfric.Polygon.rectangle`."""
         if len(self.vertices) != 4:
             return False
         (a, b), (c, d), (e, f), (g, h) = self.vertices
@@ -91,7 +129,7 @@ class Polygon(Geometry):
 
     @property
     def bounds(self):
-        """(x0, y0, x1, y1) of the bounding box."""
+        """``(x0, y0, x1, y1)`` of the bounding box."""
         xs = [x for x, _ in self.vertices]
         ys = [y for _, y in self.vertices]
         return min(xs), min(ys), max(xs), max(ys)
@@ -123,9 +161,9 @@ def pattern(names):
 
 @dataclass(frozen=True)
 class PerSide:
-    """A number per contact side on a mesh (the exponents m_n, m_t given as dicts, made by
-    :meth:`ContactProblem.on`): ``entries`` holds (side, value, indicator) with the order-0 facet function that is 1
-    on the side's edges."""
+    """A number per contact side on a mesh (the exponents :math:`m_n`, :math:`m_t` given as dicts, made by
+    :meth:`ngdgfric.ContactProblem.on`): ``entries`` holds (side, value, indicator) with the order-0 facet function
+    that is 1 on the side's edges."""
 
     entries: tuple
 
@@ -133,7 +171,8 @@ class PerSide:
         return [value for _, value, _ in self.entries]
 
     def combine(self, law):
-        """sum over the sides of indicator x law(value): a law written for one exponent, side by side."""
+        r"""The sum over the sides of indicator :math:`\times` ``law(value)``: a law written for one exponent, side by
+        side."""
         return sum(indicator * law(value) for _, value, indicator in self.entries)
 
     def at(self, names):
@@ -143,7 +182,8 @@ class PerSide:
 
 
 def exponents(value):
-    """The values of an exponent m_n or m_t: a number, a dict {side: number} or a :class:`PerSide`, as a list."""
+    """The values of an exponent :math:`m_n` or :math:`m_t`: a number, a dict {side: number} or a ``PerSide``, as a
+    list."""
     if isinstance(value, PerSide):
         return value.values()
     return list(value.values()) if isinstance(value, dict) else [value]
@@ -151,39 +191,80 @@ def exponents(value):
 
 @dataclass(frozen=True)
 class ContactProblem:
-    """Data of problem (1.4): the reduced law (1.10) for m_t = 0 (Section 1).
+    r"""Data of problem (1.4): the reduced law (1.10) for :math:`m_t = 0` (Section 1).
 
-    Every datum may be a number or an NGSolve CoefficientFunction of ``x, y``;
-    ``f``, ``g`` and ``u_D`` are pairs or 2-vector CoefficientFunctions.  E, nu and f may also be dicts
-    {region name: value} (regions of a :class:`ngdgfric.domain.Domain`; a Polygon has one, "omega"), g a dict
-    {traction side: value} (sides left out are free, g = 0), u_D a dict {Dirichlet side: value} (left out:
-    u_D = 0), c_n, g_a and c_tau dicts {contact side: value}; on a mesh they become CoefficientFunctions
-    (:meth:`on`), and every region's interfaces are edges of the mesh, so the forms take each region's own
-    material (:mod:`ngdgfric.dg.material`).
+    Every datum may be a number or an NGSolve CoefficientFunction of ``x, y``; ``f``, ``g`` and ``u_D`` are
+    pairs or 2-vector CoefficientFunctions.  ``E``, ``nu`` and ``f`` may also be dicts ``{region name: value}``
+    (regions of a :class:`~ngdgfric.Domain`; a :class:`~ngdgfric.Polygon` has one, ``"omega"``), ``g`` a dict
+    ``{traction side: value}`` (sides left out are free, :math:`g = 0`), ``u_D`` a dict
+    ``{Dirichlet side: value}`` (left out: :math:`u_D = 0`), ``c_n``, ``g_a`` and ``c_tau`` dicts
+    ``{contact side: value}``; on a mesh they become CoefficientFunctions (:meth:`~ngdgfric.ContactProblem.on`),
+    and every region's interfaces are edges of the mesh, so the forms take each region's own material
+    (:mod:`ngdgfric.dg.material`).
 
-    E, nu:     Young's modulus and Poisson ratio (Lame parameters ``mu``, ``lam`` by Section 6); where they
-               vary, the forms take them element by element (:mod:`ngdgfric.dg.material`).
+    Parameters
+    ----------
+    E : float, CoefficientFunction or dict
+        Young's modulus, :math:`E > 0`; with ``nu`` it gives the Lamé parameters :attr:`~ngdgfric.ContactProblem.mu` and
+        :attr:`~ngdgfric.ContactProblem.lam`
+        (Section 6).  Where it varies, the forms take it element by element (:mod:`ngdgfric.dg.material`).
+    nu : float, CoefficientFunction or dict
+        Poisson's ratio, :math:`-1 < \nu < 1/2`.
+    f : pair, CoefficientFunction or dict
+        Body force in :math:`\Omega`, (1.5).
+    g : pair, CoefficientFunction or dict
+        Traction on :math:`\Gamma_F`, (1.7).
+    c_n : float, CoefficientFunction or dict
+        Normal compliance coefficient, :math:`c_n \ge 0`: on :math:`\Gamma_C`,
+        :math:`\sigma_n = -c_n (u_n - g_a)_+^{m_n}`, (1.8).
+    m_n : float or dict
+        Exponent of the normal compliance, :math:`m_n \ge 1`.
+    g_a : float, CoefficientFunction or dict
+        Initial gap on :math:`\Gamma_C`.
+    c_tau : float, CoefficientFunction or dict
+        Friction coefficient on :math:`\Gamma_C`, :math:`c_\tau \ge 0`: the friction bound of (1.9) is
+        :math:`c_\tau (u_n - g_a)_+^{m_t}`.
+    geometry : Polygon or Domain
+        The domain, whose sides carry the names of ``dirichlet``, ``traction``, ``contact`` and ``symmetry``.
+    dirichlet : str or sequence of str, optional
+        The side names of :math:`\Gamma_D`, where :math:`u = u_D`, (1.6).  Default ``"dirichlet"``.
+    traction : str or sequence of str, optional
+        The side names of :math:`\Gamma_F`, where :math:`\sigma n = g`, (1.7).  Default ``"traction"``.
+    contact : str or sequence of str, optional
+        The side names of :math:`\Gamma_C`, (1.8)-(1.9); several sides are allowed.  Default ``"contact"``.
+    m_t : float or dict, optional
+        Exponent of the friction bound, :math:`m_t \ge 0`; :math:`m_t = 0` is the reduced law (1.10) of the
+        paper, :math:`m_t > 0` makes (1.4) a quasi-variational inequality (bound 0 where there is no contact).
+        Default ``0.0``.
+    name : str, optional
+        A name for reports and plots (not compared by ``==``).  Default ``"contact problem"``.
+    symmetry : str or sequence of str, optional
+        The side names of the symmetry (roller) sides, :math:`u \cdot n = 0` and :math:`(\sigma n) \cdot t = 0`.
+        Default ``()``: none.  Every side of the geometry has one of the four conditions.
+    u_D : pair, CoefficientFunction or dict, optional
+        The prescribed displacement on :math:`\Gamma_D`.  Default ``(0.0, 0.0)`` (the paper's).
 
-    f:         body force in Omega (1.5).
+    Raises
+    ------
+    ValueError
+        If a datum is out of its range, a dict names an unknown region or side (or misses one), a side name is
+        in two boundary parts, or a side of the geometry has no condition.
 
-    g:         traction on Gamma_F (1.7).
+    See Also
+    --------
+    ngdgfric.load_problem : The same data written as a TOML file.
+    ngdgfric.example : The paper's examples and the shipped scenes.
 
-    c_n, m_n:  normal compliance sigma_n = -c_n (u_n - g_a)_+^{m_n} on Gamma_C (1.8), m_n >= 1.
+    Examples
+    --------
+    A unit square pressed down onto the foundation along its bottom side:
 
-    g_a:       initial gap on Gamma_C.
-
-    c_tau:     friction coefficient on Gamma_C: the friction bound of (1.9) is c_tau (u_n - g_a)_+^{m_t}.
-
-    m_t:       exponent of the friction bound, m_t >= 0; m_t = 0 is the reduced law (1.10) of the paper,
-               m_t > 0 makes (1.4) a quasi-variational inequality (bound 0 where there is no contact).
-
-    geometry:  a :class:`Polygon` or :class:`ngdgfric.domain.Domain` whose sides carry the names below.
-
-    dirichlet, traction, contact, symmetry: the side names (one name or a list) of Gamma_D (u = u_D, (1.6)),
-               Gamma_F (sigma n = g, (1.7)), Gamma_C (1.8)-(1.9, several sides allowed) and the symmetry
-               (roller) sides, u . n = 0 and (sigma n) . t = 0.  Every side of the geometry has one of them.
-
-    u_D:       the prescribed displacement on Gamma_D (the paper: 0).
+    >>> square = ndf.Polygon.rectangle(0, 0, 1, 1, "contact", "dirichlet", "traction", "traction")
+    >>> problem = ndf.ContactProblem(E=2000.0, nu=0.3, f=(0.0, 0.0), g=(0.0, -100.0), c_n=1.0, m_n=1.0,
+    ...                              g_a=0.0, c_tau=100.0, geometry=square)
+    >>> print(f"mu = {problem.mu:.1f}, lam = {problem.lam:.1f}")
+    mu = 769.2, lam = 1153.8
+    >>> sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.5))
     """
 
     E: object
@@ -256,23 +337,63 @@ class ContactProblem:
                                  f"{'s' * (len(missing) > 1)} {', '.join(map(repr, missing))}")
 
     def sides(self, part):
-        """The side names of a boundary part ("dirichlet", "traction", "contact" or "symmetry") as a tuple."""
+        """The side names of a boundary part as a tuple.
+
+        Parameters
+        ----------
+        part : str
+            ``"dirichlet"``, ``"traction"``, ``"contact"`` or ``"symmetry"``.
+
+        Returns
+        -------
+        tuple of str
+            The side names of that part (one name given as a str becomes a 1-tuple).
+        """
         return _names(part, getattr(self, part))
 
     def where(self, part):
-        """The NGSolve region pattern of a boundary part (``mesh.Boundaries(problem.where("contact"))``)."""
+        """The NGSolve region pattern of a boundary part.
+
+        Parameters
+        ----------
+        part : str
+            ``"dirichlet"``, ``"traction"``, ``"contact"`` or ``"symmetry"``.
+
+        Returns
+        -------
+        str
+            A regular expression that selects exactly the part's sides:
+            ``mesh.Boundaries(problem.where("contact"))``.
+        """
         return pattern(self.sides(part))
 
     @property
     def per_part(self):
-        """Whether some datum is given per region or per side (a dict): then :meth:`on` resolves it on a mesh."""
+        """Whether some datum is given per region or per side (a dict).
+
+        Then :meth:`~ngdgfric.ContactProblem.on` resolves it on a mesh.
+        """
         return any(isinstance(getattr(self, name), dict) for name in DATA)
 
     def on(self, mesh):
-        """This problem with every dict datum made a CoefficientFunction on ``mesh``: per region a
-        ``MaterialCF``, per side the sum of value x indicator of the side's edges (an order-0 facet
-        function: NGSolve's ``BoundaryCF`` cannot be evaluated in the skeleton integrals of DG forms); the exponents
-        m_n, m_t per side become a :class:`PerSide` (one number if all sides have the same)."""
+        r"""This problem with every dict datum made a CoefficientFunction on ``mesh``.
+
+        Per region a ``MaterialCF``, per side the sum of value :math:`\times` indicator of the side's edges (an
+        order-0 facet function: NGSolve's ``BoundaryCF`` cannot be evaluated in the skeleton integrals of DG
+        forms); the exponents :math:`m_n`, :math:`m_t` per side become a ``PerSide`` (one number if all sides
+        have the same).
+
+        Parameters
+        ----------
+        mesh : ngsolve.Mesh
+            A mesh of the problem's domain.
+
+        Returns
+        -------
+        ContactProblem
+            The problem with data per part resolved; the problem itself if it has none
+            (:attr:`~ngdgfric.ContactProblem.per_part`).
+        """
         if not self.per_part:
             return self
         from .meshes import facet_indicator  # meshes imports this module
@@ -302,38 +423,47 @@ class ContactProblem:
 
     @property
     def mu(self):
-        """Lame parameter mu = E / (2 (1 + nu)) (Section 6)."""
+        r"""Lamé parameter :math:`\mu = E / (2 (1 + \nu))` (Section 6)."""
         return self.E / (2 * (1 + self.nu))
 
     @property
     def lam(self):
-        """Lame parameter lambda = E nu / ((1 + nu)(1 - 2 nu)) (Section 6)."""
+        r"""Lamé parameter :math:`\lambda = E \nu / ((1 + \nu)(1 - 2 \nu))` (Section 6)."""
         return self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
 
     def boundary_names(self):
-        """Every side name the problem gives a condition, in the order dirichlet, traction, contact, symmetry."""
+        """Every side name the problem gives a condition.
+
+        Returns
+        -------
+        tuple of str
+            The names in the order dirichlet, traction, contact, symmetry.
+        """
         return tuple(name for part in PARTS for name in self.sides(part))
 
 
 def strain(w):
-    """eps(w) = (grad w + grad w^T)/2, (1.1), of a GridFunction or a trial/test function."""
+    r""":math:`\epsilon(w) = (\nabla w + \nabla w^T)/2`, (1.1), of a GridFunction or a trial/test function."""
     return ngs.Sym(ngs.Grad(w))
 
 
 def strain_of(u):
-    """eps(u) of a CoefficientFunction u of x, y (an exact solution), by symbolic differentiation."""
+    r""":math:`\epsilon(u)` of a CoefficientFunction :math:`u` of ``x, y`` (an exact solution), by symbolic
+    differentiation."""
     g = ngs.CF((u[0].Diff(ngs.x), u[0].Diff(ngs.y), u[1].Diff(ngs.x), u[1].Diff(ngs.y)), dims=(2, 2))
     return 0.5 * (g + g.trans)
 
 
 def stress(law, e):
-    """sigma = C e = lam tr(e) I + 2 mu e for a strain e, (1.3); ``law``: anything with Lame parameters
-    ``mu`` and ``lam`` (a :class:`ContactProblem`, or :class:`ngdgfric.dg.material.Material` element by element)."""
+    r""":math:`\sigma = C e = \lambda \operatorname{tr}(e) I + 2 \mu e` for a strain :math:`e`, (1.3); ``law``:
+    anything with Lamé parameters ``mu`` and ``lam`` (a :class:`~ngdgfric.ContactProblem`, or ``Material`` of
+    :mod:`ngdgfric.dg.material` element by element)."""
     return 2 * law.mu * e + law.lam * ngs.Trace(e) * ngs.Id(2)
 
 
 def von_mises(law, u):
-    """Von Mises stress of sigma(u) (1.3) in plane strain, sigma_zz = lam tr eps(u) (``law`` as in :func:`stress`)."""
+    r"""Von Mises stress of :math:`\sigma(u)` (1.3) in plane strain, :math:`\sigma_{zz} = \lambda \operatorname{tr}
+    \epsilon(u)` (``law`` as in ``stress``)."""
     e = strain(u)
     s = stress(law, e)
     sxx, syy, sxy, szz = s[0, 0], s[1, 1], s[0, 1], law.lam * ngs.Trace(e)

@@ -1,4 +1,4 @@
-"""Problem files: a :class:`ContactProblem` written as TOML.
+"""Problem files: a :class:`~ngdgfric.ContactProblem` written as TOML.
 
 A problem file holds the data of (1.5)-(1.9) and the domain with its named sides.  A full example (two
 materials, an interface, a curved side, a hole, a symmetry plane, data per region and per side)::
@@ -45,7 +45,7 @@ materials, an interface, a curved side, a hole, a symmetry plane, data per regio
                                               # each of them: one value, or a table {contact side = value}
 
 One region (named ``omega``) may be written directly in ``[geometry]``, the form of the paper's examples
-(``data/example_6_1.toml``); without ``arcs`` and holes it is a :class:`~ngdgfric.problem.Polygon`::
+(the shipped file of Example 6.1); without ``arcs`` and holes it is a :class:`~ngdgfric.Polygon`::
 
     [geometry]
     vertices = [[0.0, 0.05], [1.0, 0.05], [1.0, 1.05], [0.0, 1.05]]
@@ -54,17 +54,18 @@ One region (named ``omega``) may be written directly in ``[geometry]``, the form
 
 Without ``[boundaries]`` the names are ``dirichlet``, ``traction`` and ``contact`` and there is no symmetry
 side.  Region names and side labels are letters, digits and underscores starting with a letter
-(:func:`ngdgfric.domain.check_name`); sides shared by two regions become interfaces whatever their label
+(``check_name`` of :mod:`ngdgfric.domain`); sides shared by two regions become interfaces whatever their label
 (``interface`` reads best).  A loop is either ``vertices`` + ``labels`` (+ ``arcs``, a table {side number =
 [x, y]}) or a circle ``centre`` + ``radius`` + ``label``; a region's ``name`` may be left out when there is
 only one region (then it is ``omega``).
 
 Every datum (a vector datum component by component) is a number or a string expression in ``x`` and
-``y`` (:mod:`ngdgfric.expressions`: numbers, ``pi``, ``+ - * / **``, the functions of :data:`FUNCTIONS`,
-``min``, ``max`` and ``if(condition, a, b)``; never passed to ``eval``).  Unknown, missing or mistyped keys and
-bad expressions raise ValueError naming the file and key.
+``y`` (:mod:`ngdgfric.expressions`: numbers, ``pi``, ``+ - * / **``, the functions ``abs``, ``atan``, ``cos``,
+``exp``, ``log``, ``sin``, ``sqrt``, ``step``, ``tan`` (``FUNCTIONS``), ``min``, ``max`` and
+``if(condition, a, b)``; never passed to ``eval``).  Unknown, missing or mistyped keys and bad expressions raise
+ValueError naming the file and key.
 
-Shipped problem files (:func:`example_file`): the paper's Examples 6.1 and 6.2 and the scenes
+Shipped problem files (:func:`ngdgfric.example_file`): the paper's Examples 6.1 and 6.2 and the scenes
 ``half_disk``, ``block_with_hole``, ``two_materials_symmetric``, ``indentation`` and ``rubber_pad``.
 """
 
@@ -119,8 +120,29 @@ def shipped_files():
 
 
 def example_file(name):
-    """Path of the shipped problem file ``name``: "6.1" or "6.2" (``data/example_6_1.toml``, also
-    "example_6_1") or a scene ("half_disk": ``data/half_disk.toml``); ValueError naming the choices."""
+    """The path of a problem file shipped with the package.
+
+    Parameters
+    ----------
+    name : str
+        ``"6.1"`` or ``"6.2"`` (the file ``example_6_1.toml`` in the package's ``data`` folder, also called
+        ``"example_6_1"``), or a scene (``"half_disk"``: ``half_disk.toml``).
+
+    Returns
+    -------
+    pathlib.Path
+        The file, for :func:`ngdgfric.load_problem` or as a template of one's own.
+
+    Raises
+    ------
+    ValueError
+        If there is no such file; the message names the choices.
+
+    Examples
+    --------
+    >>> ndf.example_file("6.1").name
+    'example_6_1.toml'
+    """
     files = shipped_files()
     key = str(name)
     if key not in files and key.startswith("example_"):
@@ -132,7 +154,34 @@ def example_file(name):
 
 
 def load_problem(path):
-    """The :class:`ContactProblem` of a TOML problem file (format in the module docstring)."""
+    """The contact problem of a TOML problem file.
+
+    The format is that of :mod:`ngdgfric.problem_file` (its module docstring).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The problem file.
+
+    Returns
+    -------
+    ContactProblem
+        The problem; its ``name`` is the file's ``name`` key, else the file name without ``.toml``.
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no file at ``path``.
+    ValueError
+        If the file cannot be read, is not TOML, or has unknown, missing or invalid keys; the message names the
+        file and the key.
+
+    Examples
+    --------
+    >>> problem = ndf.load_problem(ndf.example_file("6.2"))
+    >>> problem.name, problem.E, problem.nu
+    ('Example 6.2', 2500.0, 0.2)
+    """
     path = Path(path)
     if path.exists() and not path.is_file():  # a folder, or a pipe that would block the read for ever
         raise ValueError(f"{path}: not a regular file")
@@ -159,7 +208,7 @@ class _KeyError(ValueError):
 
 
 def problem_from_dict(data, source="<dict>", default_name="contact problem"):
-    """The :class:`ContactProblem` of an already parsed problem file; ``source`` prefixes error messages."""
+    """The :class:`~ngdgfric.ContactProblem` of an already parsed problem file; ``source`` prefixes error messages."""
     def fail(key, message):
         raise ValueError(f"{source}: {key}: {message}")
 
@@ -316,8 +365,8 @@ def _in(key, convert, value):
 
 
 def _loop(where, table, allowed):
-    """A :class:`Loop` from a region or hole table (a loop or a circle, module docstring); ``allowed``: its keys
-    (a region's ``name`` is read by the caller)."""
+    """A :class:`~ngdgfric.Loop` from a region or hole table (a loop or a circle, module docstring); ``allowed``: its
+    keys (a region's ``name`` is read by the caller)."""
     if not isinstance(table, dict):
         raise _KeyError(where, f"must be a table ([[{where.split('[')[0]}]]), got {table!r}")
     for key in sorted(set(table) - set(allowed)):
@@ -348,7 +397,7 @@ def _loop(where, table, allowed):
 
 def _geometry(table):
     """The geometry of the [geometry] table: (vertices, labels) of a polygon (made by the caller, whose
-    errors name them as before), or a :class:`Domain`."""
+    errors name them as before), or a :class:`~ngdgfric.Domain`."""
     regions, holes = table.get("region"), table.get("hole", [])
     for key, value in (("region", regions), ("hole", holes)):
         if value is not None and not isinstance(value, list):

@@ -1,18 +1,20 @@
-"""Reference solutions: a very accurate u_h stored in a small file, and true errors against it.
+r"""Reference solutions: a very accurate :math:`u_h` stored in a small file, and true errors against it.
 
 A reference is one ``.npz`` file: the mesh (vertices, triangles, labelled boundary segments),
-the order of every element, the coefficient vector of u_h, its estimator eta_h, and a fingerprint
-of its problem (:func:`fingerprint`) that :func:`load_reference` checks.  The error
-of another solution u_h (on any mesh of the same domain) is
+the order of every element, the coefficient vector of :math:`u_h`, its estimator :math:`\eta_h`, and a
+fingerprint of its problem (``fingerprint``) that :func:`ngdgfric.load_reference` checks.  The error
+of another solution :math:`u_h` (on any mesh of the same domain) is
 
-    |||u_ref - u_h|||_h^2 = sum_T int_T C eps(u_ref - u_h) : eps(u_ref - u_h) dx
-                            + sum_{e in E_h^o} h_e^-1 ||[u_h]||_e^2,
+.. math::
 
-the volume part by a Gauss rule of degree 2 p + 4 on u_h's elements, with u_ref evaluated at
-those points by point search in its mesh; the jump part is exact for the exact solution u (it
-is continuous and zero on Gamma_D, so [u - u_h] = -[u_h]) and so uses u_h alone.  The DG energy
-norm |||.|||_h of Section 3 itself (:func:`energy_norm`, :mod:`ngdgfric.energy`) measures errors against exact
-solutions given as CoefficientFunctions (manufactured solutions).
+    \|u_{ref} - u_h\|_h^2 = \sum_T \int_T C \epsilon(u_{ref} - u_h) : \epsilon(u_{ref} - u_h) \, dx
+                            + \sum_{e \in \mathcal{E}_h^o} h_e^{-1} \|[u_h]\|_e^2,
+
+the volume part by a Gauss rule of degree :math:`2 p + 4` on :math:`u_h`'s elements, with :math:`u_{ref}`
+evaluated at those points by point search in its mesh; the jump part is exact for the exact solution :math:`u`
+(it is continuous and zero on :math:`\Gamma_D`, so :math:`[u - u_h] = -[u_h]`) and so uses :math:`u_h` alone.
+The DG energy norm :math:`\|\cdot\|_h` of Section 3 itself (:func:`ngdgfric.energy_norm`, :mod:`ngdgfric.energy`)
+measures errors against exact solutions given as CoefficientFunctions (manufactured solutions).
 """
 
 import zipfile
@@ -39,7 +41,30 @@ __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "ref
 
 @dataclass
 class Reference:
-    """A stored reference solution: ``u`` (GridFunction on ``mesh``), ``eta_h`` (its estimator value)."""
+    r"""A stored reference solution, as :func:`ngdgfric.load_reference` returns it.
+
+    A very accurate :math:`u_h` to measure the true errors of other solutions against
+    (:func:`ngdgfric.energy_error`).
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        The problem it solves.
+    mesh : ngsolve.Mesh
+        Its mesh, rebuilt from the stored arrays.
+    u : ngsolve.GridFunction
+        The displacement, DG coefficients of each element's degree on ``mesh``.
+    orders : numpy.ndarray
+        The polynomial degree of every element.
+    eta_h : float
+        Its estimator value :math:`\eta_h`.
+    description : str
+        How it was made (free text).
+
+    See Also
+    --------
+    ngdgfric.save_reference : Store a solution as a reference.
+    """
 
     problem: object
     mesh: object
@@ -50,10 +75,31 @@ class Reference:
 
 
 def save_reference(sol, path, eta_h, description=""):
-    """Write Solution ``sol`` with its estimator value ``eta_h`` to ``path`` (.npz, written atomically),
-    with a fingerprint of its problem (:func:`fingerprint`).  The displacement is stored as the DG
-    coefficients of each element's degree, also for the conforming baseline (its u_h copied exactly
-    into L2: :func:`ngdgfric.transfer.discontinuous`), so a reference of any method loads alike."""
+    r"""Store a solution as a reference solution file.
+
+    The file (``.npz``, written atomically) holds the mesh, the element orders, the displacement, ``eta_h`` and a
+    fingerprint of the problem (``fingerprint``) that :func:`ngdgfric.load_reference` checks.  The displacement is
+    stored as the DG coefficients of each element's degree, also for the conforming baseline (its :math:`u_h`
+    copied exactly into :math:`L^2`: ``discontinuous`` of :mod:`ngdgfric.transfer`), so a reference of any method
+    loads alike.
+
+    Parameters
+    ----------
+    sol : Solution
+        The solution (:class:`~ngdgfric.Solution`).
+    path : str or pathlib.Path
+        The file to write.
+    eta_h : float
+        The solution's estimator value :math:`\eta_h` (:func:`ngdgfric.estimate`).
+    description : str, optional
+        How it was made (free text).  Default ``""``.
+
+    Raises
+    ------
+    ValueError
+        If the problem cannot be stored: its domain is not a polygon, it has data per region or per side, a
+        prescribed displacement :math:`u_D \ne 0` or symmetry sides.
+    """
     check_storable(sol.problem)
     u, orders = discontinuous(sol)
     points, triangles, segments, labels = mesh_arrays(sol.mesh)
@@ -122,11 +168,28 @@ def _data_at(problem, mesh, where):
 
 
 def load_reference(path, problem):
-    """The :class:`Reference` stored at ``path`` for ``problem``.
+    """The reference solution stored in a file for a problem.
 
-    ValueError naming the file and the defect if the file is not a reference (unreadable, keys
-    missing, arrays of wrong shape or type, indices out of range, non-finite values) or was made
-    for another problem (its fingerprint: geometry, names, numbers, data at sample points).
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A file written by :func:`ngdgfric.save_reference`.
+    problem : ContactProblem
+        The problem the reference must solve.
+
+    Returns
+    -------
+    Reference
+        The reference (:class:`~ngdgfric.Reference`).
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no file at ``path`` (``scripts/reference.py`` makes the references of the paper's examples).
+    ValueError
+        Naming the file and the defect, if the file is not a reference (unreadable, keys missing, arrays of wrong
+        shape or type, indices out of range, non-finite values) or was made for another problem (its fingerprint:
+        geometry, names, numbers, data at sample points).
     """
     path = Path(path)
     if not path.exists():
@@ -240,9 +303,36 @@ def _check_fingerprint(path, data, problem):
 
 
 def energy_error(sol, reference):
-    """|||u_ref - u_h|||_h of a Solution (or a :class:`Reference`: anything with ``problem``, ``mesh`` and ``u``)
-    against a :class:`Reference` or a finer Solution of the same problem (module docstring;
-    :func:`reference_errors`)."""
+    r"""The true error :math:`\|u_{ref} - u_h\|_h` of a solution against a reference solution.
+
+    The norm and how it is computed: module docstring of :mod:`ngdgfric.reference` (the function
+    ``reference_errors`` there also returns its parts, the relative error and the :math:`H^1` and :math:`L^2`
+    errors).
+
+    Parameters
+    ----------
+    sol : Solution
+        The solution :math:`u_h` (or a :class:`~ngdgfric.Reference`: anything with ``problem``, ``mesh`` and
+        ``u``).
+    reference : Reference or Solution
+        A :class:`~ngdgfric.Reference`, or a finer Solution of the same problem (for a scene a Reference cannot
+        store).
+
+    Returns
+    -------
+    float
+        :math:`\|u_{ref} - u_h\|_h`.
+
+    Raises
+    ------
+    ValueError
+        If ``reference`` is a Solution of another problem (geometry, numbers or data differ), or the meshes are
+        of different domains.
+
+    See Also
+    --------
+    ngdgfric.energy_norm : The error against an exact solution given as a CoefficientFunction.
+    """
     return reference_errors(sol, reference)["energy"]
 
 

@@ -147,30 +147,111 @@ def _check_eta(eta):
 
 
 class Discretization:
-    """Everything of (3.3) that does not depend on the solution, built once per mesh.
+    r"""Everything of (3.3) that does not depend on the solution, built once per mesh.
 
-    Attributes: ``V`` (the DG space, or H^1 for the conforming baseline, :func:`space`), ``Q`` (multiplier space on
-    Gamma_C), ``A`` (matrix of B_h),
-    ``F`` (load vector of (f, v)), ``M_inv`` (inverse Gauss-rule mass matrix of Q), ``dS`` (the
-    contact measure), ``h_e`` (the edge length |e|), ``h_penalty`` (the penalty's length,
-    :func:`ngdgfric.dg.forms.penalty_length`), ``timings``; ``orders`` (p_T per element), ``order`` (the
-    largest, which sets the lifting space), ``degrees`` (the polynomial degree of u_h on every element,
-    :func:`polynomial_degrees`), ``contact_order`` (the degree of the multiplier space and of the
-    contact Gauss rule: ``order``, one less for the conforming baseline), ``p`` (p_T as
-    a number or GridFunction, for the penalty and the estimator weights); ``material`` (the Lame
-    parameters element by element, :class:`ngdgfric.dg.material.Material`); ``eta`` (the penalty parameter:
-    the number given or the default, an :class:`~ngdgfric.dg.material.EdgeCoefficient` for a varying
-    material) and ``penalty`` (eta on every edge, an EdgeCoefficient); ``gauss`` and ``traces`` (the
-    contact Gauss points and the trace matrix, built on first use).
+    The spaces, the matrix of :math:`B_h` and the load vector; :func:`ngdgfric.solve` builds one and keeps it as
+    ``Solution.discretization``.  Before assembly: the mesh must fit the problem (:func:`ngdgfric.check_mesh`),
+    the DOFs the size limit ``max_ndof`` (None: the memory limit ``max_bytes``, ``check_size`` of
+    :mod:`ngdgfric.checks`) and the data be valid pointwise (:mod:`ngdgfric.checks`).  On a domain with curved
+    sides the mesh is curved to the largest order (``curve`` of :mod:`ngdgfric.meshes`; the solution's own copy
+    of the mesh, :func:`ngdgfric.solve`).
 
-    Before assembly: the mesh must fit the problem (:func:`ngdgfric.meshes.check_mesh`), the DOFs
-    the size limit ``max_ndof`` (None: the memory limit ``max_bytes``, :func:`ngdgfric.checks.check_size`) and the
-    data be valid pointwise (:mod:`ngdgfric.checks`).  A :class:`~ngdgfric.dg.methods.LockingWarning` where the method
-    locks at the largest nu on the mesh with the lowest element degree (measured: results/locking.md; cg and SIPG at
-    p = 1-3 from nu = 0.49 and 0.497, LDG from 0.4997-0.4999 at every p).  On a domain with
-    curved sides the mesh is curved to the largest order (:func:`ngdgfric.meshes.curve`; the solution's own
-    copy of the mesh, :func:`ngdgfric.solve`).  ``problem`` is the given problem with its data per region
-    and per side made CoefficientFunctions on the mesh (:meth:`~ngdgfric.problem.ContactProblem.on`).
+    Parameters
+    ----------
+    problem : ContactProblem
+        The contact problem.
+    mesh : ngsolve.Mesh
+        A mesh of the problem's domain.
+    method : str, optional
+        A name of :data:`ngdgfric.METHODS` (case-insensitive).  Default ``"sipg"``.
+    order : int or array_like of int, optional
+        The polynomial degree :math:`p \ge 1`, or an integer array with the degree :math:`p_T` of every element
+        (hp).  Default ``1``.
+    eta : float, CoefficientFunction or None, optional
+        The penalty parameter.  Default ``None``: the method's default (:meth:`ngdgfric.Method.default`;
+        :math:`30 \mu`, Section 6), for a varying material the harmonic mean of the two neighbours' defaults on
+        interior edges.
+    penalty_check : str, optional
+        What to do when ``eta`` is at or below the method's coercivity threshold: ``"warn"`` (default, a
+        :class:`~ngdgfric.PenaltyWarning`), ``"raise"`` (ValueError) or ``"ignore"``.
+    max_ndof : int or None, optional
+        Refuse (ValueError, before assembly) above this many DOFs.  Default ``None``: refuse above an estimated
+        ``max_bytes`` of memory.
+    max_bytes : float, optional
+        The memory budget in bytes when ``max_ndof`` is ``None``.  Default ``MEMORY_BUDGET`` (``8e9``, 8 GB).
+
+    Attributes
+    ----------
+    problem
+        The given problem with its data per region and per side made CoefficientFunctions on the mesh
+        (:meth:`~ngdgfric.ContactProblem.on`).
+    mesh
+        The mesh.
+    method
+        The method's row of :data:`ngdgfric.METHODS`, a :class:`~ngdgfric.Method`.
+    V
+        The space :math:`V_h`: the DG space, or :math:`H^1` for the conforming baseline (``space``).
+    Q
+        The multiplier space on :math:`\Gamma_C`.
+    A
+        The matrix of :math:`B_h` (an NGSolve matrix).
+    F
+        The load vector of :math:`(f, v)` (an NGSolve vector).
+    dS
+        The contact measure, with the contact Gauss rule.
+    h_e
+        The edge length :math:`|e|`, a CoefficientFunction.
+    h_penalty
+        The penalty's length (``penalty_length`` of :mod:`ngdgfric.dg.forms`).
+    timings
+        Seconds of ``"assemble"`` and ``"setup"``, a dict.
+    orders
+        :math:`p_T` per element, an integer array.
+    order
+        The largest :math:`p_T`, which sets the lifting space.
+    degrees
+        The polynomial degree of :math:`u_h` on every element, an integer array (``polynomial_degrees``):
+        :math:`p_T`, for the conforming baseline the largest degree of the element and its edges.
+    contact_order
+        The degree of the multiplier space and of the contact Gauss rule: ``order``, one less for the conforming
+        baseline.
+    p
+        :math:`p_T` as a number or a GridFunction, for the penalty and the estimator weights.
+    material
+        The Lamé parameters element by element (``Material`` of :mod:`ngdgfric.dg.material`).
+    eta
+        The penalty parameter: the number given or the default, an ``EdgeCoefficient`` of
+        :mod:`ngdgfric.dg.material` for a varying material.
+    penalty
+        :math:`\eta` on every edge, an ``EdgeCoefficient``.
+    V_plain
+        The test space of the mixed contact forms (``V`` without the facet couplings).
+
+    Raises
+    ------
+    ValueError
+        If ``problem`` is not a :class:`~ngdgfric.ContactProblem`, the mesh does not fit it, ``order`` or ``eta``
+        is invalid, the size limit is exceeded, or ``penalty_check="raise"`` and ``eta`` is too small.
+    DataError
+        If a datum is invalid at a point where the forms evaluate it (:class:`~ngdgfric.DataError`).
+
+    Warns
+    -----
+    PenaltyWarning
+        ``eta`` at or below the coercivity threshold (``penalty_check="warn"``).
+    LockingWarning
+        Where the method locks at the largest :math:`\nu` on the mesh with the lowest element degree (measured:
+        the results page *Volumetric locking*; cg and SIPG at :math:`p = 1`-3 from :math:`\nu = 0.49` and
+        0.497, LDG from 0.4997-0.4999 at every :math:`p`).
+    MaterialWarning
+        Where :math:`E` or :math:`\nu` vary inside elements more than the polynomials follow.
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> disc = ndf.Discretization(problem, ndf.uniform_mesh(problem, 0.5), method="nipg", order=2)
+    >>> disc.V.ndof, disc.symmetric
+    (96, False)
     """
 
     def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn", max_ndof=None,
@@ -248,8 +329,10 @@ class Discretization:
 
     @functools.cached_property
     def M_inv(self):
-        """The inverse Gauss-rule mass matrix of the multiplier space (factorised when first used: only
-        the multiplier updates of Uzawa and the fixed point need it)."""
+        """The inverse Gauss-rule mass matrix of the multiplier space.
+
+        Factorised when first used; only the multiplier updates of Uzawa and the fixed point need it.
+        """
         lam_tau, q = self.Q.TnT()
         m = ngs.BilinearForm(self.Q)
         m += lam_tau * q * self.dS
@@ -259,28 +342,28 @@ class Discretization:
 
     @property
     def symmetric(self):
-        """B_h is symmetric for every method but NIPG."""
+        """Whether :math:`B_h` is symmetric: for every method but NIPG."""
         return self.method.symmetry == 1
 
     @property
     def gauss(self):
-        """The :class:`ngdgfric.contact.ContactGauss` of this mesh (built on first use)."""
+        """The ``ContactGauss`` of :mod:`ngdgfric.contact` of this mesh (built on first use)."""
         if self._gauss is None:
             self._gauss = ContactGauss(self.problem, self.mesh, self.contact_order, self.Q)
         return self._gauss
 
     @property
     def traces(self):
-        """The :class:`ngdgfric.solvers.traces.ContactTraces` of this discretisation and its problem
+        """The ``ContactTraces`` of :mod:`ngdgfric.solvers.traces` of this discretisation and its problem
         (built on first use)."""
         if self._traces is None:
             self._traces = ContactTraces(self, self.problem)
         return self._traces
 
     def contact_points(self):
-        """Mapped Gauss points on Gamma_C (see :func:`ngdgfric.contact.contact_points`)."""
+        r"""Mapped Gauss points on :math:`\Gamma_C` (``contact_points`` of :mod:`ngdgfric.contact`)."""
         return contact_points(self.problem, self.mesh, self.contact_order)
 
     def contact_groups(self):
-        """For each edge on Gamma_C, the V-dofs of its element."""
+        r"""For each edge on :math:`\Gamma_C`, the DOFs of ``V`` of its element."""
         return [list(self.V.GetDofNrs(element)) for _, element in contact_boundary(self.problem, self.mesh)]

@@ -1,24 +1,29 @@
-"""The material law (1.1)-(1.3) as the DG forms see it: element by element, and across each edge.
+r"""The material law (1.1)-(1.3) as the DG forms see it: element by element, and across each edge.
 
-sigma = 2 mu eps + lam tr(eps) I with the Lame parameters of Section 6, mu = E / (2 (1 + nu)) and
-lam = E nu / ((1 + nu)(1 - 2 nu)).  A facet term needs the stress of each neighbour from its own
-side, but a CoefficientFunction such as ``IfPos(y - 0.5, E1, E0)`` evaluated on the interface
-y = 1/2 gives both neighbours the same branch, and the forms then mix the materials (relative errors
-of 5 % to several 100 % on a piecewise linear solution that every method must reproduce).  So data
-that vary (E or nu given as CoefficientFunctions) enter through mu and lam projected element by
-element into discontinuous fields (:func:`element_fields`): the element's L2 projection of degree 0
-where the data are constant on every element (a mesh that follows the jumps: exact), else of the
-discretisation's degree p.  Where they vary inside elements more than degree-p polynomials can follow
-(a jump that cuts elements) the element means are used and a :class:`MaterialWarning` names the datum.
+:math:`\sigma = 2 \mu \epsilon + \lambda \operatorname{tr}(\epsilon) I` with the Lamé parameters of Section 6,
+:math:`\mu = E / (2 (1 + \nu))` and :math:`\lambda = E \nu / ((1 + \nu)(1 - 2 \nu))`.  A facet term needs the
+stress of each neighbour from its own side, but a CoefficientFunction such as ``IfPos(y - 0.5, E1, E0)``
+evaluated on the interface :math:`y = 1/2` gives both neighbours the same branch, and the forms then mix the
+materials (relative errors of 5 % to several 100 % on a piecewise linear solution that every method must
+reproduce).  So data
+that vary (:math:`E` or :math:`\nu` given as CoefficientFunctions) enter through :math:`\mu` and :math:`\lambda`
+projected element by element into discontinuous fields (``element_fields``): the element's :math:`L^2` projection
+of degree 0 where the data are constant on every element (a mesh that follows the jumps: exact), else of the
+discretisation's degree :math:`p`.  Where they vary inside elements more than degree-:math:`p` polynomials can
+follow (a jump that cuts elements) the element means are used and a :class:`~ngdgfric.MaterialWarning` names the
+datum.
 
-Across an interior edge e with neighbours T+ and T- the stresses are averaged with the weights of
-Dryja (CMAM 3, 2003) and Ern, Stephansen & Zunino (IMA J. Numer. Anal. 29, 2009),
+Across an interior edge :math:`e` with neighbours :math:`T^+` and :math:`T^-` the stresses are averaged with the
+weights of Dryja (CMAM 3, 2003) and Ern, Stephansen & Zunino (IMA J. Numer. Anal. 29, 2009),
 
-    {sigma}_w = w+ sigma+ + w- sigma-,     w+- = k-+ / (k+ + k-),    k = 2 mu + lam,
+.. math::
 
-and penalties scale with harmonic means 2 a+ a- / (a+ + a-) of the material on the two sides
-(:meth:`Material.harmonic`), so that coercivity and accuracy do not depend on the contrast.  For
-constant data w+- = 1/2 and the means are the data themselves: the paper's forms, number for number.
+    \{\sigma\}_w = w^+ \sigma^+ + w^- \sigma^-, \qquad
+    w^\pm = \frac{k^\mp}{k^+ + k^-}, \qquad k = 2 \mu + \lambda,
+
+and penalties scale with harmonic means :math:`2 a^+ a^- / (a^+ + a^-)` of the material on the two sides
+(``Material.harmonic``), so that coercivity and accuracy do not depend on the contrast.  For constant data
+:math:`w^\pm = 1/2` and the means are the data themselves: the paper's forms, number for number.
 """
 
 from dataclasses import dataclass
@@ -39,7 +44,13 @@ is issued."""
 
 
 class MaterialWarning(UserWarning):
-    """A material datum varies inside elements more than the discretisation's polynomials can follow."""
+    r"""A material datum varies inside elements more than the discretisation's polynomials can follow.
+
+    Issued by :class:`~ngdgfric.Discretization` (so by :func:`ngdgfric.solve` too) where :math:`E` or :math:`\nu`,
+    given as CoefficientFunctions, jump inside elements (a jump that the mesh does not follow): the element
+    means of :math:`\mu` and :math:`\lambda` are used there (:mod:`ngdgfric.dg.material`) and convergence is slow
+    (about :math:`h^{1/2}`).  The message names the data and a point; a mesh with edges along the jump avoids it.
+    """
 
 
 @dataclass(frozen=True)
