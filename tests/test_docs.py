@@ -191,13 +191,16 @@ def test_landing_methods_and_adapt_render_offline(site, tmp_path):
     assert images, "index: no picture"
     picture = matplotlib.image.imread(site / images[0])[..., :3]
     assert coloured(picture) > 20_000, f"index: the picture {images[0]} is nearly blank"
-    assert coloured(rgb) > 45_000, "index: the picture is not on screen"  # text pages: some 25 000
+    # measured: 29 400 with the picture; the text pages testing, paper and methods 1 900, 8 700, 5 600
+    assert coloured(rgb) > 15_000, "index: the picture is not on screen"
     for link in ("getting_started.html", "user_guide/methods.html", "api/index.html", "gallery/index.html",
                  "results/index.html"):
         assert f'href="{link}' in dom, f"index: no link to {link}"
-    assert "mathjax/tex-chtml.js" in dom and "cdn" not in re.findall(r'<script[^>]+src="([^"]*mathjax[^"]*)"', dom)[0]
 
     dom, rgb = chromium(site, "user_guide/methods.html", tmp_path)
+    scripts = re.findall(r'<script[^>]+src="([^"]*mathjax[^"]*)"', dom)  # tex-chtml.js and the extensions it loads
+    assert "../_static/mathjax/tex-chtml.js" in scripts and not [s for s in scripts if s.startswith("http")], \
+        f"methods: MathJax is not loaded from the site's own copy: {scripts}"
     assert formulas(dom) >= 20, f"methods: {formulas(dom)} rendered formulas"
     assert not raw_tex(dom), f"methods: raw TeX left: {raw_tex(dom)[:5]}"
     assert non_white(rgb) > 20_000, "methods: the screenshot is nearly blank"
