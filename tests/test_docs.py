@@ -173,9 +173,11 @@ def formulas(dom):
 
 
 def raw_tex(dom):
-    """TeX that was not rendered: MathJax's delimiters left in the page's text."""
+    """TeX that was not rendered: MathJax's delimiters left in the page's text, and MathJax's error boxes (TeX it
+    could not typeset, e.g. a ``\\tag`` in a ``split``)."""
     text = page_text(re.sub(r"<(script|style)\b.*?</\1>", " ", dom, flags=re.S))
-    return re.findall(r"\\\(|\\\)|\\\[|\\\]|\$\$", text)
+    errors = [f"MathJax error: {page_text(m)}" for m in re.findall(r"<mjx-merror.*?</mjx-merror>", dom, flags=re.S)]
+    return re.findall(r"\\\(|\\\)|\\\[|\\\]|\$\$", text) + errors
 
 
 @pytest.mark.slow
@@ -217,6 +219,22 @@ def test_landing_methods_and_adapt_render_offline(site, tmp_path):
         shown = "**" + name if parameter.kind is inspect.Parameter.VAR_KEYWORD else name
         assert re.search(rf"(^|\s){re.escape(shown)}\s*\(", parameters) or re.search(
             rf"(^|\s){re.escape(shown)}\s*[–—-]", parameters), f"adapt: Parameters does not name {shown}"
+
+
+@pytest.mark.slow
+@pytest.mark.browser
+@needs_chromium
+def test_every_formula_on_the_site_renders(site, tmp_path):
+    """Every page that loads MathJax, opened offline: no TeX left raw and no MathJax error box."""
+    pages = sorted(path for path in site.rglob("*.html") if "mathjax/tex-chtml.js" in path.read_text()
+                   and "_static" not in path.parts)
+    assert len(pages) >= 20, f"only {len(pages)} pages with formulas"
+    failed = {}
+    for path in pages:
+        dom, _ = chromium(site, str(path.relative_to(site)), tmp_path, screenshot=False)
+        if raw_tex(dom) or not formulas(dom):
+            failed[str(path.relative_to(site))] = raw_tex(dom)[:3] or "no formula rendered"
+    assert not failed, f"formulas not rendered: {failed}"
 
 
 USER_PAGES = ["index.html", "getting_started.html", "paper.html", "testing.html", "user_guide/*.html",
