@@ -1,6 +1,6 @@
 """Many contact points: the contact solve against the linear solve on a long contact side, M = 2,500 ... 10,000.
 
-Issue 39, item 3.  The scene: a strip 8 x 1/16 (``long_strip``) pressed down and sheared by its top (u_D = (0.002,
+The scene: a strip 8 x 1/16 (``long_strip``) pressed down and sheared by its top (u_D = (0.002,
 -0.001), E = 2500, nu = 0.2) onto a compliant foundation along its long side (c_n = 1e4, m_n = 1, g_a = 0, Tresca
 friction c_tau = 25: stick in the middle, slip towards the ends), conforming P4 (adapt's default discretisation;
 p = 4 contact points per edge) on grid meshes with 8 / h = M / 4 cells along Gamma_C.  Per M:
@@ -18,8 +18,14 @@ the Delassus operator's 32 M^2 bytes.  Writes results/long_contact_side.md and .
 benchmark:
 
     python benchmarks/bench_solvers.py --long-side [--quick] [--points 2500 5000 10000] [--repeat 2]
+
+``--report-only`` measures nothing: it rewrites long_contact_side.md from the long_contact_side.csv in --out
+(after a change of the report's text; the timings stay those of the run that wrote the CSV):
+
+    python benchmarks/bench_solvers.py --long-side --report-only
 """
 
+import csv
 import dataclasses
 import sys
 import time
@@ -119,11 +125,16 @@ def add_arguments(parser):
                         help="--long-side: the numbers of contact points M")
     parser.add_argument("--condensed-max", type=int, default=5000,
                         help="--long-side: run the condensed solver up to this many points (its W needs 32 M^2 bytes)")
+    parser.add_argument("--report-only", action="store_true",
+                        help="--long-side: measure nothing; rewrite long_contact_side.md from the "
+                             "long_contact_side.csv in --out")
 
 
 def run(args):
     """The rows of the long-side case for the parsed ``args`` of benchmarks/bench_solvers.py, written to
-    ``args.out``."""
+    ``args.out`` (with ``--report-only``: the rows of the CSV there, its Markdown rewritten from them)."""
+    if getattr(args, "report_only", False):
+        return rewrite_report(args.out)
     points = [500, 1000] if args.quick else args.points
     repeat = 1 if args.quick else args.repeat
     problem, rows = long_strip(), []
@@ -139,14 +150,41 @@ def run(args):
     return rows
 
 
+def read_rows(path):
+    """The rows of a CSV that ``run`` wrote, as ``measure`` made them: integers and floats as such, the columns
+    left empty (no condensed solve) left out."""
+
+    def value(text):
+        for kind in (int, float):
+            try:
+                return kind(text)
+            except ValueError:
+                pass
+        return text
+
+    with open(path, newline="") as handle:
+        return [{key: value(text) for key, text in row.items() if text != ""} for row in csv.DictReader(handle)]
+
+
+def rewrite_report(out):
+    """long_contact_side.md in ``out`` rewritten from the long_contact_side.csv there, nothing measured; its
+    'Regenerate' line names the measuring command (this one without --report-only)."""
+    rows = read_rows(out / "long_contact_side.csv")
+    command = " ".join(word for word in command_line().split(" ") if word != "--report-only")
+    write_text(out / "long_contact_side.md", report(rows, command))
+    say(f"{out / 'long_contact_side.md'} rewritten from {len(rows)} rows of {out / 'long_contact_side.csv'}")
+    return rows
+
+
 def _f(row, key, spec=".2f"):
     value = row.get(key)
     return "-" if value is None or value != value else format(value, spec)
 
 
-def report(rows):
+def report(rows, command=None):
+    """The Markdown of ``rows``; ``command``: the one to name as regenerating it (default: this process's)."""
     lines = ["# Many contact points: contact solve against linear solve on a long contact side", "",
-             f"Regenerate: `{command_line()}` (run alone: timings on a busy machine are meaningless).", "",
+             f"Regenerate: `{command or command_line()}` (run alone: timings on a busy machine are meaningless).", "",
              __doc__.split("\n\n")[1], "",
              f"The default formulation switches to the full space from FULL_SPACE_POINTS = {FULL_SPACE_POINTS} "
              "contact points.  Times in seconds, end to end (assembly included); ratios: contact / linear; memory "

@@ -1,4 +1,4 @@
-"""The cases of the default solver's robustness (issue 12, item 6): one case, its verdict, and the case lists.
+"""The cases of the default solver's robustness: one case, its verdict, and the case lists.
 
 Every case is one ``ndf.solve(problem, mesh, method=..., order=...)`` with the default solver
 (:mod:`ngdgfric.solvers.newton`).  A case passes iff the solve raises nothing and the solution satisfies
@@ -17,8 +17,8 @@ counted against the case.  A SolverError is no failure when plain semismooth New
 ``EXISTENCE_STARTS`` random starting forces finds no solution of the same condensed problem either
 ("no solution found").
 
-Cases: a fixed list of named hard cases (``named_cases``: the failures reported in issue 12, the
-extremes of tests/test_newton.py, and nine cases of the bimaterial strip of issue 26: E = 1e3 / 1e5 on
+Cases: a fixed list of named hard cases (``named_cases``: the failures reported before the solver's rewrite,
+the extremes of tests/test_newton.py, and nine cases of the bimaterial strip: E = 1e3 / 1e5 on
 its halves with the penetration-dependent friction bound, m_t = 1, 2, on uniform, Netgen and hp-adapted
 meshes) and cases drawn by ``draw_case`` over: the five DG methods; p = 1, 2, 3 (a few p = 4); m_n in
 {1, 1.5, 2, 3}; m_t in {0, 0.5, 1, 2} (mostly 0); c_n in {0, 1e-6, ..., 1e10}; c_tau in {0, 1e-3, ...,
@@ -130,15 +130,15 @@ def case(id, family, method, order, mesh, size, name="", nu=None, E=None, c_n=No
 
 
 def named_cases():
-    """The failures reported in issue 12 and the extremes of tests/test_newton.py."""
+    """The failures reported before the solver's rewrite and the extremes of tests/test_newton.py."""
     cases = []
     for nu in (0.499, 0.4999):
         for h in (1 / 8, 1 / 16, 1 / 32):
             cases.append(case(f"N{len(cases) + 1:02d}", "6.1", "sipg", 1, "uniform", h, nu=nu,
-                              name=f"issue 12: Example 6.1, nu = {nu}"))
+                              name=f"failed before the rewrite: Example 6.1, nu = {nu}"))
     for method, h in (("nipg", 1 / 8), ("sipg", 1 / 16)):
         cases.append(case(f"N{len(cases) + 1:02d}", "manufactured", method, 2, "uniform", h, nu=0.3, E=1000.0,
-                          c_n=1e4, name="issue 12: manufactured, E = 1000, c_n = 1e4"))
+                          c_n=1e4, name="failed before the rewrite: manufactured, E = 1000, c_n = 1e4"))
     more = [
         dict(family="6.1", m_n=2.0, c_n=1e5, g_a="-0.01", name="initial penetration, m_n = 2"),
         dict(family="6.1", c_n=1e10, g_a="-0.01", name="stiff compliance, initial penetration"),
@@ -174,11 +174,11 @@ def named_cases():
 
 
 def strip_cases():
-    """Varying E with m_t > 0 (issue 26): the bimaterial strip of ngdgfric.studies.scenes.strip (E = 1e3 / 1e5,
+    """Varying E with m_t > 0: the bimaterial strip of ngdgfric.studies.scenes.strip (E = 1e3 / 1e5,
     c_n = 1e6, m_n = 2, c_tau = 10, m_t = 1, where the default solver's inner solves used to fail), on
     several meshes, methods and orders, and variations of its contrast, compliance and bound."""
     base = dict(family="strip", m_t=1.0, order=2, size=1 / 2)
-    return [dict(base, name="bimaterial strip, m_t = 1 (issue 26)"),
+    return [dict(base, name="bimaterial strip, m_t = 1 (where the inner solves failed)"),
             dict(base, size=1 / 4, name="bimaterial strip, m_t = 1, h = 1/4"),
             dict(base, method="nipg", name="bimaterial strip, NIPG"),
             dict(base, method="bassi", order=3, mesh="netgen", size=0.4, name="bimaterial strip, Netgen, P3"),

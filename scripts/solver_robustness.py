@@ -1,4 +1,4 @@
-"""Robustness of the default solver (condensation + semismooth Newton) over the data: issue 12, item 6.
+"""Robustness of the default solver (condensation + semismooth Newton) over the data.
 
 Runs the named hard cases and ``COUNT`` cases drawn with a fixed seed (scripts/robustness_cases.py: the
 cases, the pass criteria, the ranges drawn over) and writes solver_robustness.csv (one row per case,
@@ -109,7 +109,7 @@ def report(rows, total, seconds, interrupted, budget):
 
     lines = ["# Robustness of the default solver (semismooth Newton)", "",
              f"Regenerate: `{command_line()}`", "",
-             "Issue 12, item 6: cases drawn over the ranges of the data (module docstring of",
+             "Cases drawn over the ranges of the data (module docstring of",
              "`scripts/solver_robustness.py`; fixed seed) plus named hard cases, each solved with the default",
              "solver.  A case passes iff the solve raises nothing, lam_excess <= 1e-14, complementarity <= 1e-12,",
              "equilibrium <= 10 max(rounding, 1e-14) (rounding: the equilibrium residual of u (1 +- eps)) and,",

@@ -223,6 +223,33 @@ def test_long_contact_side(tmp_path):
     assert "| 1000 |" in (tmp_path / "long_contact_side.md").read_text()
 
 
+def test_long_contact_side_report_only(tmp_path):
+    """--report-only measures nothing and rewrites the Markdown from the CSV: the same report the run wrote, also
+    for rows without a condensed solve or PARDISO's memory."""
+    import long_contact_side
+
+    run("bench_solvers", tmp_path, "--long-side")
+    markdown = tmp_path / "long_contact_side.md"
+    written = markdown.read_text()
+    markdown.unlink()
+    run("bench_solvers", tmp_path, "--long-side", "--report-only")
+    assert markdown.read_text() == written
+    rows = [dict(points=504, ndof=8064, cold=0.12, cold_its=5, cold_factorizations=1, warm=0.08, warm_its=2,
+                 warm_factorizations=1, linear=0.05, linear_solver_only=0.03, cold_ratio=2.4, warm_ratio=1.6,
+                 assembly=0.02, contact_bytes=1.2e7, linear_bytes=11_000_000, delassus_bytes=32.0 * 504 ** 2,
+                 condensed=0.1, condensed_its=3, difference=1.5e-14, formulation="pardiso"),
+            dict(points=1000, ndof=18018, cold=0.19, cold_its=6, cold_factorizations=2, warm=0.18, warm_its=2,
+                 warm_factorizations=1, linear=0.09, linear_solver_only=0.05, cold_ratio=1.96, warm_ratio=1.93,
+                 assembly=0.04, contact_bytes=float("nan"), linear_bytes=22_802_432, delassus_bytes=3.2e7,
+                 formulation="pardiso (full space)")]  # as measure makes them; no condensed solve in the second
+    long_contact_side.write_csv(tmp_path / "long_contact_side.csv", rows, long_contact_side.FIELDS)
+    written = long_contact_side.report(rows)
+    read = run("bench_solvers", tmp_path, "--long-side", "--report-only")
+    assert [(r["points"], r["cold_its"], "condensed" in r) for r in read] == [(504, 5, True), (1000, 6, False)]
+    assert (tmp_path / "long_contact_side.md").read_text() == written
+    assert "--report-only" not in written and "| 0.18 (2, 1) |" in written and "| - (-) | - | - / 23 |" in written
+
+
 def test_bench_linear_solvers(tmp_path):
     run("bench_linear_solvers", tmp_path)
     rows = read_csv(tmp_path / "linear_solvers.csv")
