@@ -25,7 +25,6 @@ benchmark:
     python benchmarks/bench_solvers.py --long-side --report-only
 """
 
-import csv
 import dataclasses
 import sys
 import time
@@ -44,7 +43,7 @@ from ngdgfric.solvers.pardiso import Factorization
 from ngdgfric.transfer import interpolate, multiplier_snapshot
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
-from common import best, command_line, say, write_csv  # noqa: E402
+from common import best, command_line, read_csv, say, write_csv  # noqa: E402
 
 METHOD, ORDER = "cg", 4  # contact points per edge: ORDER (conforming)
 MAX_NDOF = 4_000_000  # M = 10,000: 1.6 million DOFs (the default memory model, made for DG, refuses them)
@@ -150,26 +149,10 @@ def run(args):
     return rows
 
 
-def read_rows(path):
-    """The rows of a CSV that ``run`` wrote, as ``measure`` made them: integers and floats as such, the columns
-    left empty (no condensed solve) left out."""
-
-    def value(text):
-        for kind in (int, float):
-            try:
-                return kind(text)
-            except ValueError:
-                pass
-        return text
-
-    with open(path, newline="") as handle:
-        return [{key: value(text) for key, text in row.items() if text != ""} for row in csv.DictReader(handle)]
-
-
 def rewrite_report(out):
     """long_contact_side.md in ``out`` rewritten from the long_contact_side.csv there, nothing measured; its
     'Regenerate' line names the measuring command (this one without --report-only)."""
-    rows = read_rows(out / "long_contact_side.csv")
+    rows = read_csv(out / "long_contact_side.csv")
     command = " ".join(word for word in command_line().split(" ") if word != "--report-only")
     write_text(out / "long_contact_side.md", report(rows, command))
     say(f"{out / 'long_contact_side.md'} rewritten from {len(rows)} rows of {out / 'long_contact_side.csv'}")

@@ -44,6 +44,7 @@ from common import (  # noqa: E402
     best,
     contact_free,
     fmt,
+    read_csv,
     results_path,
     run_script,
     save_figure,
@@ -61,6 +62,7 @@ RESOLVED = 1e-4  # tolerances at or above it are resolved by the stored referenc
 MAX_NDOF = 400_000
 DG_SECONDS = 300  # a DG method's own adapt run stops here (TimeLimitError): NIPG on the wedge ran 9.5 min unfinished
 FIELDS = ["case", "run", "target", "relative", "seconds", "ndof", "levels", "error"]
+TEXT_COLUMNS = ("case", "run", "method", "stopped")  # read back as text whatever they hold ("6.1")
 STOP_FIELDS = ["case", "tol", "method", "levels", "ndof", "p_max", "stopped", "loop_seconds", "linear_seconds",
                "ratio", "eta_h", "error", "error_over_tol", "effectivity", "last_growth", "mean_growth"]
 
@@ -80,23 +82,6 @@ def parse(argv=None):
                         help="only the stopping runs adapt(problem, tol); the target rows are read from "
                              "time_to_accuracy.csv in --out")
     return parser.parse_args(argv)
-
-
-def read_rows(path):
-    """The rows of an earlier run's CSV, numbers as numbers."""
-    import csv
-
-    def value(key, text):
-        if key in ("case", "run", "method", "stopped"):
-            return text
-        try:
-            number = float(text)
-        except ValueError:
-            return text
-        return int(number) if number.is_integer() and "." not in text and "e" not in text else number
-
-    with open(path, newline="") as handle:
-        return [{key: value(key, text) for key, text in row.items() if text != ""} for row in csv.DictReader(handle)]
 
 
 def case(name):
@@ -228,8 +213,8 @@ def main(argv=None):
     args.out.mkdir(parents=True, exist_ok=True)
     names = args.case or (["6.2"] if args.quick else ["6.1", "6.2", *SCENE_CASES])
     csv_path, stops_path = args.out / "time_to_accuracy.csv", args.out / "time_to_accuracy_stops.csv"
-    rows = read_rows(csv_path) if args.report or args.append or args.stops_only or args.dg_only else []
-    stops = read_rows(stops_path) if args.report or args.append or args.dg_only else []
+    rows = read_csv(csv_path, TEXT_COLUMNS) if args.report or args.append or args.stops_only or args.dg_only else []
+    stops = read_csv(stops_path, TEXT_COLUMNS) if args.report or args.append or args.dg_only else []
     if args.report:
         report(rows, stops, args.out)
         plot(rows, args.out / "time_to_accuracy.png")

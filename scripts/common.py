@@ -2,6 +2,7 @@
 writers, a process pool.  The benchmarks import it with scripts/ put on sys.path (see any of them)."""
 
 import argparse
+import csv
 import dataclasses
 import multiprocessing
 import sys
@@ -70,6 +71,24 @@ def command_line():
 def write_csv(path, rows, fields=None):
     """Rows as CSV, written atomically (columns ``fields``, default the first row's keys)."""
     files.write_csv(path, rows, fields or list(rows[0]))
+
+
+def read_csv(path, text=()):
+    """The rows of a CSV that ``write_csv`` wrote, numbers as numbers (an int where the text is one, else a float),
+    the columns ``text`` kept as text whatever they hold; empty cells left out of their row."""
+
+    def value(key, cell):
+        if key in text:
+            return cell
+        for kind in (int, float):
+            try:
+                return kind(cell)
+            except ValueError:
+                pass
+        return cell
+
+    with open(path, newline="") as handle:
+        return [{key: value(key, cell) for key, cell in row.items() if cell != ""} for row in csv.DictReader(handle)]
 
 
 def fmt(value, spec=".4e"):
