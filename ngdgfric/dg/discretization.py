@@ -23,7 +23,7 @@ from .material import Lame, Material, largest
 from .methods import check_locking, check_penalty, get_method, penalty
 
 __all__ = ["Discretization", "dg_space", "conforming_space", "space", "polynomial_degrees", "edge_orders",
-           "contact_edges", "contact_elements", "check_order", "order_function"]
+           "contact_edges", "contact_elements", "check_order", "order_function", "most_common_degree"]
 
 
 def dg_space(mesh, order, dgjumps=True):
@@ -37,7 +37,7 @@ def dg_space(mesh, order, dgjumps=True):
     if np.ndim(order) == 0:
         return ngs.L2(mesh, order=int(order), dgjumps=dgjumps) ** 2
     order = np.asarray(order)
-    base = _most_common(order)
+    base = most_common_degree(order)
     scalar = ngs.L2(mesh, order=base, dgjumps=dgjumps)
     for nr in np.flatnonzero(order != base):  # only scalar L2 has SetOrder: build Q**2 from it
         scalar.SetOrder(ngs.NodeId(ngs.ELEMENT, int(nr)), int(order[nr]))
@@ -45,7 +45,7 @@ def dg_space(mesh, order, dgjumps=True):
     return scalar**2
 
 
-def _most_common(orders):
+def most_common_degree(orders):
     """The most common degree: the spaces of variable order start from it, and SetOrder (a Python call per node)
     goes only to the nodes of other degrees (the H^1 space of an hp level of Example 6.2, 23,006 DOFs: 0.016 ->
     0.009 s, the same matrices)."""
@@ -97,7 +97,7 @@ def conforming_space(mesh, order, raised=()):
     if np.ndim(order) == 0:
         return ngs.VectorH1(mesh, order=int(order))
     order = np.asarray(order)
-    base = _most_common(order)
+    base = most_common_degree(order)
     scalar = ngs.H1(mesh, order=base)
     for nr in np.flatnonzero(order != base):
         scalar.SetOrder(ngs.NodeId(ngs.ELEMENT, int(nr)), int(order[nr]))
