@@ -12,6 +12,12 @@ Cases (the five DG methods and the conforming baseline cg, p = 1..4, uniform and
 * ``6.1``, ``6.2``: the paper's examples, uniform h = 2^-2..2^-4 and eight h-adaptive levels from
   h = 1/2; true error against the hp reference solutions of results/reference.md (estimated
   error 3e-5), rows with a true error below 1e-3 left out.
+* ``any data``: the solution of ``divergence-free`` (its f, g, g_a and c_tau are not polynomials, c_tau and g_a
+  vary along Gamma_C) at E = 1, 1e3 and nu = 0.3, 0.45, 0.4999, uniform h = 2^-2..2^-5: the equilibrated
+  bound's claims (guaranteed, never below the error, bounded under refinement).
+
+Every level has both estimators: the residual one (``ndf.estimate(sol)``) and the guaranteed bound
+(``ndf.estimate(sol, kind="equilibrated")``), with its cost as a fraction of the level's solve.
 
 A method "locks" at (nu, p) when its error on the finest uniform divergence-free level exceeds
 1.5 times the best method's.  Writes results/effectivity.md, .csv and .png.
@@ -33,8 +39,11 @@ YOUNG = (1.0, 1e3, 1e6)
 POISSON = (0.3, 0.49, 0.4999)
 LOCKING_RATIO = 1.5
 MIN_EXAMPLE_ERROR = 1e-3  # 30 times the hp references' estimated error
+ANY_DATA = {"E": (1.0, 1e3), "nu": (0.3, 0.45, 0.4999)}
+BOUNDED = 3.0  # the equilibrated bound's max / min over h and p, per method (nu <= 0.45)
 FIELDS = ["family", "E", "nu", "method", "order", "mode", "level", "ndof", "error", "eta_h", "eta_paper",
-          "effectivity", "effectivity_paper", "seconds", "failure"]
+          "effectivity", "effectivity_paper", "eta_eq", "effectivity_eq", "guaranteed", "eq_over_solve", "seconds",
+          "failure"]
 
 
 def parse(argv=None):
@@ -50,7 +59,8 @@ def tasks(quick):
                 for mode in ("uniform", "adaptive")] + [
                 dict(family="divergence-free", E=1.0, nu=0.4999, method="brezzi", order=2, mode="uniform", levels=2),
                 dict(family="6.2", E=None, nu=None, method="nipg", order=1, mode="uniform", levels=2),
-                dict(family="6.2", E=None, nu=None, method="cg", order=2, mode="uniform", levels=2)]
+                dict(family="6.2", E=None, nu=None, method="cg", order=2, mode="uniform", levels=2),
+                dict(family="any data", E=1.0, nu=0.45, method="ldg", order=2, mode="uniform", levels=2)]
     out = []
     for method in METHODS:
         for order in ORDERS:
@@ -67,6 +77,8 @@ def tasks(quick):
             for example in ("6.1", "6.2"):
                 out += [dict(family=example, E=None, nu=None, method=method, order=order, mode=mode, levels=levels)
                         for mode, levels in (("uniform", 3), ("adaptive", 8))]
+            out += [dict(family="any data", E=E, nu=nu, method=method, order=order, mode="uniform", levels=4)
+                    for E in ANY_DATA["E"] for nu in ANY_DATA["nu"]]
     return out
 
 
@@ -82,8 +94,8 @@ def setup(task):
         problem = example(family)
         reference = ndf.load_reference(RESULTS / f"reference_{family.replace('.', '_')}.npz", problem)
         return problem, lambda sol: reference_errors(sol, reference)["energy"], 0.5
-    build = (manufactured.incompressible_contact_manufactured if family == "divergence-free"
-             else manufactured.contact_manufactured)
+    build = (manufactured.contact_manufactured if family == "lam-scaled"
+             else manufactured.incompressible_contact_manufactured)
     problem, u = build(E=task["E"], nu=task["nu"], c_n=10.0 * task["E"] / 1e3)
     return problem, lambda sol: ndf.energy_norm(sol, u), 0.25
 
@@ -101,8 +113,13 @@ def run_task(task):
     def record(level, sol, est, seconds):
         error = error_of(sol)
         paper = ndf.estimate(sol, variant="paper").eta_h
+        clock = time.perf_counter()
+        bound = ndf.estimate(sol, kind="equilibrated")
+        cost = (time.perf_counter() - clock) / sol.timings["total"]
         rows.append(dict(task, level=level, ndof=sol.ndof, error=error, eta_h=est.eta_h, eta_paper=paper,
-                         effectivity=est.eta_h / error, effectivity_paper=paper / error, seconds=seconds))
+                         effectivity=est.eta_h / error, effectivity_paper=paper / error, eta_eq=bound.eta_h,
+                         effectivity_eq=bound.eta_h / error, guaranteed=bound.guaranteed, eq_over_solve=cost,
+                         seconds=seconds))
 
     start = time.perf_counter()
     try:
@@ -117,7 +134,8 @@ def run_task(task):
                       keep=lambda level, sol, est: record(level, sol, est, time.perf_counter() - start))
     except ndf.SolverError as error:  # reported, never dropped
         rows.append(dict(task, level=len(rows), ndof=None, error=math.nan, eta_h=math.nan, eta_paper=math.nan,
-                         effectivity=math.nan, effectivity_paper=math.nan, seconds=time.perf_counter() - start,
+                         effectivity=math.nan, effectivity_paper=math.nan, eta_eq=math.nan, effectivity_eq=math.nan,
+                         guaranteed=None, eq_over_solve=math.nan, seconds=time.perf_counter() - start,
                          failure=str(error).splitlines()[0][:160]))
     for row in rows:
         row.pop("levels")
@@ -179,10 +197,10 @@ def report(rows, seconds):
                        f"{r['level']}: {r['failure']}" for r in failures) + ".", ""]
     groups = {}
     for r in rows:
-        name = r["family"] if r["family"] in ("6.1", "6.2", "lam-scaled") else f"divergence-free, nu = {r['nu']:g}"
+        name = r["family"] if r["family"] in ("6.1", "6.2", "lam-scaled") else f"{r['family']}, nu = {r['nu']:g}"
         groups.setdefault((name, r["method"]), []).append(r)
     header = ["case", "method", "locks (error / best)", "levels", "effectivity min - max (p = 1..4)",
-              "by p (mean)", "paper's weights"]
+              "by p (mean)", "paper's weights", "equilibrated min - max"]
     table = []
     for (name, method), group in sorted(groups.items()):
         lo, hi, _ = spread(group)
@@ -193,7 +211,10 @@ def report(rows, seconds):
         if name.startswith("divergence-free"):
             worst = max(ratio.get((group[0]["nu"], method, p), 1.0) for p in ORDERS)
             lock = f"{'yes' if worst > LOCKING_RATIO else 'no'} ({worst:.2f})"
-        table.append([name, method, lock, len(group), f"{lo:.2f} - {hi:.2f}", by_p, f"{plo:.3g} - {phi:.3g}"])
+        elo, ehi, _ = spread(group, "effectivity_eq")
+        table.append([name, method, lock, len(group), f"{lo:.2f} - {hi:.2f}", by_p, f"{plo:.3g} - {phi:.3g}",
+                      f"{elo:.2f} - {ehi:.2f}"])
+    lines += equilibrated_report(rows)
     lines += ["## By case and method", "", markdown_table(header, table), ""]
     by_E = {}
     for r in rows:
@@ -204,6 +225,45 @@ def report(rows, seconds):
                              [[f"{E:g}", len(v), f"{min(v):.3f} - {max(v):.3f}"] for E, v in sorted(by_E.items())]),
               ""]
     return "\n".join(lines)
+
+
+def equilibrated_report(rows):
+    """The lines on the guaranteed bound: every level, then the ``any data`` family method by method."""
+    values = [r["effectivity_eq"] for r in rows]
+    unguaranteed = [r for r in rows if not r["guaranteed"]]
+    below = [r for r in rows if r["effectivity_eq"] < 1.0]
+    lines = ["## The equilibrated bound (`kind=\"equilibrated\"`)", "",
+             f"- Every level ({len(rows)}): guaranteed on {len(rows) - len(unguaranteed)}; effectivity "
+             f"{min(values):.2f} - {max(values):.2f}, mean {sum(values) / len(values):.2f}; below 1 on {len(below)}; "
+             f"its cost {min(r['eq_over_solve'] for r in rows):.2f} - {max(r['eq_over_solve'] for r in rows):.2f} "
+             "of the level's solve (benchmarks/bench_equilibration.py measures it against the linear solve).", ""]
+    data = [r for r in rows if r["family"] == "any data"]
+    if not data:
+        return lines
+    header = ["E", "nu", "method", "levels", "min - max", "max / min", "mean", "by p (max / min over h)"]
+    table, bounded = [], [r for r in data if r["nu"] <= 0.45]
+    for (E, nu, method), group in sorted(_groups(data, ("E", "nu", "method")).items()):
+        lo, hi, q = spread(group, "effectivity_eq")
+        by_p = " / ".join(f"{spread(g, 'effectivity_eq')[2]:.2f}" for g in _groups(group, ("order",)).values())
+        table.append([f"{E:g}", f"{nu:g}", method, len(group), f"{lo:.2f} - {hi:.2f}", f"{q:.2f}",
+                      f"{sum(r['effectivity_eq'] for r in group) / len(group):.2f}", by_p])
+    per_method = {m: spread(g, "effectivity_eq") for (m,), g in _groups(bounded, ("method",)).items()}
+    mean = sum(r["effectivity_eq"] for r in bounded) / len(bounded)
+    over_h = max(spread(g, "effectivity_eq")[2] for g in _groups(bounded, ("E", "nu", "method", "order")).values())
+    lines += ["### Any data (f, g, g_a, c_tau not polynomials; contact and separation, stick and slip)", "",
+              f"- nu = 0.3, 0.45, E = 1, 1e3, p = 1..4, h = 1/4..1/32 ({len(bounded)} levels): mean {mean:.2f}; "
+              f"max / min over E, nu, h and p per method: "
+              + ", ".join(f"{m} {q:.2f}" for m, (_, _, q) in sorted(per_method.items()))
+              + f" (target <= {BOUNDED:g}); over h alone (p, E, nu fixed): {over_h:.2f} at most.", "",
+              markdown_table(header, table), ""]
+    return lines
+
+
+def _groups(rows, keys):
+    out = {}
+    for r in rows:
+        out.setdefault(tuple(r[k] for k in keys), []).append(r)
+    return out
 
 
 def plot(rows, path):

@@ -36,14 +36,15 @@ def example_6_2():
 @pytest.mark.parametrize("method", ["sipg", "nipg", "bassi", "cg"])
 @pytest.mark.parametrize("order", [1, 2, 3])
 def test_bound_above_the_true_error(example_6_2, method, order):
-    """Example 6.2 against its hp reference (error of the reference ~3e-5, far below these errors)."""
+    """Example 6.2 against its hp reference (error of the reference ~3e-5, far below these errors): effectivity
+    1.26-1.53 measured over the 12 cases."""
     problem, reference = example_6_2
     sol = ndf.solve(problem, ndf.uniform_mesh(problem, 0.25), method=method, order=order)
     bound = ndf.estimate(sol, kind="equilibrated")
     error = reference_errors(sol, reference)["energy"]
     assert bound.guaranteed, bound.reason
     assert bound.kind == "equilibrated"
-    assert 1.0 <= bound.eta_h / error < 4.0
+    assert 1.0 <= bound.eta_h / error < 1.53 * 1.1
 
 
 def test_stress_is_equilibrated(example_6_2):
