@@ -16,10 +16,10 @@ Time to a target = the cumulative seconds (solve + estimate + mark + refine of t
 estimate of the level itself) to the first level whose true error is at or below it, DOFs and levels of that
 level.  Then the stopping runs, what ``adapt(problem, tol=t)`` with its defaults delivers against t (the method
 it chooses, cg here; hp from p = 4 up to 8, Doerfler theta = 0.8, geometric layers, the estimator in energy units)
-for t = 1e-1, 1e-2, 1e-3, 5e-4 and 1e-5 on both examples: levels, DOFs, the loop's seconds, one linear solve of
-its final mesh (``ndf.solve`` of the problem without contact, same method and orders, best of 3), their ratio,
-eta_h, the true error |||u - u_h|||_h of the answer, error / t and eta_h / error.  Timings on a shared 2-core
-machine.
+for t = 1e-1, 1e-2, 1e-3, 5e-4 and 1e-5 on both examples, with the residual estimator and with the guaranteed
+bound (``estimator="equilibrated"``): levels, DOFs, the loop's seconds, one linear solve of its final mesh
+(``ndf.solve`` of the problem without contact, same method and orders, best of 3), their ratio, eta_h, the true
+error |||u - u_h|||_h of the answer, error / t and eta_h / error.  Timings on a shared 2-core machine.
 
 Writes results/time_to_accuracy.csv, time_to_accuracy_stops.csv, .md and .png.
 
@@ -62,9 +62,11 @@ RESOLVED = 1e-4  # tolerances at or above it are resolved by the stored referenc
 MAX_NDOF = 400_000
 DG_SECONDS = 300  # a DG method's own adapt run stops here (TimeLimitError): NIPG on the wedge ran 9.5 min unfinished
 FIELDS = ["case", "run", "target", "relative", "seconds", "ndof", "levels", "error"]
-TEXT_COLUMNS = ("case", "run", "method", "stopped")  # read back as text whatever they hold ("6.1")
-STOP_FIELDS = ["case", "tol", "method", "levels", "ndof", "p_max", "stopped", "loop_seconds", "linear_seconds",
-               "ratio", "eta_h", "error", "error_over_tol", "effectivity", "last_growth", "mean_growth"]
+TEXT_COLUMNS = ("case", "run", "method", "stopped", "estimator")  # read back as text whatever they hold ("6.1")
+ESTIMATORS = ("residual", "equilibrated")
+STOP_FIELDS = ["case", "estimator", "tol", "method", "levels", "ndof", "p_max", "stopped", "loop_seconds",
+               "linear_seconds", "ratio", "eta_h", "error", "error_over_tol", "effectivity", "last_growth",
+               "mean_growth"]
 
 
 def parse(argv=None):
@@ -186,21 +188,23 @@ def _traced(name, label, history):
     return history
 
 
-def stopping(name, tol):
-    """``adapt(problem, tol=tol)`` with its defaults: one row."""
+def stopping(name, tol, estimator):
+    """``adapt(problem, tol=tol, estimator=estimator)`` with its defaults: one row."""
     problem, reference, _, _ = case(name)
     start = time.perf_counter()
     try:
-        run = ndf.adapt(problem, tol=tol, max_ndof=MAX_NDOF, progress=None)
+        run = ndf.adapt(problem, tol=tol, max_ndof=MAX_NDOF, progress=None, estimator=estimator)
     except ndf.SolverError as error:
-        return dict(case=name, tol=tol, stopped=f"failed: {str(error)[:100]}", loop_seconds=time.perf_counter() - start)
+        return dict(case=name, estimator=estimator, tol=tol, stopped=f"failed: {str(error)[:100]}",
+                    loop_seconds=time.perf_counter() - start)
     levels, sol = run.levels, run.solution
     loop = sum(r["solve_seconds"] + r["estimate_seconds"] + r["mark_refine_seconds"] for r in levels)
     linear, _ = best(3, lambda: ndf.solve(contact_free(problem), sol.mesh, method=run.method,
                                           order=sol.discretization.orders))
     growth = [b["ndof"] / a["ndof"] for a, b in zip(levels, levels[1:], strict=False)]
     error = ndf.energy_error(sol, reference)
-    return dict(case=name, tol=tol, method=run.method, levels=len(levels), ndof=sol.ndof, p_max=levels[-1]["p_max"],
+    return dict(case=name, estimator=estimator, tol=tol, method=run.method, levels=len(levels), ndof=sol.ndof,
+                p_max=levels[-1]["p_max"],
                 stopped=run.stopped, loop_seconds=loop, linear_seconds=linear, ratio=loop / linear,
                 eta_h=run.estimate.eta_h, error=error, error_over_tol=error / tol,
                 effectivity=run.estimate.eta_h / error,
@@ -225,10 +229,12 @@ def main(argv=None):
             write_csv(csv_path, rows, FIELDS)
             report(rows, stops, args.out)
         tolerances = STOP_TOLERANCES[:1] if args.quick else STOP_TOLERANCES
-        for tol in [] if name not in ndf.examples.EXAMPLES or args.dg_only else tolerances:
-            stops.append(stopping(name, tol))
+        for tol, estimator in itertools.product([] if name not in ndf.examples.EXAMPLES or args.dg_only
+                                                else tolerances, ESTIMATORS):
+            stops.append(stopping(name, tol, estimator))
             s = stops[-1]
-            say(f"{name} adapt(tol={tol:g}): {s.get('levels')} levels, {fmt(s['loop_seconds'], '.2f')} s = "
+            say(f"{name} adapt(tol={tol:g}, estimator={estimator}): {s.get('levels')} levels, "
+                f"{fmt(s['loop_seconds'], '.2f')} s = "
                 f"{fmt(s.get('ratio'), '.1f')} linear solves, error {fmt(s.get('error'), '.3e')}, {s['stopped']}")
             write_csv(stops_path, stops, STOP_FIELDS)
             report(rows, stops, args.out)
@@ -306,16 +312,27 @@ def stopping_section(stops):
     """The Markdown lines of the stopping runs: what adapt(problem, tol=t) delivers against t, and its cost."""
     if not stops:
         return []
-    resolved = [s["error_over_tol"] for s in stops if s["tol"] >= RESOLVED and "error_over_tol" in s]
     lines = ["## Stopping at a tolerance: adapt(problem, tol)", ""]
-    if resolved:
-        lines += [f"- true error / t = {min(resolved):.2f} - {max(resolved):.2f} over the {len(resolved)} runs with "
-                  f"t >= {RESOLVED:g} ({'all' if all(0.1 <= q <= 1 for q in resolved) else 'not all'} within "
-                  "[1/10, 1]).", ""]
-    lines += [markdown_table(["case", "tol", "method", "levels", "DOFs", "p max", "stopped", "loop s", "linear s",
+    for estimator, (low, word) in zip(ESTIMATORS, ((0.1, "1/10"), (0.5, "1/2")), strict=True):
+        resolved = [s["error_over_tol"] for s in stops if s["tol"] >= RESOLVED and "error_over_tol" in s
+                    and s.get("estimator", "residual") == estimator]
+        if resolved:
+            lines.append(f"- {estimator} estimator: true error / t = {min(resolved):.2f} - {max(resolved):.2f} over "
+                         f"the {len(resolved)} runs with t >= {RESOLVED:g} "
+                         f"({'all' if all(low <= q <= 1 for q in resolved) else 'not all'} within [{word}, 1]).")
+    pairs = [(s, r) for s in stops for r in stops if s.get("estimator") == "equilibrated"
+             and r.get("estimator") == "residual" and (s["case"], s["tol"]) == (r["case"], r["tol"])
+             and "ndof" in s and "ndof" in r]
+    if pairs:
+        ratios = [s["ndof"] / r["ndof"] for s, r in pairs]
+        lines.append(f"- DOFs of the equilibrated run / the residual run's at the same t: {min(ratios):.2f} - "
+                     f"{max(ratios):.2f}.")
+    lines += ["", markdown_table(["case", "estimator", "tol", "method", "levels", "DOFs", "p max", "stopped",
+                                  "loop s", "linear s",
                               "loop / linear", "DOF growth (mean, last)", "eta_h", "true error", "error / t",
                               "eta_h / error"],
-                             [[s["case"], f"{s['tol']:g}", s.get("method", "-"), s.get("levels", "-"),
+                             [[s["case"], s.get("estimator", "residual"), f"{s['tol']:g}", s.get("method", "-"),
+                               s.get("levels", "-"),
                                s.get("ndof", "-"), s.get("p_max", "-"), s["stopped"],
                                fmt(s["loop_seconds"], ".2f"), fmt(s.get("linear_seconds"), ".3f"),
                                fmt(s.get("ratio"), ".1f"),
@@ -323,7 +340,8 @@ def stopping_section(stops):
                                fmt(s.get("eta_h"), ".3e"), fmt(s.get("error"), ".3e"),
                                fmt(s.get("error_over_tol"), ".2f"), fmt(s.get("effectivity"), ".2f")]
                               for s in stops]), ""]
-    floors = {s["case"]: s["error"] for s in stops if s["tol"] == min(STOP_TOLERANCES) and "error" in s}
+    floors = {s["case"]: s["error"] for s in stops if s["tol"] == min(STOP_TOLERANCES) and "error" in s
+              and s.get("estimator", "residual") == "residual"}
     if floors:
         lines += ["At tol = 1e-5 the true errors (" + ", ".join(f"{error:.2e} on {name}" for name, error in
                                                         sorted(floors.items())) +

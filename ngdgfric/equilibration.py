@@ -70,7 +70,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import compliance, contact_boundary, friction_bound, normal_tangent, positive_power
+from .contact import compliance, contact_boundary, friction_bound, normal_tangent, positive_power, project_unit
 from .dg.discretization import (
     conforming_space,
     contact_elements,
@@ -211,20 +211,33 @@ def contact_traction(sol):
     (CoefficientFunctions on the contact edges; the bound frozen at u_h when m_t > 0).  sigma n = -t holds in the
     mean (moments of degree p_T + 2 on every contact edge); what it misses is paid by the traction term of the
     bound."""
-    problem, u_h = sol.discretization.problem, sol.u
-    return compliance(problem, u_h), friction_bound(problem, u_h) * smooth_unit(sol.lam_tau)
+    problem, u_h, lam = sol.discretization.problem, sol.u, sol.lam_tau
+    mixed = transition_edges(sol)
+    return compliance(problem, u_h), friction_bound(problem, u_h) * (mixed * smooth_unit(lam)
+                                                                      + (1 - mixed) * project_unit(lam))
 
 
 def stick_edges(sol, tol=1e-10):
     """Order-0 facet GridFunction: 1 on the contact edges where u_h sticks (|lam_tau| < 1 - tol at every Gauss
     point), 0 elsewhere."""
+    return _edge_indicator(sol, lambda inside: np.all(inside, axis=1), tol)
+
+
+def transition_edges(sol, tol=1e-10):
+    """Order-0 facet GridFunction: 1 on the contact edges where u_h both sticks and slips (|lam_tau| < 1 - tol at
+    some Gauss points, not at others), 0 elsewhere."""
+    return _edge_indicator(sol, lambda inside: np.any(inside, axis=1) & ~np.all(inside, axis=1), tol)
+
+
+def _edge_indicator(sol, rule, tol):
+    """Order-0 facet GridFunction, 1 on the contact edges where ``rule`` of the (edges, q) array |lam_tau| < 1 - tol
+    at the Gauss points holds."""
     disc, mesh = sol.discretization, sol.mesh
-    gauss = disc.gauss
-    inside = np.all(np.abs(gauss.values(sol.lam_tau)) < 1.0 - tol, axis=1)
+    chosen = rule(np.abs(disc.gauss.values(sol.lam_tau)) < 1.0 - tol)
     space = ngs.FacetFESpace(mesh, order=0)
     indicator = ngs.GridFunction(space)
-    for (element, _), stick in zip(contact_boundary(disc.problem, mesh), inside, strict=True):
-        if stick:
+    for (element, _), on in zip(contact_boundary(disc.problem, mesh), chosen, strict=True):
+        if on:
             indicator.vec.FV().NumPy()[space.GetDofNrs(ngs.NodeId(ngs.EDGE, element.edges[0].nr))] = 1.0
     return indicator
 

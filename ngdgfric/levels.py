@@ -62,6 +62,7 @@ class AdaptiveLoop:
         self.estimator, self.gamma_lin, self.solve_options = estimator, gamma_lin, solve_options
         self.tolerances, self.tol = tolerances, None
         self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
+        self.expected = None  # the eta_h the last marking expected of this level, (1 - theta)^(1/2) eta_h
         self.singular = None  # the points the next hp refinement grades towards (set by solve)
         # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
         # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
@@ -97,7 +98,9 @@ class AdaptiveLoop:
         elif out_of_time(records, sol, seconds, limits["start"], limits["max_seconds"]):
             stopped = "max_seconds"
         else:
-            theta = landing_theta(limits["theta"], est.eta_h, self.tol)
+            reduction = 1.0 if self.expected is None else min(max(est.eta_h / self.expected, 0.25), 1.5)
+            theta = landing_theta(limits["theta"], est.eta_h, self.tol, est.kind, reduction)
+            self.expected = (1.0 - theta) ** 0.5 * est.eta_h
             marked = timed(seconds, "mark_refine", dorfler_mark, est.eta_T_squared, theta)
             refinement = dict(indicators=est.eta_T_squared, marked=marked)
             stopped = timed(seconds, "mark_refine", self.too_large, limits, refinement)

@@ -58,16 +58,19 @@ def dorfler_mark(element_indicators, theta=0.3):
 
 
 
-LANDING = 0.7
-"""The fraction of the tolerance ``landing_theta`` aims the last level at."""
+LANDING = {"residual": 0.7, "equilibrated": 0.85}
+"""The fraction of the tolerance ``landing_theta`` aims the last level at, per estimator: the guaranteed bound is
+within 1.1-2 of the error, so that its stop at 0.85 tol puts the error in [tol / 2, tol]."""
 
 
-def landing_theta(theta, eta_h, tol):
+def landing_theta(theta, eta_h, tol, estimator="residual", reduction=1.0):
     """The Doerfler parameter of a level with estimate ``eta_h`` that has not reached ``tol``: ``theta``, but near the
     tolerance no more than the share of eta_h^2 that must go for the rest to be (LANDING tol)^2, at least 0.3 (the
     paper's): with theta = 0.8 and big hp steps (eta_h falling 3-8 times per level) the last level would
-    otherwise overshoot to errors of tol/20 at the cost of the largest solve of the loop."""
+    otherwise overshoot to errors of tol/20 at the cost of the largest solve of the loop.  ``reduction``: the
+    previous level's eta_h over the (1 - theta)^(1/2) eta_h this rule expected of it (hp steps fall further than
+    marking alone predicts: 0.75-0.9 on Example 6.2), by which the share is corrected."""
     if tol is None:
         return theta
-    return min(theta, max(0.3, 1.0 - (LANDING * tol / eta_h) ** 2))
+    return min(theta, max(0.3, 1.0 - (LANDING[estimator] * tol / (reduction * eta_h)) ** 2))
 
