@@ -273,7 +273,7 @@ def estimate(sol, variant=None, kind="residual", weights=None):
     21.52 True
     >>> bound = ndf.estimate(sol, kind="equilibrated")
     >>> print(f"{bound.eta_h:.1f}", bound.guaranteed)
-    29.5 True
+    22.3 True
     """
     variant = deprecated_weights(variant, weights, "estimate")
     if kind not in KINDS:
