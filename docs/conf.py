@@ -244,6 +244,7 @@ RESULT_GROUPS = {
         "time_to_accuracy": "Seconds to a true error: adapt against a plain conforming code and every DG method",
         "work_precision": "True error against run time, every method",
         "solver_benchmark": "The contact solve against a linear solve of the same system",
+        "equilibration_cost": "The guaranteed bound against a linear solve of the same mesh",
         "long_contact_side": "Many contact points",
         "assembly_benchmark": "The cost of assembling each method",
         "linear_solvers": "Sparse direct solvers that install with pip"},
