@@ -7,62 +7,70 @@ For :math:`m_t = 0` the exact :math:`u` minimises :math:`J(v) = \frac12 a(v, v) 
 
     j(v) = \int_{\Gamma_C} \frac{c_n}{m_n + 1} (v_n - g_a)_+^{m_n + 1} + c_\tau |v \cdot t| \, ds.
 
-Take any :math:`s \in H^1` with :math:`s = u_D` on :math:`\Gamma_D` (``potential``: :math:`u_h` averaged into the
-continuous space of the same degree) and any :math:`\sigma \in H(\operatorname{div})` with
-:math:`\operatorname{div} \sigma + f = 0`, :math:`\sigma n = g` on :math:`\Gamma_F` and a contact traction
-:math:`t = -\sigma n` that is admissible, :math:`j^*(t) < \infty`: :math:`t_n \ge 0` and
-:math:`|t \cdot t| \le c_\tau` pointwise (``equilibrated_stress``).  With :math:`z = u - s`, the variational
-inequality of :math:`u` at :math:`v = s` and Fenchel-Young give, for
+Take :math:`v = s + \ell` with :math:`s` continuous (``potential``) and :math:`\ell` the lifting of
+:math:`u_D - s` into the elements of :math:`\Gamma_D` (:mod:`ngdgfric.lifting`: :math:`v = u_D` on
+:math:`\Gamma_D`, :math:`\ell = 0` on every other edge), a contact traction :math:`t` that is admissible pointwise,
+:math:`j^*(t) < \infty` (:math:`t_n \ge 0`, :math:`|t \cdot t| \le c_\tau`: ``contact_traction``), and a stress
+:math:`\sigma \in H(\operatorname{div})` whose divergence and normal traces meet :math:`-f`, :math:`g` on
+:math:`\Gamma_F` and :math:`-t` on :math:`\Gamma_C` in the mean (``equilibrated_stress``).  With :math:`z = u - v`,
+the variational inequality of :math:`u` at :math:`v` and Fenchel-Young give, for
 :math:`x = C^{1/2} \varepsilon_h(u - u_h)`,
 :math:`a = C^{-1/2} (\operatorname{sym} \sigma - C \varepsilon_h(u_h))`,
-:math:`b = C^{1/2} \varepsilon_h(s - u_h)`,
+:math:`b = C^{1/2} \varepsilon_h(s - u_h)`, :math:`L = \|C^{1/2} \varepsilon(\ell)\|`,
 
 .. math::
 
-    |x|^2 \le (a + b, x) - (a, b) + F\!Y + \rho |x - b|, \qquad
-    F\!Y = j(s) + j^*(t) - \langle t, s \rangle_{\Gamma_C} \ge 0,
+    |x| \le A + (A^2 + F\!Y - (a, b) + |a| L + \rho (|b| + L))^{1/2}, \qquad A = (|a + b| + L + \rho) / 2,
+    \qquad F\!Y = j(s) + j^*(t) - \langle t, s \rangle_{\Gamma_C} \ge 0,
 
-where :math:`\rho |C^{1/2} \varepsilon(z)|` bounds what the skew part of :math:`\sigma` and the load oscillation
-leave, :math:`(\operatorname{skw} \sigma, \operatorname{skw} \nabla z) + (f + \operatorname{div} \sigma, z)`.
-Solved for :math:`|x|` (with :math:`|x - b| \le |x| + |b|`):
+where :math:`\rho |C^{1/2} \varepsilon(z)|` bounds what :math:`\sigma` leaves:
+:math:`(\operatorname{skw} \sigma, \operatorname{skw} \nabla z) + (f + \operatorname{div} \sigma, z)
+- (\sigma n - g, z)_{\Gamma_F} - (\sigma n + t, z)_{\Gamma_C}`.  Then
+:math:`|\!|\!| u - u_h |\!|\!|_h^2 = |x|^2 + \sum_e h_e^{-1} \|[\![u_h]\!]\|_e^2`, the jump part computed exactly
+(``energy_norm_squared_parts`` of :mod:`ngdgfric.reference`).  For :math:`\rho = L = F\!Y = 0` this is at most the
+Pythagorean :math:`(|a|^2 + |b|^2)^{1/2}` of Ern & Vohralik (SINUM 2015).  No constant of the method enters: the
+bound holds for every method (NIPG too) and every :math:`u_h`.
 
-.. math::
+:math:`t`: :math:`t_n = c_n (u_{hn} - g_a)_+^{m_n}` and :math:`t_\tau = c_\tau P(\lambda_{h\tau})`, the forces of
+:math:`u_h` and its multiplier, pointwise (not polynomials); on the edges where :math:`u_h` both sticks and slips
+:math:`P` is a :math:`C^1` clamp (``smooth_unit``: a kink is what polynomial normal traces miss most), elsewhere
+the projection onto :math:`[-1, 1]`.
 
-    |x| \le A + (A^2 + F\!Y - (a, b) + \rho |b|)^{1/2}, \qquad A = (|a + b| + \rho) / 2,
+:math:`\sigma`: row-wise Raviart-Thomas of degree :math:`p_T` on every element (:math:`p_T + 2` on the elements of
+:math:`\Gamma_C`: ``CONTACT_RAISE``) closest to :math:`C \varepsilon_h(u_h)` in the :math:`C^{-1}` norm among the
+fields with :math:`\operatorname{div} \sigma = -\Pi f`, the skew part orthogonal to :math:`P_{p_T-1}` element by
+element (weak symmetry, Arnold, Falk & Winther), :math:`\sigma n = \Pi g` on :math:`\Gamma_F` and :math:`-\Pi t` on
+:math:`\Gamma_C` (:math:`\Pi`: :math:`L^2` projections onto the polynomials of the normal traces, edge by edge, in
+the Gauss rule of ``edge_measure``); one global minimisation, hybridised (normal continuity by a facet multiplier)
+and statically condensed: a sparse system on the edges only.
 
-and :math:`|\!|\!| u - u_h |\!|\!|_h^2 = |x|^2 + \sum_e h_e^{-1} \|[\![u_h]\!]\|_e^2`, the jump part computed
-exactly (``energy_norm_squared_parts`` of :mod:`ngdgfric.reference`).  For :math:`\rho = 0` and
-:math:`F\!Y = 0` this is at most the Pythagorean :math:`(|a|^2 + |b|^2)^{1/2}` of Ern & Vohralik (SINUM 2015).
-No constant of the method enters, so the bound holds for every method (NIPG too) and every :math:`u_h`.
+:math:`s`: the continuous displacement of degree :math:`p_T + 1` closest to :math:`u_h` in the energy, exact at
+the vertices of :math:`\Gamma_D`, with its tangential part removed on the edges where :math:`u_h` sticks (a
+tangential :math:`s \cdot t \ne 0` there costs :math:`F\!Y` linearly).
 
-:math:`\sigma`: row-wise Raviart-Thomas :math:`RT_p` (normal traces :math:`P_p`, div in :math:`P_p`) closest to
-:math:`C \varepsilon_h(u_h)` in the :math:`C^{-1}` norm among the fields with
-:math:`\operatorname{div} \sigma = -\Pi_p f`, the skew part orthogonal to :math:`P_{p-1}` element by element
-(weak symmetry, Arnold, Falk & Winther), :math:`\sigma n = \Pi_p g` on :math:`\Gamma_F` and :math:`-t` on
-:math:`\Gamma_C`; one global minimisation, hybridised (normal continuity by a facet multiplier) and statically
-condensed: a sparse system on the edges only.
-:math:`t`: the compliance and friction forces of :math:`u_h` at the contact Gauss points, interpolated by a
-polynomial of the multiplier's degree on every edge and made admissible by clipping its Bernstein coefficients
-(a polynomial with coefficients in :math:`[lo, hi]` stays in :math:`[lo, hi]` on the edge).
+:math:`\rho`: element by element, with the inf-sup constant :math:`\beta_T` of the triangle and
+:math:`K_T = ((1 + 2/\beta_T^2) / (2 \mu))^{1/2}`, the sum of
 
-:math:`\rho`: element by element
-:math:`\frac12 \|\operatorname{skw} \text{ part}\| |\operatorname{rot} z - \text{mean}|` plus the oscillation
-:math:`\|f - \Pi_p f\| \|z - r\|` (:math:`r` a rigid motion), bounded with the inf-sup constant
-:math:`\beta_T` of the triangle:
-:math:`\|\operatorname{rot} z - \text{mean}\|_T \le (2/\beta_T) \|\varepsilon(z)\|_T` (Necas' inequality for
-:math:`\nabla \operatorname{rot} z`, written in :math:`\varepsilon(z)`), and
-:math:`\|z - r\|_T \le (h_T/\pi) (1 + 2/\beta_T^2)^{1/2} \|\varepsilon(z)\|_T` (Payne-Weinberger on convex
-:math:`T`).  :math:`\beta_T \ge \sin(\omega_T/2)` with the Horgan-Payne angle :math:`\omega_T` of the triangle
-seen from its incentre, half its smallest angle (Horgan & Payne, ARMA 1983; Costabel & Dauge, ARMA 2015, who
-show the bound can fail for some star-shaped domains: for triangles it is the one assumption of the bound we
-did not prove here).
+* ``asymmetry`` :math:`\frac12 (2/\beta_T) \|\operatorname{skw} \text{ part of } \sigma\|_T / (2\mu)^{1/2}`:
+  :math:`\|\operatorname{rot} z - \text{mean}\|_T \le (2/\beta_T) \|\varepsilon(z)\|_T` (Necas' inequality for
+  :math:`\nabla \operatorname{rot} z`, written in :math:`\varepsilon(z)`);
+* ``oscillation`` :math:`K_T ((h_T/\pi) \|f + \operatorname{div} \sigma\|_T + C_T \|\sigma n - g\|_{\partial T
+  \cap \Gamma_F})` and ``traction`` :math:`K_T C_T \|\sigma n + t\|_{\partial T \cap \Gamma_C}`: the three are
+  orthogonal to the rigid motions :math:`r` (the linear functions of the element or edge), so :math:`z` may be
+  replaced by :math:`z - r` of mean zero with :math:`\|\nabla (z - r)\|_T \le (1 + 2/\beta_T^2)^{1/2}
+  \|\varepsilon(z)\|_T`; then Payne-Weinberger :math:`\|z - r\|_T \le (h_T/\pi) \|\nabla(z - r)\|_T` on convex
+  :math:`T`, and on the edges the trace inequality of ``trace_constants``.
 
-Guaranteed: :math:`m_t = 0`, straight sides, :math:`u_D`, :math:`g` and :math:`f` reproduced exactly by the
-spaces (checked numerically: ``Equilibration.guaranteed`` is False, with the reason, when :math:`t` is not
-admissible, when :math:`\sigma n` misses :math:`g` or :math:`u_D` is not met by :math:`s`).  For
-:math:`m_t > 0` the friction bound depends on :math:`u` itself (a quasi-variational inequality, no
-minimisation): the same number is computed with the friction bound frozen at :math:`u_h`, an estimate without
-guarantee.  Symmetry sides are refused (ValueError).
+:math:`\beta_T \ge \sin(\omega_T/2)` with the Horgan-Payne angle :math:`\omega_T` of the triangle seen from its
+incentre, half its smallest angle (Horgan & Payne, ARMA 1983; Costabel & Dauge, ARMA 2015, who show the bound can
+fail for some star-shaped domains: for triangles it is the one assumption of the bound we did not prove here).
+
+Guaranteed (``Equilibration.guaranteed``, else ``reason`` says why): :math:`m_t = 0`, straight sides,
+:math:`u_D` continuous along :math:`\Gamma_D`; any data :math:`f`, :math:`g`, :math:`u_D`, :math:`g_a`,
+:math:`c_n`, :math:`c_\tau` otherwise, their integrals taken by Gauss rules (exact for polynomials, of degree
+:math:`2 (p + 2) + 24` on the edges, where the traction has kinks).  For :math:`m_t > 0` the friction bound depends
+on :math:`u` itself (a quasi-variational inequality, no minimisation): the same number is computed with the
+friction bound frozen at :math:`u_h`, an estimate without guarantee.  Symmetry sides are refused (ValueError).
 """
 
 from dataclasses import dataclass
@@ -108,8 +116,10 @@ class Equilibration:
         Element indicators for marking: the squared parts of ``terms_squared`` element by element.
     terms_squared : dict
         The squared parts: ``"stress"`` :math:`\|\operatorname{sym} \sigma - C \varepsilon(s)\|_{C^{-1}}^2`,
-        ``"conformity"`` :math:`|b|^2`, ``"jumps"``, ``"contact"`` :math:`2 F\!Y`, ``"asymmetry"`` and
-        ``"oscillation"`` (the two parts of :math:`\rho`, squared).
+        ``"conformity"`` :math:`|b|^2`, ``"jumps"``, ``"contact"`` :math:`2 F\!Y`, ``"dirichlet"`` :math:`L^2` (the
+        lifting of what :math:`s` misses of :math:`u_D`), and ``"asymmetry"``, ``"oscillation"`` (of :math:`f`
+        and :math:`g`) and ``"traction"`` (what :math:`\sigma n` misses of :math:`-t`): the three parts of
+        :math:`\rho`, squared.
     guaranteed : bool
         Whether every assumption of the bound was met.
     reason : str
