@@ -448,6 +448,8 @@ def _bound(sol):
     reasons = []
     if max(exponents(problem.m_t)) > 0:
         reasons.append("m_t > 0: the friction bound depends on u (estimate with the bound frozen at u_h)")
+    if problem.geometry.curved:
+        reasons.append("curved sides: the constants and the lifting of u_D hold for straight triangles")
     jump = dirichlet_vertex_values(problem, mesh)[1]
     if jump > ADMISSIBLE:
         reasons.append(f"u_D jumps by {jump:.1e} (relative) where two sides of Gamma_D meet (not the trace of an "

@@ -191,6 +191,13 @@ def test_adapt_stops_on_the_bound(example_6_2):
     assert error <= adaptation.estimate.eta_h <= 0.05
 
 
+def test_curved_sides_void_the_guarantee():
+    """The half disk (an arc on Gamma_C): a number, not a guarantee (the constants are for straight triangles)."""
+    problem = example("half_disk")
+    bound = ndf.estimate(ndf.solve(problem, ndf.netgen_mesh(problem, 0.3), order=2), kind="equilibrated")
+    assert not bound.guaranteed and "curved sides" in bound.reason and bound.eta_h > 0
+
+
 def test_refusals():
     problem = example("two_materials_symmetric")
     sol = ndf.solve(problem, ndf.netgen_mesh(problem, 0.3), order=1)
