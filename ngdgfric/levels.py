@@ -98,9 +98,9 @@ class AdaptiveLoop:
         elif out_of_time(records, sol, seconds, limits["start"], limits["max_seconds"]):
             stopped = "max_seconds"
         else:
-            reduction = 1.0 if self.expected is None else min(max(est.eta_h / self.expected, 0.25), 1.5)
+            reduction = 1.0 if not self.expected else min(max(est.eta_h / self.expected, 0.25), 1.5)
             theta = landing_theta(limits["theta"], est.eta_h, self.tol, est.kind, reduction)
-            self.expected = (1.0 - theta) ** 0.5 * est.eta_h
+            self.expected = (1.0 - theta) ** 0.5 * est.eta_h  # 0 for theta = 1: no correction next level
             marked = timed(seconds, "mark_refine", dorfler_mark, est.eta_T_squared, theta)
             refinement = dict(indicators=est.eta_T_squared, marked=marked)
             stopped = timed(seconds, "mark_refine", self.too_large, limits, refinement)

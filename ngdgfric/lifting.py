@@ -80,21 +80,21 @@ def set_dirichlet_vertices(problem, mesh, s):
         s.vec.FV().NumPy()[list(s.space.GetDofNrs(ngs.NodeId(ngs.VERTEX, vertex)))] = value
 
 
-def lifting_energies(problem, mesh, s):
-    """||C^1/2 eps(l)||_T^2 of the lifting of u_D - s (module docstring) for every element (zero where T has no
-    Dirichlet edge), a numpy array in element order."""
-    energies = np.zeros(mesh.ne)
+def lifting_energies(problem, mesh, s, mu, lam):
+    """Upper bounds of ||C^1/2 eps(l)||_T^2 of the lifting of u_D - s (module docstring) for every element (zero
+    where T has no Dirichlet edge), a numpy array in element order.  ``mu``, ``lam``: per element, the largest Lame
+    parameters on it (exact for constant ones).  An element with two Dirichlet edges (a corner of Gamma_D) gets
+    (L_1 + L_2)^2, the triangle inequality for the sum of the two edges' liftings."""
+    roots = np.zeros(mesh.ne)
     edges = _dirichlet_edges(problem, mesh)
     if not edges:
-        return energies
+        return roots
     nodes = 0.5 - 0.5 * np.cos(np.pi * (np.arange(DEGREE + 1) + 0.5) / (DEGREE + 1))  # Chebyshev, on [0, 1]
     gauss, weights = np.polynomial.legendre.leggauss(DEGREE)
     gauss, weights = (gauss + 1) / 2, weights / 2
     points = _edge_points(problem, mesh, np.concatenate([nodes, gauss]))
     count = len(nodes) + len(gauss)
     misses = _values(coefficient(problem.u_D), points, count) - _values(s, points, count, volume=True)
-    mu = _values(coefficient(problem.mu), points, count, volume=True)[:, len(nodes):, 0]
-    lam = _values(coefficient(problem.lam), points, count, volume=True)[:, len(nodes):, 0]
     xy = np.column_stack([np.asarray(ngs.x(points)).ravel(), np.asarray(ngs.y(points)).ravel()]).reshape(-1, count, 2)
     for k, (element, volume) in enumerate(edges):
         A, B = (np.array(mesh[v].point) for v in mesh[element].vertices)
@@ -110,6 +110,7 @@ def lifting_energies(problem, mesh, s):
         grad = (slope[:, :, None] * np.stack([other[:, 1], -other[:, 0]], axis=1)[:, None, :]
                 + d[:, :, None] * np.array([tangent[1], -tangent[0]])[None, None, :]) / D
         strain = 0.5 * (grad + grad.transpose(0, 2, 1))
-        density = 2 * mu[k] * np.sum(strain**2, axis=(1, 2)) + lam[k] * np.trace(strain, axis1=1, axis2=2) ** 2
-        energies[volume.nr] += abs(D) / 2 * np.sum(weights * density)
-    return energies
+        density = (2 * mu[volume.nr] * np.sum(strain**2, axis=(1, 2))
+                   + lam[volume.nr] * np.trace(strain, axis1=1, axis2=2) ** 2)
+        roots[volume.nr] += (abs(D) / 2 * np.sum(weights * density)) ** 0.5
+    return roots**2

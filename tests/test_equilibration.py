@@ -255,7 +255,8 @@ def test_lifting_energy_against_the_explicit_lifting(apex, triangle):
                                  dirichlet="a", traction="b", contact="c", u_D=data(x))
     mesh = mesh_from_arrays(problem, points, np.array([triangle]), np.array([[0, 1], [1, 2], [2, 0]]),
                             np.array(["a", "b", "c"]))
-    energy = lifting_energies(problem, mesh, ngs.GridFunction(ngs.VectorH1(mesh, order=2)))
+    energy = lifting_energies(problem, mesh, ngs.GridFunction(ngs.VectorH1(mesh, order=2)), np.array([problem.mu]),
+                              np.array([problem.lam]))
     geometry = SplineGeometry()
     corners = [geometry.AppendPoint(*point) for point in points]
     for i in range(3):
@@ -290,3 +291,53 @@ def test_guaranteed_with_dirichlet_data_no_polynomial_meets(method):
         assert 1.0 <= bound.eta_h / error < 2.0 * 1.1  # 1.28-1.99 measured
         shares.append(bound.terms_squared["dirichlet"] / error**2)
     assert 0 < shares[1] < shares[0] / 4
+
+
+def test_lifting_at_a_corner_of_gamma_d_bounds_the_sum_of_the_two_liftings():
+    """A triangle with two Dirichlet edges, the same bubble of u_D - s on both: the energy of the sum of the two
+    liftings (integrated on a fine mesh, 1.84) is at most the one the bound uses, (L_1 + L_2)^2 = 2.76 (the plain
+    sum L_1^2 + L_2^2 = 1.38 was below it)."""
+    from netgen.geom2d import SplineGeometry
+
+    from ngdgfric.lifting import lifting_energies
+    from ngdgfric.meshes import mesh_from_arrays
+
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    bubble = ngs.CF((ngs.x * (1 - ngs.x) + ngs.y * (1 - ngs.y), 0))  # on y = 0 and on x = 0: t (1 - t)
+    problem = ndf.ContactProblem(E=3.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=1.0, m_n=1, g_a=0.0, c_tau=0.0,
+                                 geometry=ndf.Polygon(vertices=tuple(map(tuple, points)), labels=("a", "b", "c")),
+                                 dirichlet=["a", "c"], traction=[], contact="b", u_D=bubble)
+    mesh = mesh_from_arrays(problem, points, np.array([[0, 1, 2]]), np.array([[0, 1], [1, 2], [2, 0]]),
+                            np.array(["a", "b", "c"]))
+    bound = lifting_energies(problem, mesh, ngs.GridFunction(ngs.VectorH1(mesh, order=2)), np.array([problem.mu]),
+                             np.array([problem.lam]))[0]
+    geometry = SplineGeometry()
+    corners = [geometry.AppendPoint(*point) for point in points]
+    for i in range(3):
+        geometry.Append(["line", corners[i], corners[(i + 1) % 3]])
+    fine = ngs.Mesh(geometry.GenerateMesh(maxh=0.01))
+    x, y = ngs.x, ngs.y
+    t1, t2 = x / (1 - y), y / (1 - x)  # the bottom edge lifted towards (0, 1), the left one towards (1, 0)
+    total = ngs.CF(((1 - y) * t1 * (1 - t1) + (1 - x) * t2 * (1 - t2), 0))
+    gradient = ngs.CF(tuple(total[i].Diff(v) for i in range(2) for v in (x, y)), dims=(2, 2))
+    strain = 0.5 * (gradient + gradient.trans)
+    exact = ngs.Integrate(2 * problem.mu * ngs.InnerProduct(strain, strain) + problem.lam * ngs.Trace(strain) ** 2,
+                          fine, order=10)
+    assert exact <= bound
+
+
+@pytest.mark.parametrize("nu", [-0.5, 0.3])
+def test_the_smallest_modulus_of_c(nu):
+    """The constants of rho divide by C's smallest eigenvalue on symmetric tensors: 2 mu for nu >= 0, 2 (mu + lam)
+    below (nu = -0.5: 2 mu / 2); sampled, C eps : eps / |eps|^2 never falls below it and comes within 1 %."""
+    from ngdgfric.equilibration import _element_range
+
+    problem = dataclasses.replace(example("6.2"), nu=nu)
+    mesh = ndf.uniform_mesh(problem, 0.5)
+    mu, lam = problem.mu, problem.lam
+    smallest = _element_range(mesh, 2 * ngs.IfPos(ngs.CF(lam), ngs.CF(mu), ngs.CF(mu + lam)))[0]
+    strains = np.random.default_rng(1).standard_normal((2000, 2, 2))
+    strains = 0.5 * (strains + strains.transpose(0, 2, 1))
+    ratios = (2 * mu * np.sum(strains**2, axis=(1, 2)) + lam * np.trace(strains, axis1=1, axis2=2) ** 2) / np.sum(
+        strains**2, axis=(1, 2))
+    assert np.all(ratios >= smallest.min() * (1 - 1e-12)) and ratios.min() <= 1.01 * smallest.min()
