@@ -297,9 +297,10 @@ def test_settings_refused_twice_or_of_the_wrong_type_or_out_of_range():
         ndf.adapt(problem, order=0)
 
 
-def test_theta_one_with_a_tolerance():
-    """theta = 1 marks everything: the landing rule expected eta_h = 0 of the next level and divided by it."""
+def test_theta_one_without_a_tolerance():
+    """theta = 1 and no tolerance: the landing rule kept theta = 1, expected eta_h = 0 of the next level and
+    divided by it."""
     problem = ndf.example_6_2()
-    run = ndf.adapt(problem, ndf.uniform_mesh(problem, 0.5), order=1, hp=False, theta=1.0, tol=1e-6, max_levels=3,
+    run = ndf.adapt(problem, ndf.uniform_mesh(problem, 0.5), order=1, hp=False, theta=1.0, max_levels=3,
                     progress=None)
     assert run.stopped == "max_levels" and len(run.levels) == 3
