@@ -32,9 +32,9 @@ Pythagorean :math:`(|a|^2 + |b|^2)^{1/2}` of Ern & Vohralik (SINUM 2015).  No co
 bound holds for every method (NIPG too) and every :math:`u_h`.
 
 :math:`t`: :math:`t_n = c_n (u_{hn} - g_a)_+^{m_n}` and :math:`t_\tau = c_\tau P(\lambda_{h\tau})`, the forces of
-:math:`u_h` and its multiplier, pointwise (not polynomials); on the edges where :math:`u_h` both sticks and slips
-:math:`P` is a :math:`C^1` clamp (``smooth_unit``: a kink is what polynomial normal traces miss most), elsewhere
-the projection onto :math:`[-1, 1]`.
+:math:`u_h` and its multiplier, pointwise (not polynomials); on the edges where the projection onto
+:math:`[-1, 1]` would cut off :math:`\lambda_{h\tau}` (``kinked_edges``) :math:`P` is a :math:`C^1` clamp
+(``smooth_unit``: a kink is what polynomial normal traces miss most), elsewhere that projection.
 
 :math:`\sigma`: row-wise Raviart-Thomas of degree :math:`p_T` on every element (:math:`p_T + 2` on the elements of
 :math:`\Gamma_C`: ``CONTACT_RAISE``) closest to :math:`C \varepsilon_h(u_h)` in the :math:`C^{-1}` norm among the
@@ -95,7 +95,8 @@ from .reference import energy_norm_squared_parts
 from .threads import threads
 
 __all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "contact_traction", "smooth_unit",
-           "stick_edges", "inf_sup_lower_bounds", "trace_constants", "edge_measure", "edge_integrals", "ADMISSIBLE"]
+           "stick_edges", "kinked_edges", "inf_sup_lower_bounds", "trace_constants", "edge_measure", "edge_integrals",
+           "ADMISSIBLE"]
 
 ADMISSIBLE = 1e-10  # relative jump of u_D at a vertex of Gamma_D still called round-off
 BONUS = 6  # extra quadrature degree of the non-polynomial integrands (data, kinks of (.)_+)
@@ -221,32 +222,39 @@ def smooth_unit(z):
 def contact_traction(sol):
     """(t_n, t_tau): the contact traction t = t_n n + t_tau t of u_h, admissible pointwise by construction:
     t_n = c_n (u_n - g_a)_+^{m_n} >= 0 and t_tau = bound smooth_unit(lam_tau) with |t_tau| <= bound
-    (CoefficientFunctions on the contact edges; the bound frozen at u_h when m_t > 0).  sigma n = -t holds in the
-    mean (moments of degree p_T + 2 on every contact edge); what it misses is paid by the traction term of the
-    bound."""
+    (CoefficientFunctions on the contact edges; the bound frozen at u_h when m_t > 0).  ``smooth_unit`` only on the
+    edges where the projection onto [-1, 1] would have a kink (``kinked_edges``), elsewhere the projection itself.
+    sigma n = -t holds in the mean (moments of degree p_T + 2 on every contact edge); what it misses is paid by the
+    traction term of the bound."""
     problem, u_h, lam = sol.discretization.problem, sol.u, sol.lam_tau
-    mixed = transition_edges(sol)
-    return compliance(problem, u_h), friction_bound(problem, u_h) * (mixed * smooth_unit(lam)
-                                                                      + (1 - mixed) * project_unit(lam))
+    kinked = kinked_edges(sol)
+    return compliance(problem, u_h), friction_bound(problem, u_h) * (kinked * smooth_unit(lam)
+                                                                      + (1 - kinked) * project_unit(lam))
 
 
 def stick_edges(sol, tol=1e-10):
     """Order-0 facet GridFunction: 1 on the contact edges where u_h sticks (|lam_tau| < 1 - tol at every Gauss
     point), 0 elsewhere."""
-    return _edge_indicator(sol, lambda inside: np.all(inside, axis=1), tol)
+    return _edge_indicator(sol, np.all(np.abs(sol.discretization.gauss.values(sol.lam_tau)) < 1.0 - tol, axis=1))
 
 
-def transition_edges(sol, tol=1e-10):
-    """Order-0 facet GridFunction: 1 on the contact edges where u_h both sticks and slips (|lam_tau| < 1 - tol at
-    some Gauss points, not at others), 0 elsewhere."""
-    return _edge_indicator(sol, lambda inside: np.any(inside, axis=1) & ~np.all(inside, axis=1), tol)
+def kinked_edges(sol, tol=1e-10, samples=32):
+    """Order-0 facet GridFunction: 1 on the contact edges where P(lam_tau) has a kink, |lam_tau| > 1 + tol somewhere
+    inside the edge (the multiplier's polynomial sampled at ``samples`` points), 0 elsewhere (in particular where
+    lam_tau = +-1 throughout: slip)."""
+    gauss = sol.discretization.gauss
+    start, direction = gauss.ends[:, 0], gauss.ends[:, 1] - gauss.ends[:, 0]
+    nodes = np.einsum("eqk,ek->eq", gauss.xy - start[:, None], direction) / np.sum(direction**2, axis=1)[:, None]
+    values, at = gauss.values(sol.lam_tau), np.linspace(0.0, 1.0, samples)
+    dense = np.array([np.polynomial.polynomial.polyval(at, np.polynomial.polynomial.polyfit(x, y, len(x) - 1))
+                      for x, y in zip(nodes, values, strict=True)])
+    return _edge_indicator(sol, np.any(np.abs(dense) > 1.0 + tol, axis=1))
 
 
-def _edge_indicator(sol, rule, tol):
-    """Order-0 facet GridFunction, 1 on the contact edges where ``rule`` of the (edges, q) array |lam_tau| < 1 - tol
-    at the Gauss points holds."""
+def _edge_indicator(sol, chosen):
+    """Order-0 facet GridFunction, 1 on the contact edges flagged in ``chosen`` (one bool per edge, in the order of
+    the contact Gauss points)."""
     disc, mesh = sol.discretization, sol.mesh
-    chosen = rule(np.abs(disc.gauss.values(sol.lam_tau)) < 1.0 - tol)
     space = ngs.FacetFESpace(mesh, order=0)
     indicator = ngs.GridFunction(space)
     for (element, _), on in zip(contact_boundary(disc.problem, mesh), chosen, strict=True):
