@@ -163,10 +163,11 @@ def contact_points(problem, mesh, order):
     return mesh.MapToAllElements(contact_rule(order), mesh.Boundaries(problem.where("contact")))
 
 
-def contact_boundary(problem, mesh):
-    """The edges of Gamma_C in the order of :func:`contact_points` (edge k holds the Gauss points k q ... (k + 1) q
-    - 1): a list of (boundary element, the element of the mesh whose edge it is)."""
-    sides = set(problem.sides("contact"))
+def contact_boundary(problem, mesh, part="contact"):
+    """The edges of Gamma_C (or of another boundary ``part``) in the order of :func:`contact_points` (edge k holds
+    the Gauss points k q ... (k + 1) q - 1): a list of (boundary element, the element of the mesh whose edge it
+    is)."""
+    sides = set(problem.sides(part))
     return [(el, mesh[el.edges[0]].elements[0]) for el in mesh.Elements(ngs.BND) if el.mat in sides]
 
 

@@ -30,20 +30,16 @@ import numpy as np
 from numpy.polynomial import chebyshev
 
 from .bounds import coefficient
+from .contact import contact_boundary
 
 __all__ = ["dirichlet_vertex_values", "set_dirichlet_vertices", "lifting_energies", "DEGREE"]
 
 DEGREE = 24  # Chebyshev interpolant of u_D - s along a Dirichlet edge (u_D - s is smooth there by assumption)
 
 
-def _dirichlet_edges(problem, mesh):
-    """(boundary element, its volume element) of every edge of Gamma_D."""
-    sides = set(problem.sides("dirichlet"))
-    return [(el, mesh[el.edges[0]].elements[0]) for el in mesh.Elements(ngs.BND) if el.mat in sides]
-
-
 def _edge_points(problem, mesh, parameters):
-    """Mapped points at ``parameters`` in [0, 1] on every Dirichlet edge (in the order of ``_dirichlet_edges``)."""
+    """Mapped points at ``parameters`` in [0, 1] on every Dirichlet edge, in the order of
+    ``contact_boundary(problem, mesh, "dirichlet")``."""
     rule = ngs.IntegrationRule([(float(t),) for t in parameters], [0.0] * len(parameters))
     return mesh.MapToAllElements({ngs.SEGM: rule}, mesh.Boundaries(problem.where("dirichlet")))
 
@@ -57,11 +53,11 @@ def _values(cf, points, count, volume=False):
 def dirichlet_vertex_values(problem, mesh):
     """({vertex number: u_D there}, the largest disagreement of u_D between the Dirichlet edges that meet at a vertex
     relative to the largest |u_D| at a vertex: 0 for data continuous along Gamma_D)."""
-    edges = _dirichlet_edges(problem, mesh)
+    edges = contact_boundary(problem, mesh, "dirichlet")
     if not edges:
         return {}, 0.0
-    ends = _values(coefficient(problem.u_D), _edge_points(problem, mesh, (0.0, 1.0)), 2)
-    points = np.asarray(_edge_points(problem, mesh, (0.0, 1.0)))
+    points = _edge_points(problem, mesh, (0.0, 1.0))
+    ends = _values(coefficient(problem.u_D), points, 2)
     xy = np.column_stack([np.asarray(ngs.x(points)).ravel(), np.asarray(ngs.y(points)).ravel()]).reshape(-1, 2, 2)
     values, spread = {}, 0.0
     for (element, _), at, value in zip(edges, xy, ends, strict=True):
@@ -86,7 +82,7 @@ def lifting_energies(problem, mesh, s, mu, lam):
     parameters on it (exact for constant ones).  An element with two Dirichlet edges (a corner of Gamma_D) gets
     (L_1 + L_2)^2, the triangle inequality for the sum of the two edges' liftings."""
     roots = np.zeros(mesh.ne)
-    edges = _dirichlet_edges(problem, mesh)
+    edges = contact_boundary(problem, mesh, "dirichlet")
     if not edges:
         return roots
     nodes = 0.5 - 0.5 * np.cos(np.pi * (np.arange(DEGREE + 1) + 0.5) / (DEGREE + 1))  # Chebyshev, on [0, 1]
