@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 import ngdgfric as ndf
+from ngdgfric.contact import Contact
 from ngdgfric.files import write_text
 from ngdgfric.output import markdown_table
 from ngdgfric.solvers import pardiso
@@ -108,7 +109,7 @@ def pypardiso_solver(disc):
 
 
 def pardiso_schur(disc):
-    traces = disc.traces
+    traces = Contact(disc).traces
     K = augmented_matrix(disc.A, traces, disc.symmetric)
     F = disc.F.FV().NumPy().copy()
 
@@ -127,7 +128,7 @@ def pardiso_schur(disc):
 def delassus_by_backsubstitution(disc, kind, columns=64):
     """W from back-substitutions: factorisation + 2M solves, timed on ``columns`` of them."""
     import ngsolve as ngs
-    traces = disc.traces
+    traces = Contact(disc).traces
 
     def run():
         with threads(disc.V.ndof):
@@ -180,6 +181,7 @@ def main(argv=None):
     for method, order, k in cases:
         mesh = ndf.uniform_mesh(problem, 2.0**-k)
         disc = ndf.Discretization(problem, mesh, method=method, order=order)
+        contact = ndf.contact.Contact(disc)
         symmetric = disc.symmetric
         fastest = "sparsecholesky" if symmetric else "umfpack"
         solvers = [(f"NGSolve {fastest}", ngsolve_inverse(disc, fastest))]
@@ -199,7 +201,7 @@ def main(argv=None):
             times = best_of(repeat, run)
             floor = floor or times["factor"] + times["solve"]
             row = dict(method=method, order=order, h=f"2^-{k}", ndof=disc.V.ndof, symmetric=symmetric,
-                       contact_unknowns=2 * disc.traces.M, solver=name, factor=times["factor"], solve=times["solve"],
+                       contact_unknowns=2 * contact.traces.M, solver=name, factor=times["factor"], solve=times["solve"],
                        schur=name.startswith("PARDISO + Schur") or name.startswith("W by"),
                        ratio=(times["factor"] + times["solve"]) / floor)
             rows.append(row)

@@ -1,11 +1,12 @@
-"""ngdgfric: DG methods for frictional contact with normal compliance on NGSolve.
+r"""ngdgfric: DG methods for frictional contact with normal compliance on NGSolve.
 
 Porwal & Tanvi, "Unified analysis of DG methods for frictional contact problem with normal
 compliance": model (1.1)-(1.10), DG forms of Section 3, estimator of Section 4, Section 6's
 adaptive loop.  Everything a script needs is here (``ngdgfric.__all__``); the modules below are the
-data path problem (:mod:`ngdgfric.problem`) -> :mod:`ngdgfric.dg` (methods, forms, liftings, discretisation) ->
-:mod:`ngdgfric.solvers` (the contact solvers) -> estimator (:mod:`ngdgfric.estimator`) -> marking
-(:mod:`ngdgfric.marking`) -> refinement (:mod:`ngdgfric.adaptivity`).
+data path problem (:mod:`ngdgfric.problem`) -> :mod:`ngdgfric.dg` (methods, forms, liftings, discretisation)
+beside :mod:`ngdgfric.contact` (the laws and :math:`\Gamma_C`) -> :mod:`ngdgfric.solvers` (the contact solvers)
+-> estimator (:mod:`ngdgfric.estimator`) -> marking (:mod:`ngdgfric.marking`) -> refinement
+(:mod:`ngdgfric.adaptivity`).
 
 The entry points (:func:`~ngdgfric.solve`, :func:`~ngdgfric.finish`, :func:`~ngdgfric.estimate`,
 :func:`~ngdgfric.adapt`) limit OpenBLAS to one thread while they run (``blas_threads`` of
@@ -18,7 +19,7 @@ from importlib.metadata import PackageNotFoundError, version
 from . import _moved
 from .adaptivity import Adaptation, AdaptOptions, adapt, dorfler_mark
 from .checks import DataError
-from .contact import contact_state, kkt_residuals
+from .contact import Contact, contact_state, kkt_residuals
 from .dg.discretization import Discretization
 from .dg.material import MaterialWarning
 from .dg.methods import DG_METHODS, METHODS, LockingWarning, Method, PenaltyWarning
@@ -55,7 +56,8 @@ __all__ = [
     # meshes
     "uniform_mesh", "netgen_mesh", "check_mesh", "refined",
     # methods and discretisation
-    "Method", "METHODS", "DG_METHODS", "Discretization", "MaterialWarning", "PenaltyWarning", "LockingWarning",
+    "Method", "METHODS", "DG_METHODS", "Discretization", "Contact", "MaterialWarning", "PenaltyWarning",
+    "LockingWarning",
     # solving
     "solve", "finish", "Solution", "WarmStart", "SolverOptions", "NewtonOptions", "UzawaOptions",
     "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError", "SolverWarning",

@@ -19,7 +19,8 @@ MOVED_MODULES = {
     **{name: f"ngdgfric.dg.{name}" for name in ("methods", "forms", "liftings", "material", "discretization")},
     **{name: f"ngdgfric.solvers.{name}" for name in (
         "newton", "fixed_point", "uzawa", "semismooth", "reduced", "condensation", "complementary_energy",
-        "nonlinear", "traces", "pardiso", "options")},
+        "nonlinear", "pardiso", "options")},
+    "traces": "ngdgfric.contact.traces",
 }
 """Old module name (below ``ngdgfric``) -> its module in 0.2."""
 

@@ -78,18 +78,11 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import (
-    compliance,
-    contact_boundary,
-    contact_points,
-    friction_bound,
-    normal_tangent,
-    positive_power,
-    project_unit,
-)
+from .contact.boundary import boundary_edges, contact_elements, contact_points, normal_tangent
+from .contact.forms import compliance, friction_bound
+from .contact.laws import compliance_energy, friction_energy, pressure_conjugate, project_unit, smooth_unit
 from .dg.discretization import (
     conforming_space,
-    contact_elements,
     dg_space,
     edge_orders,
     most_common_degree,
@@ -102,7 +95,7 @@ from .problem import coefficient, exponents, strain, stress
 from .reference import energy_norm_squared_parts
 from .threads import threads
 
-__all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "contact_traction", "smooth_unit",
+__all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "contact_traction",
            "stick_edges", "kinked_edges", "inf_sup_lower_bounds", "trace_constants", "edge_measure", "edge_integrals",
            "ADMISSIBLE"]
 
@@ -218,22 +211,13 @@ def _condensed_solve(form, load, solution, free):
     solution.vec.data += form.inner_solve * load.vec
 
 
-def smooth_unit(z):
-    """A C^1 map of the real line onto [-1, 1], the identity's stand-in for the projection P_[-1,1]:
-    sign(z) H(min(|z|, 1)) with H(a) = a + a^2 - a^3 (H(0) = 0, H'(0) = 1, H(1) = 1, H'(1) = 0, increasing), so
-    that the friction traction c_tau smooth_unit(lam_tau) has no kink where lam_tau leaves [-1, 1]: a kink is what
-    the edge polynomials of sigma n miss most (effectivity 5.8 -> 2.2 at p = 4, h = 1/4 on the manufactured
-    solution of the effectivity study), and = +-1 where lam_tau = +-1 (slip)."""
-    a = ngs.IfPos(z, z, -z)
-    a = ngs.IfPos(a - 1, 1, a)
-    return ngs.IfPos(z, 1, -1) * (a + a * a - a * a * a)
-
-
 def contact_traction(sol):
     """(t_n, t_tau): the contact traction t = t_n n + t_tau t of u_h, admissible pointwise by construction:
     t_n = c_n (u_n - g_a)_+^{m_n} >= 0 and t_tau = bound smooth_unit(lam_tau) with |t_tau| <= bound
-    (CoefficientFunctions on the contact edges; the bound frozen at u_h when m_t > 0).  ``smooth_unit`` only on the
-    edges where the projection onto [-1, 1] would have a kink (``kinked_edges``), elsewhere the projection itself.
+    (CoefficientFunctions on the contact edges; the bound frozen at u_h when m_t > 0).  ``smooth_unit``
+    (:mod:`ngdgfric.contact.laws`, a C^1 stand-in for the projection, so that the traction has no kink for the edge
+    polynomials of sigma n to miss) only on the edges where the projection onto [-1, 1] would have a kink
+    (``kinked_edges``), elsewhere the projection itself.
     sigma n = -t holds in the mean (moments of degree p_T + 2 on every contact edge); what it misses is paid by the
     traction term of the bound."""
     problem, u_h, lam = sol.discretization.problem, sol.u, sol.lam_tau
@@ -245,7 +229,7 @@ def contact_traction(sol):
 def stick_edges(sol, tol=1e-10):
     """Order-0 facet GridFunction: 1 on the contact edges where u_h sticks (|lam_tau| < 1 - tol at every Gauss
     point), 0 elsewhere."""
-    return _edge_indicator(sol, np.all(np.abs(sol.discretization.gauss.values(sol.lam_tau)) < 1.0 - tol, axis=1))
+    return _edge_indicator(sol, np.all(np.abs(sol.contact.gauss.values(sol.lam_tau)) < 1.0 - tol, axis=1))
 
 
 def kinked_edges(sol, tol=1e-10, samples=32):
@@ -263,7 +247,7 @@ def _edge_indicator(sol, chosen):
     disc, mesh = sol.discretization, sol.mesh
     space = ngs.FacetFESpace(mesh, order=0)
     indicator = ngs.GridFunction(space)
-    for (element, _), on in zip(contact_boundary(disc.problem, mesh), chosen, strict=True):
+    for (element, _), on in zip(boundary_edges(disc.problem, mesh), chosen, strict=True):
         if on:
             indicator.vec.FV().NumPy()[space.GetDofNrs(ngs.NodeId(ngs.EDGE, element.edges[0].nr))] = 1.0
     return indicator
@@ -349,11 +333,8 @@ def _contact_gap(problem, s, u_h, traction, k, mesh):
     m_n = max(m)
     if len(set(m)) > 1:
         raise ValueError(f"the equilibrated estimator needs one m_n on all contact sides, got {sorted(set(m))}")
-    safe = ngs.IfPos(c_n, c_n, 1.0)
-    conjugate = ngs.IfPos(c_n, t_n * g_a + m_n / (m_n + 1) * safe ** (-1 / m_n)
-                          * ngs.IfPos(t_n, t_n, 0.0) ** ((m_n + 1) / m_n), 0.0)
-    j_s = (c_n / (m_n + 1) * positive_power(s * n - g_a, m_n + 1)
-           + friction_bound(problem, u_h) * ngs.sqrt((s * t) ** 2))
+    conjugate = pressure_conjugate(t_n, g_a, c_n, m_n)
+    j_s = compliance_energy(s * n - g_a, c_n, m_n) + friction_energy(friction_bound(problem, u_h), s * t)
     gap = edge_integrals(mesh, problem.where("contact"), j_s + conjugate - t_n * (s * n) - t_tau * (s * t), k)
     return np.maximum(gap, 0.0)
 

@@ -94,8 +94,8 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import compliance, friction_bound, normal_tangent
-from .dg.discretization import contact_elements
+from .contact.boundary import contact_elements, normal_tangent
+from .contact.forms import contact_residuals
 from .dg.forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
 from .dg.material import BONUS
 from .errors import warn
@@ -310,7 +310,8 @@ def residual_parts(sol, variant):
     near = {part: boundary_elements(mesh, [on[part]]) for part in PARTS}  # the boundary terms live there only
     sigma, neighbour, volume = _stress_and_volume_term(sol, variant)
     sigma_n = sigma * n
-    traction_residual, bound = sigma_n - coefficient(problem.g), friction_bound(problem, u)
+    traction_residual = sigma_n - coefficient(problem.g)
+    friction_residual, normal_residual = contact_residuals(problem, sigma_n, u, sol.lam_tau)
     off, normal = u - coefficient(problem.u_D), normal_part(u, n)
     parts = element_integrals(mesh, {
         "eta1": [(volume, False)],
@@ -318,10 +319,10 @@ def residual_parts(sol, variant):
                   * (on["dirichlet"] * jump_inner(off, off, n)
                      + SYMMETRY_WEIGHT * on["symmetry"] * jump_inner(normal, normal, n)), True,
                   near["dirichlet"] | near["symmetry"])],
-        "eta4": [(on["contact"] * h_e / p * (sigma_n * t + bound * sol.lam_tau) ** 2, True, near["contact"])],
+        "eta4": [(on["contact"] * h_e / p * friction_residual**2, True, near["contact"])],
         "eta5": [(h_e / p * (on["traction"] * ngs.InnerProduct(traction_residual, traction_residual)
                              + on["symmetry"] * (sigma_n * t) ** 2), True, near["traction"] | near["symmetry"])],
-        "eta6": [(on["contact"] * h_e / p * (sigma_n * n + compliance(problem, u)) ** 2, True, near["contact"])],
+        "eta6": [(on["contact"] * h_e / p * normal_residual**2, True, near["contact"])],
     }, _degrees(disc))
     # the jump terms need the neighbour (Other()), which only Integrate provides on element boundaries
     # (on boundary edges u - u.Other() evaluates to zero, so these terms cover interior edges only)

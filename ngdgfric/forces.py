@@ -1,6 +1,6 @@
 r"""Forces on the body as the discrete problem (3.3) sees them: support reactions, loads and their balance.
 
-The contact forces are in :mod:`ngdgfric.contact_forces` (resultants and zones per contact side, (1.8)-(1.9));
+The contact forces are in :mod:`ngdgfric.contact.forces` (resultants and zones per contact side, (1.8)-(1.9));
 :func:`ngdgfric.force_balance` collects all of them in a :class:`~ngdgfric.ForceBalance`.
 
 **Reactions.**  For :math:`v = e_i`, a constant, :math:`\epsilon(e_i) = 0` and :math:`[e_i] = 0` on interior edges,
@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact_forces import LAM_TOL, SLIP_TOL, ContactSide, Zone, constant_vectors, contact_sides
+from .contact.forces import LAM_TOL, SLIP_TOL, ContactSide, Zone, constant_vectors, contact_sides
 from .dg.forms import dirichlet_load_terms, has_dirichlet_data, support_terms
 from .dg.liftings import liftings
 from .meshes import facet_indicator
@@ -68,7 +68,7 @@ class ForceBalance:
         ``{contact side: ContactSide}``: per contact side the normal and tangential resultants :math:`N_S`,
         :math:`T_S` (``normal``, ``tangential``), the force of the foundation on the body :math:`F_S`
         (``force``), the side's ``length`` and its ``contact``, ``stick`` and ``slip`` zones
-        (``ContactSide`` and ``Zone`` of :mod:`ngdgfric.contact_forces`).
+        (``ContactSide`` and ``Zone`` of :mod:`ngdgfric.contact.forces`).
     reactions : dict
         ``{Dirichlet or symmetry side: Reaction}``: the reaction :math:`R_S` of each support (its ``force``;
         ``part`` says ``"dirichlet"`` or ``"symmetry"``).
@@ -178,7 +178,7 @@ def force_balance(sol, lam_tol=LAM_TOL, slip_tol=SLIP_TOL):
     r"""The forces on the body of a solution, and their balance.
 
     Contact resultants and zones per contact side, reactions per Dirichlet and symmetry side, the loads
-    (module docstring of :mod:`ngdgfric.forces`; the zones: :mod:`ngdgfric.contact_forces`).
+    (module docstring of :mod:`ngdgfric.forces`; the zones: :mod:`ngdgfric.contact.forces`).
 
     Parameters
     ----------

@@ -16,7 +16,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .checks import estimated_bytes
-from .contact import transitions
+from .contact.state import transitions
 from .dg.discretization import space
 from .dg.methods import get_method
 from .hp import HPState, hp_refine

@@ -30,7 +30,7 @@ import numpy as np
 from numpy.polynomial import chebyshev
 
 from .bounds import coefficient
-from .contact import contact_boundary
+from .contact.boundary import boundary_edges
 
 __all__ = ["dirichlet_vertex_values", "set_dirichlet_vertices", "lifting_energies", "DEGREE"]
 
@@ -39,7 +39,7 @@ DEGREE = 24  # Chebyshev interpolant of u_D - s along a Dirichlet edge (u_D - s 
 
 def _edge_points(problem, mesh, parameters):
     """Mapped points at ``parameters`` in [0, 1] on every Dirichlet edge, in the order of
-    ``contact_boundary(problem, mesh, "dirichlet")``."""
+    ``boundary_edges(problem, mesh, "dirichlet")``."""
     rule = ngs.IntegrationRule([(float(t),) for t in parameters], [0.0] * len(parameters))
     return mesh.MapToAllElements({ngs.SEGM: rule}, mesh.Boundaries(problem.where("dirichlet")))
 
@@ -53,7 +53,7 @@ def _values(cf, points, count, volume=False):
 def dirichlet_vertex_values(problem, mesh):
     """({vertex number: u_D there}, the largest disagreement of u_D between the Dirichlet edges that meet at a vertex
     relative to the largest |u_D| at a vertex: 0 for data continuous along Gamma_D)."""
-    edges = contact_boundary(problem, mesh, "dirichlet")
+    edges = boundary_edges(problem, mesh, "dirichlet")
     if not edges:
         return {}, 0.0
     points = _edge_points(problem, mesh, (0.0, 1.0))
@@ -82,7 +82,7 @@ def lifting_energies(problem, mesh, s, mu, lam):
     parameters on it (exact for constant ones).  An element with two Dirichlet edges (a corner of Gamma_D) gets
     (L_1 + L_2)^2, the triangle inequality for the sum of the two edges' liftings."""
     roots = np.zeros(mesh.ne)
-    edges = contact_boundary(problem, mesh, "dirichlet")
+    edges = boundary_edges(problem, mesh, "dirichlet")
     if not edges:
         return roots
     nodes = 0.5 - 0.5 * np.cos(np.pi * (np.arange(DEGREE + 1) + 0.5) / (DEGREE + 1))  # Chebyshev, on [0, 1]

@@ -32,7 +32,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from .contact import contact_state
+from .contact.state import contact_state
 from .files import atomic_path
 from .forces import contact_sides
 from .meshes import mesh_arrays

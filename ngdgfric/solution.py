@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .checks import MEMORY_BUDGET
+from .contact import Contact
 from .dg.discretization import Discretization
 from .errors import warn
 from .meshes import snapshot
@@ -23,7 +24,7 @@ SOLVERS = {"newton": (newton, NewtonOptions), "uzawa": (uzawa, UzawaOptions),
 DEFAULT_SOLVER_TOL = {name: options.solver_tol for name, (_, options) in SOLVERS.items()}
 
 
-@dataclass
+@dataclass(kw_only=True)
 class Solution:
     r"""A discrete solution :math:`u_h` of (3.1) and the multiplier :math:`\lambda_\tau` of Lemma 3.1.
 
@@ -59,6 +60,9 @@ class Solution:
         Seconds: ``"assemble"``, ``"setup"``, ``"solve"``, ``"total"``.
     discretization : Discretization
         The discretisation solved (:class:`ngdgfric.Discretization`: spaces, matrices, the material).
+    contact : Contact
+        Its contact data (:class:`ngdgfric.Contact`: the multiplier space, the contact Gauss points, the
+        traces).
     info : dict, optional
         The solver's diagnostics (e.g. ``"factorizations"``, ``"least_squares_solves"``).  Default: empty.
     state : object, optional
@@ -94,6 +98,7 @@ class Solution:
     history: list
     timings: dict
     discretization: Discretization = field(repr=False)
+    contact: Contact = field(repr=False)
     info: dict = field(default_factory=dict, repr=False)
     state: object = field(default=None, repr=False)
 
@@ -226,14 +231,17 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     start_from = None if initial is None else _warm_start(initial)
     start = time.perf_counter()
     disc = Discretization(problem, snapshot(mesh), method, order, eta, penalty_check, max_ndof, max_bytes)
+    contact = Contact(disc)
     if settings.max_seconds is not None:  # the limit counts from here: what assembly took is the solver's no more
         left = settings.max_seconds - (time.perf_counter() - start)
         settings = dataclasses.replace(settings, max_seconds=max(left, 1e-9))
-    u, lam_tau, info = function(disc, settings, None if start_from is None else initial_guess(start_from, disc))
+    u, lam_tau, info = function(disc, contact, settings,
+                                None if start_from is None else initial_guess(start_from, contact))
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
-    return Solution(problem, disc.mesh, disc.method.name, disc.order, disc.eta, solver, u, lam_tau,
-                    info["iterations"], info["history"], timings, disc, info, info.pop("state", None))
+    return Solution(problem=problem, mesh=disc.mesh, method=disc.method.name, max_order=disc.order, eta=disc.eta,
+                    solver=solver, u=u, lam_tau=lam_tau, iterations=info["iterations"], history=info["history"],
+                    timings=timings, discretization=disc, contact=contact, info=info, state=info.pop("state", None))
 
 
 def _solver_tol(solver_tol, options):
@@ -297,6 +305,6 @@ def finish(sol, solver_tol=None, energy_tol=None, maxit=100):
     u, lam_tau, info = sol.state.run(options)
     seconds = time.perf_counter() - start
     timings = dict(sol.timings, solve=sol.timings["solve"] + seconds, total=sol.timings["total"] + seconds)
-    return Solution(sol.problem, sol.mesh, sol.method, sol.max_order, sol.eta, sol.solver, u, lam_tau,
-                    sol.iterations + info["iterations"], sol.history + info["history"], timings,
-                    sol.discretization, info, info.pop("state", None))
+    return dataclasses.replace(sol, u=u, lam_tau=lam_tau, iterations=sol.iterations + info["iterations"],
+                               history=sol.history + info["history"], timings=timings, info=info,
+                               state=info.pop("state", None))

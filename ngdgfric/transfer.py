@@ -1,7 +1,7 @@
 r"""Warm starts: a solution on one mesh as the initial guess on another (from coarser to finer).
 
 A :class:`ngdgfric.WarmStart` is what a solve can start from: :math:`u_h`, the mesh it lives on and the
-multiplier as mesh-independent Gauss values (``ngdgfric.contact.GaussValues``); ``initial_guess`` turns it
+multiplier as mesh-independent Gauss values (``ngdgfric.contact.boundary.GaussValues``); ``initial_guess`` turns it
 into the pair :math:`(u_h, \lambda_\tau)` on a discretisation's spaces, and ``starting_point`` makes the
 solvers' own copies of such a pair.
 """
@@ -11,7 +11,8 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact import GaussValues
+from .contact.boundary import GaussValues
+from .contact.laws import project_unit_values
 from .dg.discretization import dg_space
 from .dg.spaces import element_dofs
 from .meshes import same_mesh
@@ -89,7 +90,7 @@ def discontinuous(sol):
 
 def multiplier_snapshot(sol):
     """The multiplier of a Solution as mesh-independent Gauss values (``GaussValues``)."""
-    return sol.discretization.gauss.snapshot(sol.lam_tau)
+    return sol.contact.gauss.snapshot(sol.lam_tau)
 
 
 @dataclass(frozen=True)
@@ -125,10 +126,11 @@ class WarmStart:
         return cls(sol.u, sol.mesh, multiplier_snapshot(sol), sol.lam_tau)
 
 
-def starting_point(disc, initial=None):
-    """New GridFunctions (u, lam_tau) on ``disc.V`` and ``disc.Q``: zero, or copies of the pair ``initial``
-    (the iterates a solver changes in place; the caller's pair is left alone)."""
-    u, lam_tau = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
+def starting_point(contact, initial=None):
+    """New GridFunctions (u, lam_tau) on V_h and the multiplier space of the :class:`~ngdgfric.Contact`
+    ``contact``: zero, or copies of the pair ``initial`` (the iterates a solver changes in place; the caller's pair
+    is left alone)."""
+    u, lam_tau = ngs.GridFunction(contact.V), ngs.GridFunction(contact.Q)
     if initial is not None:
         u.vec.data, lam_tau.vec.data = initial[0].vec, initial[1].vec
     return u, lam_tau
@@ -145,8 +147,9 @@ def _on_mesh(u, mesh):
     return copy
 
 
-def initial_guess(start, disc):
-    """(u, lam_tau) GridFunctions on ``disc``'s spaces from the ``WarmStart`` ``start``.
+def initial_guess(start, contact):
+    """(u, lam_tau): GridFunctions on V_h and the multiplier space of the :class:`~ngdgfric.Contact`
+    ``contact``, from the ``WarmStart`` ``start``.
 
     On the same mesh (``ngdgfric.meshes.same_mesh``: the same object or a snapshot of it) and spaces (and
     with ``start.lam_tau``) the vectors are copied.  Otherwise u is interpolated (exact for nested meshes and
@@ -154,12 +157,12 @@ def initial_guess(start, disc):
     another mesh object needs, 7 times slower at 1e5 DOFs) and lam_tau is the old multiplier, a piecewise
     polynomial on the old edges of Gamma_C, evaluated at the new Gauss points.
     """
-    same = same_mesh(start.mesh, disc.mesh)
-    if same and start.lam_tau is not None and start.u.space.ndof == disc.V.ndof \
-            and start.lam_tau.space.ndof == disc.Q.ndof:
-        return starting_point(disc, (start.u, start.lam_tau))
-    u, lam_tau = starting_point(disc)
-    interpolate(u, _on_mesh(start.u, disc.mesh) if same else start.u)
-    gauss = disc.gauss
-    gauss.set_values(lam_tau, np.clip(start.multiplier(gauss.xy.reshape(-1, 2)), -1, 1).reshape(-1, gauss.q))
+    same = same_mesh(start.mesh, contact.mesh)
+    if same and start.lam_tau is not None and start.u.space.ndof == contact.V.ndof \
+            and start.lam_tau.space.ndof == contact.Q.ndof:
+        return starting_point(contact, (start.u, start.lam_tau))
+    u, lam_tau = starting_point(contact)
+    interpolate(u, _on_mesh(start.u, contact.mesh) if same else start.u)
+    gauss = contact.gauss
+    gauss.set_values(lam_tau, project_unit_values(start.multiplier(gauss.xy.reshape(-1, 2))).reshape(-1, gauss.q))
     return u, lam_tau

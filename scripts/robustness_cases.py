@@ -322,7 +322,8 @@ def existence_search(problem, mesh, method, order, starts=EXISTENCE_STARTS):
     scales 1e-3 ... 1e9.  Returns the first start that converged (the solver missed a solution: the
     case fails), or None (no solution found: the solver's error is the right answer as far as we know)."""
     disc = ndf.Discretization(problem, mesh, method=method, order=order)
-    traces = disc.traces
+    contact = ndf.contact.Contact(disc)
+    traces = contact.traces
     condensation = Condensation(disc.A, disc.F, traces, disc.symmetric)
     reduced = ReducedContact.condensed(condensation, traces, disc.symmetric)
     rng = np.random.default_rng(0)

@@ -204,8 +204,7 @@ def hertz_comparison(scene, solution):
     sol = solution if isinstance(solution, ndf.Solution) else \
         ndf.solve(scene.problem, solution.mesh, order=np.asarray(solution.orders, dtype=np.int64))
     state = contact_state(sol)
-    disc = sol.discretization
-    weights = disc.traces.omega
+    weights = sol.contact.traces.omega
     force = float(np.sum(weights * state["pressure"]))
     problem = scene.problem
     a, p0 = hertz_solution(force, problem.E, problem.nu, radius=1.0)

@@ -65,7 +65,8 @@ def nearly_incompressible_data():
     """The condensed Example 6.1 with nu = 0.499, h = 1/32: the problem the old solver failed on."""
     problem = dataclasses.replace(ndf.example_6_1(), nu=0.499)
     disc = ndf.Discretization(problem, ndf.uniform_mesh(problem, 1 / 32))
-    traces = disc.traces
+    contact = ndf.Contact(disc)
+    traces = contact.traces
     condensation = Condensation(disc.A, disc.F, traces, True)
     return dict(W=condensation.W, w0=condensation.w0, omega=traces.omega, g_a=traces.g_a, c_n=traces.c_n,
                 c_tau=traces.c_tau, m_n=traces.m_n, m_t=traces.m_t, symmetric=True, redundant=False)

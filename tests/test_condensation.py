@@ -22,16 +22,17 @@ def dense(mat):
 def problem(request):
     p = ndf.example_6_1()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4), method=request.param, order=2)
-    traces = disc.traces
+    contact = ndf.Contact(disc)
+    traces = contact.traces
     A = dense(disc.A)
     B = np.zeros((2 * traces.M, disc.V.ndof))
     B[traces.rows, traces.cols] = traces.values
-    return disc, A, B, disc.F.FV().NumPy().copy()
+    return disc, contact, A, B, disc.F.FV().NumPy().copy()
 
 
 def test_augmented_matrix(problem):
-    disc, A, B, _ = problem
-    indptr, cols, values = augmented_matrix(disc.A, disc.traces, disc.symmetric)
+    disc, contact, A, B, _ = problem
+    indptr, cols, values = augmented_matrix(disc.A, contact.traces, disc.symmetric)
     n, m = A.shape[0], B.shape[0]
     K = np.zeros((n + m, n + m))
     K[np.repeat(np.arange(n + m), np.diff(indptr)), cols] = values
@@ -42,8 +43,8 @@ def test_augmented_matrix(problem):
 
 @pytest.mark.parametrize("linear_solver", SOLVERS)
 def test_delassus_operator_and_recovery(problem, linear_solver):
-    disc, A, B, F = problem
-    condensation = Condensation(disc.A, disc.F, disc.traces, disc.symmetric, linear_solver)
+    disc, contact, A, B, F = problem
+    condensation = Condensation(disc.A, disc.F, contact.traces, disc.symmetric, linear_solver)
     W = B @ np.linalg.solve(A, B.T)
     assert np.allclose(condensation.W, W, atol=1e-11 * np.abs(W).max())
     assert np.allclose(condensation.w0, B @ np.linalg.solve(A, F), atol=1e-11 * np.abs(condensation.w0).max())
@@ -55,6 +56,6 @@ def test_delassus_operator_and_recovery(problem, linear_solver):
 
 
 def test_unknown_linear_solver_is_rejected(problem):
-    disc = problem[0]
+    disc, contact = problem[:2]
     with pytest.raises(ValueError, match="linear_solver"):
-        Condensation(disc.A, disc.F, disc.traces, disc.symmetric, "mumps")
+        Condensation(disc.A, disc.F, contact.traces, disc.symmetric, "mumps")

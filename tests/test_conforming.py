@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.dg.discretization import Discretization, conforming_space, contact_edges, edge_orders, element_edges
+from ngdgfric.contact import Contact
+from ngdgfric.contact.boundary import contact_edges
+from ngdgfric.dg.discretization import Discretization, conforming_space, edge_orders, element_edges
 from ngdgfric.dg.spaces import dg_ndof
 from ngdgfric.hp import HPState, containing, hp_refine
 from ngdgfric.meshes import element_diameters
@@ -71,8 +73,9 @@ def test_the_contact_points_of_a_conforming_hp_space_are_independent():
     mesh = ndf.uniform_mesh(problem, 1 / 4)
     orders = random_orders(mesh, seed=3)
     disc = Discretization(problem, mesh, "cg", orders)
-    assert disc.contact_order == orders.max() - 1 and not disc.traces.redundant
-    assert disc.traces.M == len(contact_edges(problem, mesh)) * orders.max()
+    contact = Contact(disc)
+    assert contact.order == orders.max() - 1 and not contact.traces.redundant
+    assert contact.traces.M == len(contact_edges(problem, mesh)) * orders.max()
     sol = ndf.solve(problem, mesh, method="cg", order=orders)
     kkt = ndf.kkt_residuals(sol)
     assert kkt["lam_excess"] <= 1e-12 and kkt["equilibrium"] <= 1e-12 and sol.iterations <= 10
@@ -112,7 +115,7 @@ def test_geometric_layers_halve_h_at_a_marked_corner_once_more_per_layer(layers)
 @pytest.mark.slow
 def test_transitions_are_the_ends_of_the_contact_zones_of_a_manufactured_solution():
     # contact and slip for x < 1/4 and x > 1/2, no contact between (incompressible_contact_manufactured)
-    from ngdgfric.contact import transitions
+    from ngdgfric.contact.state import transitions
     from ngdgfric.studies.manufactured import incompressible_contact_manufactured
 
     problem, _ = incompressible_contact_manufactured()

@@ -8,23 +8,17 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.contact import (
-    compliance_form,
-    contact_state,
-    evaluate_on_contact,
-    frozen_bound,
-    kkt_residuals,
-    normal_tangent,
-    residual,
-)
+from ngdgfric.contact import contact_state, kkt_residuals
+from ngdgfric.contact.boundary import evaluate_on_contact, normal_tangent
+from ngdgfric.contact.forms import compliance_form, frozen_bound, residual
 
 
-def random_pair(disc, seed):
+def random_pair(disc, contact, seed):
     """A random u (of the size of Example 6.1's displacements, so that some points penetrate) and lam_tau."""
     rng = np.random.default_rng(seed)
-    u, lam_tau = ngs.GridFunction(disc.V), ngs.GridFunction(disc.Q)
+    u, lam_tau = ngs.GridFunction(disc.V), ngs.GridFunction(contact.Q)
     u.vec.FV().NumPy()[:] = 0.05 * rng.standard_normal(disc.V.ndof)
-    lam_tau.vec.FV().NumPy()[:] = rng.uniform(-1, 1, disc.Q.ndof)
+    lam_tau.vec.FV().NumPy()[:] = rng.uniform(-1, 1, contact.Q.ndof)
     return u, lam_tau
 
 
@@ -34,34 +28,36 @@ def test_residual_is_the_weak_form_of_3_3(m_n, m_t):
     assembled here as a linear form from the formula."""
     p = dataclasses.replace(ndf.example_6_1(), m_n=m_n, m_t=m_t, c_n=1e3)
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4), order=2)
-    u, lam_tau = random_pair(disc, 0)
+    contact = ndf.Contact(disc)
+    u, lam_tau = random_pair(disc, contact, 0)
     n, t = normal_tangent()
     v = disc.V.TestFunction()
     d = u * n - p.g_a
     positive = ngs.IfPos(d, d, 0)
     bound = p.c_tau * (positive ** m_t if m_t else 1)
     form = ngs.LinearForm(disc.V)
-    form += (p.c_n * positive ** m_n * (v * n) + bound * lam_tau * (v * t)) * disc.dS
+    form += (p.c_n * positive ** m_n * (v * n) + bound * lam_tau * (v * t)) * contact.dS
     form.Assemble()
     expected = disc.F.CreateVector()
     expected.data = disc.A * u.vec + form.vec - disc.F
-    assert np.any(evaluate_on_contact(d, disc.contact_points()) > 0)  # the compliance is active somewhere
-    difference = residual(disc, u, lam_tau).FV().NumPy() - expected.FV().NumPy()
+    assert np.any(evaluate_on_contact(d, contact.points()) > 0)  # the compliance is active somewhere
+    difference = residual(disc, contact, u, lam_tau).FV().NumPy() - expected.FV().NumPy()
     assert np.linalg.norm(difference) <= 1e-12 * np.linalg.norm(expected.FV().NumPy())
 
 
 @pytest.mark.parametrize("order", [1, 3])
 def test_compliance_form_is_the_sum_over_the_gauss_points(order):
-    """j_n(u, v) = v^T B^T f with f_n,q = omega_q c_n (u_n - g_a)_+(x_q), f_t = 0 (:mod:`ngdgfric.solvers.traces`)."""
+    """j_n(u, v) = v^T B^T f with f_n,q = omega_q c_n (u_n - g_a)_+(x_q), f_t = 0 (:mod:`ngdgfric.contact.traces`)."""
     p = ndf.example_6_1()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4), order=order)
-    u, _ = random_pair(disc, 1)
+    contact = ndf.Contact(disc)
+    u, _ = random_pair(disc, contact, 1)
     trial, test = disc.V.TnT()
     form = ngs.BilinearForm(disc.V)
-    form += compliance_form(p, disc.dS, trial, test)
+    form += compliance_form(p, contact.dS, trial, test)
     applied = disc.F.CreateVector()
     form.Apply(u.vec, applied)
-    traces = disc.traces
+    traces = contact.traces
     w_n = traces.apply(u.vec.FV().NumPy())[:traces.M]
     forces = np.concatenate([traces.omega * p.c_n * np.maximum(w_n - p.g_a, 0), np.zeros(traces.M)])
     expected = traces.apply_transpose(forces)
@@ -71,10 +67,11 @@ def test_compliance_form_is_the_sum_over_the_gauss_points(order):
 def test_frozen_bound_is_the_bound_at_a_copy_of_u():
     p = dataclasses.replace(ndf.example_6_1(), m_t=1.0)
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4))
-    u, _ = random_pair(disc, 2)
+    contact = ndf.Contact(disc)
+    u, _ = random_pair(disc, contact, 2)
     frozen = frozen_bound(p, u)
     assert frozen.m_t == 0 and dataclasses.replace(frozen, c_tau=p.c_tau, m_t=p.m_t) == p
-    points = disc.contact_points()
+    points = contact.points()
     n, _ = normal_tangent()
     gap = evaluate_on_contact(u * n, points) - p.g_a
     expected = p.c_tau * np.maximum(gap, 0)
@@ -116,9 +113,10 @@ def test_multiplier_gauss_values_interpolate_polynomials_exactly(order):
     anywhere on Gamma_C (the bottom side of Example 6.1) is the polynomial."""
     p = ndf.example_6_1()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4), order=order)
-    gauss = disc.gauss
+    contact = ndf.Contact(disc)
+    gauss = contact.gauss
     polynomial = np.polynomial.Polynomial(np.random.default_rng(3).uniform(-0.2, 0.2, order + 1))
-    lam_tau = ngs.GridFunction(disc.Q)
+    lam_tau = ngs.GridFunction(contact.Q)
     gauss.set_values(lam_tau, polynomial(gauss.xy[..., 0]))
     assert np.allclose(gauss.values(lam_tau), polynomial(gauss.xy[..., 0]), rtol=0, atol=1e-14)
     x = np.linspace(0, 1, 37)

@@ -31,14 +31,15 @@ def test_matrix_of_b_h_is_symmetric_for_every_method_but_nipg(method):
 def test_inverse_multiplier_mass_matrix():
     p = ndf.example_6_2()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4), order=2)
-    lam_tau, q = disc.Q.TnT()
-    mass = ngs.BilinearForm(disc.Q)
-    mass += lam_tau * q * disc.dS
+    contact = ndf.Contact(disc)
+    lam_tau, q = contact.Q.TnT()
+    mass = ngs.BilinearForm(contact.Q)
+    mass += lam_tau * q * contact.dS
     mass.Assemble()
-    x = ngs.GridFunction(disc.Q).vec
-    x.FV().NumPy()[:] = np.random.default_rng(1).standard_normal(disc.Q.ndof)
+    x = ngs.GridFunction(contact.Q).vec
+    x.FV().NumPy()[:] = np.random.default_rng(1).standard_normal(contact.Q.ndof)
     y = x.CreateVector()
-    y.data = disc.M_inv * (mass.mat * x)
+    y.data = contact.M_inv * (mass.mat * x)
     assert np.allclose(y.FV().NumPy(), x.FV().NumPy(), rtol=0, atol=1e-12 * np.abs(x.FV().NumPy()).max())
 
 
@@ -47,7 +48,8 @@ def test_contact_groups_are_the_elements_at_the_contact_edges(order):
     p = ndf.example_6_1()  # Gamma_C: the bottom side, of length 1
     mesh = ndf.uniform_mesh(p, 1 / 4)
     disc = ndf.Discretization(p, mesh, order=order)
-    groups = disc.contact_groups()
+    contact = ndf.Contact(disc)
+    groups = contact.groups()
     assert len(groups) == 4 and all(len(g) == dg_ndof(order) for g in groups)
     assert len(set(np.concatenate(groups))) == dg_ndof(order, 4)  # four different elements
     y_bottom = p.geometry.bounds[1]
@@ -73,7 +75,8 @@ def test_hp_orders_and_lazily_built_contact_data():
     mesh = ndf.uniform_mesh(p, 1 / 4)
     orders = np.random.default_rng(2).integers(1, 4, mesh.ne)
     disc = ndf.Discretization(p, mesh, order=orders)
+    contact = ndf.Contact(disc)
     assert disc.order == orders.max() and np.array_equal(disc.orders, orders)
     assert disc.V.ndof == dg_ndof(orders)
-    assert disc.Q.ndof == 4 * (disc.order + 1)  # the multiplier has the largest degree on every contact edge
-    assert disc.traces is disc.traces and disc.gauss is disc.gauss
+    assert contact.Q.ndof == 4 * (disc.order + 1)  # the multiplier has the largest degree on every contact edge
+    assert contact.traces is contact.traces and contact.gauss is contact.gauss

@@ -10,7 +10,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.bounds import coefficient
-from ngdgfric.contact import normal_tangent
+from ngdgfric.contact.boundary import normal_tangent
 from ngdgfric.equilibration import (
     contact_traction,
     edge_integrals,

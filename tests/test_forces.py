@@ -11,8 +11,9 @@ import pytest
 from mirror import mirrored
 
 import ngdgfric as ndf
-from ngdgfric.contact import normal_tangent, residual_terms
-from ngdgfric.contact_forces import constant_vectors
+from ngdgfric.contact.boundary import normal_tangent
+from ngdgfric.contact.forces import constant_vectors
+from ngdgfric.contact.forms import residual_terms
 from ngdgfric.domain import Domain, Loop
 from ngdgfric.forces import force_balance
 
@@ -49,7 +50,7 @@ def test_global_equilibrium_to_round_off(meshes, scene, method, order):
     # sum of reactions + body force + traction + contact forces = 0 (measured <= 3e-13 of the largest force)
     assert balance.relative_residual < 1e-11
     # and it is minus the residual of (3.3) at v = e_x, e_y: the forces are the terms of the discrete problem
-    terms = [term.FV().NumPy() for term in residual_terms(sol.discretization, sol.u, sol.lam_tau)]
+    terms = [term.FV().NumPy() for term in residual_terms(sol.discretization, sol.contact, sol.u, sol.lam_tau)]
     residual = constant_vectors(sol.discretization.V) @ np.sum(terms, axis=0)
     assert np.linalg.norm(balance.residual + residual) < 1e-11 * balance.scale
     # friction active: both zones present, and every force nonzero

@@ -49,7 +49,7 @@ def test_hp_level_with_redundant_points_agrees():
     problem = ndf.example_6_2()
     run = ndf.adapt(problem, method="sipg", tol=3e-3, progress=None)
     sol = run.solution
-    assert sol.discretization.traces.redundant
+    assert sol.contact.traces.redundant
     condensed, full = both(problem, sol.mesh, "sipg", sol.discretization.orders)
     energy, _ = agreement(condensed, full)
     assert energy <= 5e-11
@@ -110,8 +110,9 @@ def test_full_space_where_it_does_not_apply_is_refused(case, words):
 def test_no_convergence_within_maxit_raises_with_the_residuals():
     problem = ndf.example_6_1()
     disc = ndf.Discretization(problem, ndf.uniform_mesh(problem, 1 / 8), method="sipg", order=3)
+    contact = ndf.Contact(disc)
     with pytest.raises(ndf.SolverError, match="no convergence in 2 iterations"):
-        newton(disc, NewtonOptions(formulation="full-space", maxit=2))
+        newton(disc, contact, NewtonOptions(formulation="full-space", maxit=2))
 
 
 def test_progress_reports_each_iteration():

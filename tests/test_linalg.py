@@ -18,7 +18,8 @@ from ngdgfric.threads import blas_threads, dense_threads, limited_blas
 def test_block_sum_adds_the_contact_blocks_only():
     p = ndf.example_6_1()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4))
-    groups = disc.contact_groups()
+    contact = ndf.Contact(disc)
+    groups = contact.groups()
     bs = BlockSum(disc.A, groups)
     K = disc.A.CreateMatrix()
     K.AsVector().FV().NumPy()[:] = 1.0  # a matrix with A's pattern, ones everywhere

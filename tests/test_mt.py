@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
-from ngdgfric.contact import friction_matrix, frozen_bound, normal_tangent
+from ngdgfric.contact.boundary import normal_tangent
+from ngdgfric.contact.forms import friction_matrix, frozen_bound
 from ngdgfric.studies import max_rel_diff
 from ngdgfric.studies.manufactured import friction_manufactured
 
@@ -37,7 +38,8 @@ def test_frozen_bound_of_the_reduced_law_is_the_same_matrix():
     p = ndf.example_6_1()
     sol = ndf.solve(p, ndf.uniform_mesh(p, 1 / 4))
     disc = sol.discretization
-    frozen, plain = friction_matrix(disc, frozen_bound(disc.problem, sol.u).c_tau), friction_matrix(disc, p.c_tau)
+    contact = sol.contact
+    frozen, plain = friction_matrix(contact, frozen_bound(disc.problem, sol.u).c_tau), friction_matrix(contact, p.c_tau)
     diff = frozen.AsVector().FV().NumPy() - plain.AsVector().FV().NumPy()
     assert np.max(np.abs(diff)) == 0.0
 
@@ -92,12 +94,13 @@ def test_fixed_point_fails_for_a_large_friction_coefficient_where_newton_converg
 def friction_residual(sol):
     """A u + j_n(u) + int c_tau (u_n - g_a)_+^{m_t} l v.t - F, assembled here from scratch."""
     disc = sol.discretization
+    contact = sol.contact
     n, t = normal_tangent()
     v = disc.V.TestFunction()
     d = sol.u * n - sol.problem.g_a
     bound = sol.problem.c_tau * ngs.IfPos(d, d, 0)
     form = ngs.LinearForm(disc.V)
-    form += (sol.problem.c_n * ngs.IfPos(d, d, 0) * (v * n) + bound * sol.lam_tau * (v * t)) * disc.dS
+    form += (sol.problem.c_n * ngs.IfPos(d, d, 0) * (v * n) + bound * sol.lam_tau * (v * t)) * contact.dS
     form.Assemble()
     r = disc.F.CreateVector()
     r.data = disc.A * sol.u.vec + form.vec - disc.F

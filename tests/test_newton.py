@@ -105,7 +105,7 @@ def test_element_with_two_contact_edges():
     p = dataclasses.replace(ndf.example_6_2(), geometry=corner)
     mesh = ndf.uniform_mesh(p, 1 / 4)
     sol = ndf.solve(p, mesh)
-    assert sol.discretization.traces.redundant
+    assert sol.contact.traces.redundant
     assert_kkt_at_roundoff(sol)
     assert max_rel_diff(sol, ndf.solve(p, mesh, solver="uzawa", solver_tol=1e-12)) <= 1e-7
 
@@ -210,7 +210,7 @@ def test_hp_mesh_with_redundant_contact_points_is_solved_by_the_proximal_point_m
         if el.mat == p.contact:
             orders[mesh[el.edges[0]].elements[0].nr] = 1
     sol = ndf.solve(p, mesh, order=orders)
-    assert sol.discretization.traces.redundant
+    assert sol.contact.traces.redundant
     assert any(step.startswith("proximal") for step in sol.info["steps"])
     assert_kkt_at_roundoff(sol)
     assert max_rel_diff(sol, ndf.solve(p, mesh, order=orders, solver="uzawa", solver_tol=1e-12)) <= 1e-7
@@ -228,7 +228,7 @@ def test_nipg_on_a_graded_hp_mesh_with_redundant_points_is_solved_by_the_proxima
     mesh = ngs.Mesh(str(folder / "mesh.vol.gz"))
     orders = np.load(folder / "orders.npz")["orders"].astype(int)
     sol = ndf.solve(p, mesh, method="nipg", order=orders)
-    assert sol.discretization.traces.redundant
+    assert sol.contact.traces.redundant
     assert sol.info["steps"][0].startswith("proximal")
     assert sol.info["converged"] and sol.iterations <= 60
     assert_kkt_at_roundoff(sol)

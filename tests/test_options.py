@@ -151,7 +151,8 @@ def small_problems():
     exactly in 4 steps), as is for Uzawa (276 iterations), with m_t = 1 for the fixed point."""
     def disc(**changes):
         problem = dataclasses.replace(ndf.example_6_1(), **changes)
-        return ndf.Discretization(problem, ndf.uniform_mesh(problem, 1 / 4))
+        discretization = ndf.Discretization(problem, ndf.uniform_mesh(problem, 1 / 4))
+        return discretization, ndf.Contact(discretization)
     return {NewtonOptions: disc(m_n=2.0), UzawaOptions: disc(), FixedPointOptions: disc(m_t=1.0)}
 
 
@@ -159,7 +160,7 @@ def run(options_class, disc, **changes):
     messages = []
     changes = {name: messages.append if value == "record" else value for name, value in changes.items()}
     try:
-        return Outcome(SOLVE[options_class](disc, options_class(**changes))[2], None, messages)
+        return Outcome(SOLVE[options_class](*disc, options_class(**changes))[2], None, messages)
     except (ndf.SolverError, ValueError) as error:
         return Outcome(None, error, messages)
 
@@ -183,11 +184,11 @@ def test_changing_an_option_changes_the_solve(small_problems, options_class, nam
 def test_the_inner_options_of_the_fixed_point_are_used_as_given(small_problems):
     """Issue 30: the inner solver_tol was overwritten by the outer one; now every inner option counts (its
     progress, its max_seconds), and inner=None means Newton with the outer solver_tol."""
-    disc, lines = small_problems[FixedPointOptions], []
-    fixed_point(disc, FixedPointOptions(inner=NewtonOptions(solver_tol=1e-12, progress=lines.append)))
+    (disc, contact), lines = small_problems[FixedPointOptions], []
+    fixed_point(disc, contact, FixedPointOptions(inner=NewtonOptions(solver_tol=1e-12, progress=lines.append)))
     assert lines and all(line.startswith("newton ") for line in lines)
     with pytest.raises(ndf.TimeLimitError, match="semismooth Newton"):
-        fixed_point(disc, FixedPointOptions(inner=NewtonOptions(max_seconds=1e-9)))
+        fixed_point(disc, contact, FixedPointOptions(inner=NewtonOptions(max_seconds=1e-9)))
     assert FixedPointOptions(solver_tol=1e-11).inner_options == NewtonOptions(solver_tol=1e-11)
     assert FixedPointOptions(inner=UzawaOptions(rho=0.5)).inner_options == UzawaOptions(rho=0.5)
     with pytest.raises(ValueError, match="inner must be None, NewtonOptions or UzawaOptions"):

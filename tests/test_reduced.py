@@ -88,12 +88,13 @@ def test_a_newton_solve_with_singular_systems_warns_and_counts_them(monkeypatch)
 
     p = ndf.example_6_1()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4))
+    contact = ndf.Contact(disc)
     monkeypatch.setattr(reduced_module.np.linalg, "solve", singular)
     with pytest.warns(SolverWarning, match=r"\d+ Newton systems were singular"):
-        _, _, info = newton(disc)
+        _, _, info = newton(disc, contact)
     assert info["converged"] and info["least_squares_solves"] >= info["iterations"] > 0  # one per direction
     monkeypatch.undo()
-    assert newton(disc)[2]["least_squares_solves"] == 0
+    assert newton(disc, contact)[2]["least_squares_solves"] == 0
 
 
 def test_a_tiny_delassus_diagonal_is_raised_visibly_and_a_negative_one_refused():
@@ -119,7 +120,8 @@ def test_the_condensed_problem_is_built_by_keywords_or_from_a_condensation():
 
     p = ndf.example_6_1()
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 4))
-    traces = disc.traces
+    contact = ndf.Contact(disc)
+    traces = contact.traces
     condensation = Condensation(disc.A, disc.F, traces, disc.symmetric)
     reduced = ReducedContact.condensed(condensation, traces, disc.symmetric)
     assert np.array_equal(reduced.W, condensation.W) and np.array_equal(reduced.w0, condensation.w0)

@@ -52,7 +52,7 @@ def coarse_solution():
 
 def test_warm_start_on_the_same_spaces_is_an_exact_copy(coarse_solution):
     sol = coarse_solution
-    u, lam_tau = initial_guess(WarmStart.from_solution(sol), sol.discretization)
+    u, lam_tau = initial_guess(WarmStart.from_solution(sol), sol.contact)
     assert u is not sol.u and lam_tau is not sol.lam_tau
     assert np.array_equal(u.vec.FV().NumPy(), sol.u.vec.FV().NumPy())
     assert np.array_equal(lam_tau.vec.FV().NumPy(), sol.lam_tau.vec.FV().NumPy())
@@ -66,21 +66,22 @@ def test_warm_start_onto_a_nested_finer_mesh_and_higher_order(coarse_solution):
     sol = coarse_solution
     p = sol.problem
     disc = ndf.Discretization(p, ndf.uniform_mesh(p, 1 / 8), order=2)
+    contact = ndf.Contact(disc)
     start = WarmStart.from_solution(sol)
-    u, lam_tau = initial_guess(start, disc)
+    u, lam_tau = initial_guess(start, contact)
     rng = np.random.default_rng(7)
     x0, y0, x1, y1 = p.geometry.bounds
     for x, y in rng.uniform((x0, y0), (x1, y1), (20, 2)):
         old, new = sol.u(sol.mesh(x, y)), u(disc.mesh(x, y))
         assert np.allclose(new, old, rtol=0, atol=1e-12 * np.abs(sol.u.vec.FV().NumPy()).max())
-    expected = np.clip(start.multiplier(disc.gauss.xy.reshape(-1, 2)), -1, 1)
-    assert np.allclose(disc.gauss.values(lam_tau).ravel(), expected, rtol=0, atol=1e-12)
+    expected = np.clip(start.multiplier(contact.gauss.xy.reshape(-1, 2)), -1, 1)
+    assert np.allclose(contact.gauss.values(lam_tau).ravel(), expected, rtol=0, atol=1e-12)
 
 
 def test_starting_point_copies_and_leaves_the_pair_alone(coarse_solution):
     sol = coarse_solution
-    u, lam_tau = starting_point(sol.discretization, (sol.u, sol.lam_tau))
+    u, lam_tau = starting_point(sol.contact, (sol.u, sol.lam_tau))
     u.vec[:] = 0.0
     assert np.abs(sol.u.vec.FV().NumPy()).max() > 0
-    zero = starting_point(sol.discretization)
+    zero = starting_point(sol.contact)
     assert not np.any(zero[0].vec.FV().NumPy()) and not np.any(zero[1].vec.FV().NumPy())

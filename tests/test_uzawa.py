@@ -91,7 +91,7 @@ def test_huge_rho_fails_within_a_few_hundred_iterations():
 
 def test_kkt_test_is_part_of_the_stopping_rule(solution_6_1):
     assert solution_6_1.info["kkt_history"][-1] <= 1e-6
-    assert ndf.solvers.uzawa.complementarity(solution_6_1.discretization, solution_6_1.u, solution_6_1.lam_tau) \
+    assert ndf.solvers.uzawa.complementarity(solution_6_1.contact, solution_6_1.u, solution_6_1.lam_tau) \
         == pytest.approx(solution_6_1.info["kkt_history"][-1], rel=1e-12)
 
 

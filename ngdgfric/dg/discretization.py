@@ -1,10 +1,9 @@
 """The discrete problem (3.1)/(3.3) on one mesh: its spaces and the matrices of its linear part.
 
-The contact terms (forms, residual, KKT residuals) are in :mod:`ngdgfric.contact`, the traces at
-the contact Gauss points in :mod:`ngdgfric.solvers.traces`.
+The contact part (multiplier space, contact Gauss points, traces, forms) is :class:`ngdgfric.Contact`,
+built beside it.
 """
 
-import functools
 import time
 from numbers import Integral, Real
 
@@ -12,10 +11,9 @@ import ngsolve as ngs
 import numpy as np
 
 from ..checks import MEMORY_BUDGET, check_data, check_size
-from ..contact import ContactGauss, contact_boundary, contact_measure, contact_points, multiplier_space
+from ..contact.boundary import contact_edges
 from ..meshes import check_mesh, curve
 from ..problem import ContactProblem
-from ..solvers.traces import ContactTraces
 from ..threads import threads
 from .forms import dg_terms, edge_length, load_terms, penalty_length
 from .liftings import lifting_terms
@@ -23,7 +21,7 @@ from .material import Lame, Material, largest
 from .methods import check_locking, check_penalty, get_method, penalty
 
 __all__ = ["Discretization", "dg_space", "conforming_space", "space", "polynomial_degrees", "edge_orders",
-           "contact_edges", "contact_elements", "check_order", "order_function", "most_common_degree"]
+           "check_order", "order_function", "most_common_degree"]
 
 
 def dg_space(mesh, order, dgjumps=True):
@@ -68,16 +66,6 @@ def edge_orders(mesh, orders, raised=()):
     return result
 
 
-def contact_edges(problem, mesh):
-    """The numbers of the edges on Gamma_C."""
-    return [el.edges[0].nr for el, _ in contact_boundary(problem, mesh)]
-
-
-def contact_elements(problem, mesh):
-    """The numbers of the elements with an edge on Gamma_C."""
-    return np.unique([element.nr for _, element in contact_boundary(problem, mesh)])
-
-
 def polynomial_degrees(disc):
     """The largest polynomial degree of u_h on every element of a :class:`Discretization`: p_T for the DG
     methods, for the conforming baseline the largest degree of the element and its edges (:func:`edge_orders`)."""
@@ -93,7 +81,7 @@ def conforming_space(mesh, order, raised=()):
     H^1 elements of degree ``order`` (p, or an integer array of p_T, one per element), each edge of the degree of
     :func:`edge_orders`.  ``raised``: edges that get the largest degree whatever their elements' (the edges on
     Gamma_C, so that the traces there are of degree p on every edge and the contact Gauss points, p per edge,
-    independent: :attr:`Discretization.contact_order`)."""
+    independent: :attr:`ngdgfric.Contact.order`)."""
     if np.ndim(order) == 0:
         return ngs.VectorH1(mesh, order=int(order))
     order = np.asarray(order)
@@ -191,14 +179,10 @@ class Discretization:
         The method's row of :data:`ngdgfric.METHODS`, a :class:`~ngdgfric.Method`.
     V
         The space :math:`V_h`: the DG space, or :math:`H^1` for the conforming baseline (``space``).
-    Q
-        The multiplier space on :math:`\Gamma_C`.
     A
         The matrix of :math:`B_h` (an NGSolve matrix).
     F
         The load vector of :math:`(f, v)` (an NGSolve vector).
-    dS
-        The contact measure, with the contact Gauss rule.
     h_e
         The edge length :math:`|e|`, a CoefficientFunction.
     h_penalty
@@ -212,9 +196,6 @@ class Discretization:
     degrees
         The polynomial degree of :math:`u_h` on every element, an integer array (``polynomial_degrees``):
         :math:`p_T`, for the conforming baseline the largest degree of the element and its edges.
-    contact_order
-        The degree of the multiplier space and of the contact Gauss rule: ``order``, one less for the conforming
-        baseline.
     p
         :math:`p_T` as a number or a GridFunction, for the penalty and the estimator weights.
     material
@@ -268,10 +249,6 @@ class Discretization:
         check_size(self.orders, max_ndof, max_bytes=max_bytes)
         check_data(problem, mesh, int(self.orders.max()))
         self.order = int(self.orders.max())
-        # the contact rule has contact_order + 1 points per edge (:func:`ngdgfric.contact.contact_rule`): p + 1
-        # for DG, p for the conforming baseline, whose traces on Gamma_C are continuous (dimension p per edge + 1:
-        # p + 1 points per edge would make them linearly dependent, the Delassus operator singular)
-        self.contact_order = self.order - 1 if self.method.conforming else self.order
         # p_T of the penalty and the estimator weights: the degree of the element's polynomials (for the conforming
         # baseline with the degrees of its edges, which the inverse trace inequality of Nitsche's terms must see)
         self.degrees = polynomial_degrees(self)
@@ -286,13 +263,10 @@ class Discretization:
                       penalty_check)
         check_locking(largest(problem.nu, mesh), self.method, lowest)
         self.timings = {}
-        self._gauss = self._traces = None
         start = time.perf_counter()
         self.V = space(problem, mesh, order, self.method)
-        self.Q = multiplier_space(problem, mesh, self.contact_order)
         self.h_e = edge_length(mesh)
         self.h_penalty = penalty_length(mesh)
-        self.dS = contact_measure(problem, mesh, self.contact_order)
         self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
         # the test space of the mixed contact forms (H^1 has no facet couplings to leave out)
@@ -327,43 +301,7 @@ class Discretization:
                 f.vec.FV().NumPy()[:] += lifted_load
         return A, f.vec
 
-    @functools.cached_property
-    def M_inv(self):
-        """The inverse Gauss-rule mass matrix of the multiplier space.
-
-        Factorised when first used; only the multiplier updates of Uzawa and the fixed point need it.
-        """
-        lam_tau, q = self.Q.TnT()
-        m = ngs.BilinearForm(self.Q)
-        m += lam_tau * q * self.dS
-        with threads(self.V.ndof):
-            m.Assemble()
-            return m.mat.Inverse(inverse="sparsecholesky")
-
     @property
     def symmetric(self):
         """Whether :math:`B_h` is symmetric: for every method but NIPG."""
         return self.method.symmetry == 1
-
-    @property
-    def gauss(self):
-        """The ``ContactGauss`` of :mod:`ngdgfric.contact` of this mesh (built on first use)."""
-        if self._gauss is None:
-            self._gauss = ContactGauss(self.problem, self.mesh, self.contact_order, self.Q)
-        return self._gauss
-
-    @property
-    def traces(self):
-        """The ``ContactTraces`` of :mod:`ngdgfric.solvers.traces` of this discretisation and its problem
-        (built on first use)."""
-        if self._traces is None:
-            self._traces = ContactTraces(self, self.problem)
-        return self._traces
-
-    def contact_points(self):
-        r"""Mapped Gauss points on :math:`\Gamma_C` (``contact_points`` of :mod:`ngdgfric.contact`)."""
-        return contact_points(self.problem, self.mesh, self.contact_order)
-
-    def contact_groups(self):
-        r"""For each edge on :math:`\Gamma_C`, the DOFs of ``V`` of its element."""
-        return [list(self.V.GetDofNrs(element)) for _, element in contact_boundary(self.problem, self.mesh)]

@@ -1,6 +1,6 @@
 r"""The contact solvers of (3.3): semismooth Newton on :math:`\Gamma_C` (default), Uzawa, fixed point (:math:`m_t > 0`).
 
-Data path: :mod:`~ngdgfric.solvers.traces` (displacement traces at the contact Gauss points) ->
+Data path: :mod:`~ngdgfric.contact.traces` (displacement traces at the contact Gauss points) ->
 :mod:`~ngdgfric.solvers.condensation` (the Delassus operator :math:`W = B A^{-1} B^T`, PARDISO or
 back-substitutions) -> :mod:`~ngdgfric.solvers.reduced` (the laws at the Gauss points, their residual and
 Jacobian) -> :mod:`~ngdgfric.solvers.semismooth` (the globalised Newton iteration) ->

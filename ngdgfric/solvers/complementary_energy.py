@@ -9,7 +9,8 @@ For a symmetric :math:`B_h` and the reduced law :math:`m_t = 0` the forces :math
     \quad \text{over} \quad K = \{f_n \ge 0, |f_t| \le \beta\},
 
 with :math:`\Phi^*(s) = g_a s + \frac{m}{m+1} (\omega c_n)^{-1/m} s^{(m+1)/m}` the conjugate of the compliance
-energy (:math:`f_n = 0` where :math:`c_n = 0`).  One step of the iteration (``energy_step``): the Newton point,
+energy (``pressure_conjugate_values`` of :mod:`ngdgfric.contact.laws` with the weight :math:`\omega c_n`;
+:math:`f_n = 0` where :math:`c_n = 0`).  One step of the iteration (``energy_step``): the Newton point,
 projected onto :math:`K`, is accepted when it lowers :math:`\Theta` by a fixed fraction :math:`\sigma` of what a
 diagonally scaled projected-gradient step promises (:math:`\delta = -\nabla\Theta \cdot p` with
 :math:`p = P_K(f - D^{-1} \nabla\Theta) - f`), or, once the relative KKT residual is below :math:`10^{-6}`, when
@@ -24,6 +25,7 @@ exact.
 
 import numpy as np
 
+from ..contact.laws import pressure_conjugate_values, pressure_inverse_rate_values, pressure_inverse_values
 from .reduced import EPS, dense_solve
 
 __all__ = ["SIGMA", "WATCHDOG", "conjugate", "gradient", "energy_change", "energy_step", "projected_newton_step"]
@@ -34,25 +36,22 @@ WATCHDOG = 1e-6  # relative KKT residual below which a rejected Newton step gets
 
 def conjugate(problem, fn):
     """Phi*(f_n) per point (f_n >= 0; 0 where c_n = 0)."""
-    m, safe = problem.m_n, np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
-    power = np.where(m == 1, fn * fn / (2 * safe), m / (m + 1) * safe ** (-1 / m) * fn ** ((m + 1) / m))
-    return np.where(problem.compliant, problem.g_a * fn + power, 0.0)
+    return pressure_conjugate_values(fn, problem.g_a, problem.omega * problem.c_n, problem.m_n)
 
 
 def gradient(problem, s):
     """grad Theta = -w + (g_a + (f_n / (omega c_n))^{1/m}, 0) (0 in the f_n fixed at 0) at the state s."""
     M = problem.M
-    safe = np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
-    normal = np.where(problem.compliant, -s.w[:M] + problem.g_a + (s.f[:M] / safe) ** (1 / problem.m_n), 0.0)
+    inverse = pressure_inverse_values(s.f[:M], problem.omega * problem.c_n, problem.m_n)
+    normal = np.where(problem.compliant, -s.w[:M] + problem.g_a + inverse, 0.0)
     return np.concatenate([normal, -s.w[M:]])
 
 
 def _gradient_scaling(problem, s):
     """D = diag(W) + the curvature of Phi* (capped), for the scaled projected gradient."""
-    M, m = problem.M, problem.m_n
-    safe = np.where(problem.compliant, problem.omega * problem.c_n, 1.0)
+    M = problem.M
     fn = np.maximum(s.f[:M], 1e-300)
-    curvature = np.where(m == 1, 1 / safe, (1 / m) * safe ** (-1 / m) * fn ** (1 / m - 1))
+    curvature = pressure_inverse_rate_values(fn, problem.omega * problem.c_n, problem.m_n)
     normal = problem.diagonal[:M] + np.minimum(curvature, 1e12 * problem.diagonal[:M])
     return np.concatenate([normal, problem.diagonal[M:]])
 

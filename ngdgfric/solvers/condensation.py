@@ -1,6 +1,6 @@
 r"""Static condensation of (3.3) onto the contact traces: the Delassus operator :math:`W = B A^{-1} B^T`.
 
-The nonlinearity of (3.1) lives at the :math:`M` Gauss points of :math:`\Gamma_C` (:mod:`ngdgfric.solvers.traces`):
+The nonlinearity of (3.1) lives at the :math:`M` Gauss points of :math:`\Gamma_C` (:mod:`ngdgfric.contact.traces`):
 
 .. math::
 

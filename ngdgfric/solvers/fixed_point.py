@@ -5,7 +5,7 @@ r"""The fixed point on the friction bound for the quasi-variational inequality (
     u^{k+1}: \text{ the solution of (3.3)-(3.4) with the bound } c_\tau (u^k_n - g_a)_+^{m_t} \text{ frozen},
 
 i.e. of a reduced-law problem (:math:`m_t = 0`) with a spatially varying friction bound
-(``frozen_bound`` of ``ngdgfric.contact``), solved by the inner solver on the same discretisation,
+(``frozen_bound`` of ``ngdgfric.contact.forms``), solved by the inner solver on the same discretisation,
 warm-started from :math:`(u^k, \lambda_\tau^k)`; stopped when
 :math:`\|u^{k+1} - u^k\|_\infty \le` ``solver_tol`` :math:`\|u^{k+1}\|_\infty`.
 It starts from :math:`u^0 = 0` (bound 0 where :math:`g_a > 0`: the frictionless problem) or from ``initial``.
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact import frozen_bound
+from ..contact.forms import frozen_bound
 from ..errors import SolverError, TimeLimitError, check_deadline, deadline
 from ..problem import exponents
 from ..transfer import starting_point
@@ -139,11 +139,11 @@ def _time_limited(options, until):
                                min(options.max_seconds, left))
 
 
-def fixed_point(disc, options=None, initial=None):
+def fixed_point(disc, contact, options=None, initial=None):
     """The fixed point of the module docstring with the ``FixedPointOptions`` ``options`` (default:
     the defaults); returns (u, lam_tau, info).
 
-    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` to start from.
+    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``contact.Q`` to start from.
     info: ``iterations`` (outer), ``history`` (relative changes), ``inner_iterations`` (per outer
     iteration), ``factorizations`` (summed over the inner solves), ``timings``.
     Raises ``SolverError`` (with the history) if it diverges or does not converge in maxit.
@@ -153,14 +153,14 @@ def fixed_point(disc, options=None, initial=None):
     inner_solver, inner = INNER[inner_options.solver][0], inner_options.solver
     start = time.perf_counter()
     until = deadline(options.max_seconds)
-    u, lam_tau = starting_point(disc, initial)
+    u, lam_tau = starting_point(contact, initial)
     du = u.vec.CreateVector()
     history, inner_iterations, factorizations = [], [], 0
     for k in range(1, options.maxit + 1):
         check_deadline(until, "fixed point", history, f"after {k - 1} iterations")
         try:
-            u_new, lam_tau_new, info = inner_solver(disc, _time_limited(inner_options, until), initial=(u, lam_tau),
-                                                    problem=frozen_bound(disc.problem, u))
+            u_new, lam_tau_new, info = inner_solver(disc, contact, _time_limited(inner_options, until),
+                                                    initial=(u, lam_tau), problem=frozen_bound(disc.problem, u))
         except TimeLimitError:
             raise
         except SolverError as error:

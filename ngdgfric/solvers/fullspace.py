@@ -93,7 +93,7 @@ def kkt_residual(scale, s, g_a):
 
 
 class FullSpace:
-    """The Newton matrices of one discretisation (``A``, ``F``, :class:`~ngdgfric.solvers.traces.ContactTraces`
+    """The Newton matrices of one discretisation (``A``, ``F``, :class:`~ngdgfric.contact.traces.ContactTraces`
     ``traces``) in one PARDISO pattern, and the iteration of the module docstring (:meth:`run`)."""
 
     def __init__(self, A, F, traces):
@@ -259,7 +259,7 @@ class FullSpace:
         return multiplier_of(s, self.r), float(np.sqrt(np.sum(self.scale * s.G * s.G)))
 
 
-def full_space_newton(disc, traces, options, initial=None):
+def full_space_newton(disc, contact, traces, options, initial=None):
     """:func:`ngdgfric.solvers.newton.newton` in the full space (module docstring): (u, lam_tau, info) with the keys
     of the condensed solver's info (``linear_solver`` "pardiso (full space)", ``state`` None: an inexact solve is
     not resumed, so ``energy_tol`` is not taken here), and ``factorizations`` and ``factor_bytes`` (PARDISO's peak
@@ -270,14 +270,14 @@ def full_space_newton(disc, traces, options, initial=None):
         u, f = np.zeros(disc.V.ndof), np.zeros(2 * traces.M)
     else:
         u = initial[0].vec.FV().NumPy().copy()
-        f = law_forces(traces, traces.apply(u), disc.gauss.values(initial[1]).ravel())
+        f = law_forces(traces, traces.apply(u), contact.gauss.values(initial[1]).ravel())
     setup = time.perf_counter() - start
     left = None if options.max_seconds is None else max(options.max_seconds - setup, 1e-9)
     u_vec, f, info = solver.run(u, f, options.solver_tol, options.maxit, options.progress, left)
     multiplier, linearization = solver.finish(u_vec, f)
-    u, lam_tau = starting_point(disc)
+    u, lam_tau = starting_point(contact)
     u.vec.FV().NumPy()[:] = u_vec
-    disc.gauss.set_values(lam_tau, multiplier.reshape(-1, disc.gauss.q))
+    contact.gauss.set_values(lam_tau, multiplier.reshape(-1, contact.gauss.q))
     info["factor_bytes"] = solver.factorization.memory_bytes
     solver.factorization.release()
     info.update(initial_residual=info["history"][0], steps=["full space"] * info["iterations"],

@@ -2,7 +2,7 @@ r"""The default contact solver: condense onto :math:`\Gamma_C`, semismooth Newto
 
 The nonlinearity of (3.3)-(3.4) lives at the :math:`M` Gauss points of :math:`\Gamma_C`.  The solver
 
-1. builds the traces :math:`B` at those points (``ContactTraces`` of :mod:`ngdgfric.solvers.traces`) and
+1. builds the traces :math:`B` at those points (``ContactTraces`` of :mod:`ngdgfric.contact.traces`) and
    condenses the linear part onto them: :math:`W = B A^{-1} B^T` and :math:`w_0 = B A^{-1} F`, by one partial
    factorisation (``Condensation`` of :mod:`ngdgfric.solvers.condensation`);
 2. solves the contact laws at the points for the forces :math:`f` with a globalised semismooth Newton
@@ -37,6 +37,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..contact.traces import ContactTraces
 from ..errors import SolverError, SolverWarning, TimeLimitError, deadline, warn
 from ..transfer import starting_point
 from . import pardiso, semismooth
@@ -44,7 +45,6 @@ from .condensation import LINEAR_SOLVERS, Condensation
 from .fullspace import FULL_SPACE_POINTS, applicable, full_space_newton
 from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
 from .reduced import ReducedContact
-from .traces import ContactTraces
 
 __all__ = ["newton", "NewtonOptions", "NewtonState"]
 
@@ -122,21 +122,22 @@ class NewtonState:
     """One discretisation's condensed problem (``Condensation``, one
     factorisation) and ``ReducedContact``, with the current forces f.
 
-    ``traces``: the ``ContactTraces`` of the problem solved (``disc.traces``, or
-    those of a fixed-point step's problem)."""
+    ``contact``: the :class:`~ngdgfric.Contact` of ``disc``; ``traces``: the ``ContactTraces`` of the
+    problem solved (``contact.traces``, or those of a fixed-point step's problem)."""
 
-    def __init__(self, disc, traces, linear_solver="auto"):
+    def __init__(self, disc, contact, traces, linear_solver="auto"):
         start = time.perf_counter()
-        self.disc, self.traces = disc, traces
+        self.disc, self.contact, self.traces = disc, contact, traces
         self.condensation = Condensation(disc.A, disc.F, traces, disc.symmetric, linear_solver)
         self.reduced = ReducedContact.condensed(self.condensation, traces, disc.symmetric)
         self.f = None
         self.condense_seconds = time.perf_counter() - start
 
     def start_from(self, u, lam_tau):
-        """f from GridFunctions u on ``disc.V`` and lam_tau on ``disc.Q``: the forces of the laws at u, with lam_tau."""
+        """f from GridFunctions u on ``disc.V`` and lam_tau on ``contact.Q``: the forces of the laws at u, with
+        lam_tau."""
         w = self.traces.apply(u.vec.FV().NumPy())
-        self.f = self.reduced.forces(w, self.disc.gauss.values(lam_tau).ravel())
+        self.f = self.reduced.forces(w, self.contact.gauss.values(lam_tau).ravel())
 
     def run(self, options):
         """Newton from the current f (zero if none) with the ``NewtonOptions`` ``options``, then recover
@@ -170,11 +171,11 @@ class NewtonState:
 
     def _grid_functions(self, u_vec, f):
         """Step 3: u and lam_tau = f_t / beta (``multiplier``) as
-        GridFunctions on ``disc.V``, ``disc.Q``."""
-        disc = self.disc
-        u, lam_tau = starting_point(disc)
+        GridFunctions on ``disc.V``, ``contact.Q``."""
+        gauss = self.contact.gauss
+        u, lam_tau = starting_point(self.contact)
         u.vec.FV().NumPy()[:] = u_vec
-        disc.gauss.set_values(lam_tau, self.reduced.multiplier(f).reshape(-1, disc.gauss.q))
+        gauss.set_values(lam_tau, self.reduced.multiplier(f).reshape(-1, gauss.q))
         return u, lam_tau
 
     def _diagnose(self, info, seconds, consistency, least_squares):
@@ -216,13 +217,13 @@ class NewtonState:
         return f, u_vec, consistency
 
 
-def newton(disc, options=None, initial=None, problem=None):
-    """Solve (3.3)-(3.4) on ``disc`` (module docstring) with the ``NewtonOptions`` ``options``
-    (default: the defaults); returns (u, lam_tau, info).
+def newton(disc, contact, options=None, initial=None, problem=None):
+    """Solve (3.3)-(3.4) on ``disc`` and its :class:`~ngdgfric.Contact` ``contact`` (module docstring) with
+    the ``NewtonOptions`` ``options`` (default: the defaults); returns (u, lam_tau, info).
 
-    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` (a warm start: the
+    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``contact.Q`` (a warm start: the
     forces of the laws at u, with lam_tau).  problem: the problem whose contact law is solved (default
-    ``disc.problem``; the fixed point passes its frozen-bound problem, ``ngdgfric.contact.frozen_bound``).
+    ``disc.problem``; the fixed point passes its frozen-bound problem, ``ngdgfric.contact.forms.frozen_bound``).
     info: ``iterations``, ``history`` (relative KKT residual after each iteration), ``steps``,
     ``initial_residual``, ``residual``, ``linearization`` (eta_lin at the end), ``converged`` (solver_tol
     met), ``state`` (None when converged), ``contact_points`` (M), ``penetrating``, ``stick`` (points at
@@ -233,18 +234,18 @@ def newton(disc, options=None, initial=None, problem=None):
     Raises :class:`ngdgfric.SolverError` if neither test is met within ``options.maxit``.
     """
     options = NewtonOptions() if options is None else options
-    traces = disc.traces if problem is None else ContactTraces(disc, problem)
+    traces = contact.traces if problem is None else ContactTraces(contact, problem)
     fallback = None
     if _full_space(disc, traces, options):
         try:
-            return full_space_newton(disc, traces, options, initial)
+            return full_space_newton(disc, contact, traces, options, initial)
         except TimeLimitError:
             raise
         except SolverError as error:  # "auto" only: the condensed solver, where W fits, takes over
             if options.formulation == "full-space" or 32.0 * traces.M**2 > FALLBACK_BYTES:
                 raise
             fallback = f"the full space failed ({error}); solved condensed"
-    state = NewtonState(disc, traces, options.linear_solver)
+    state = NewtonState(disc, contact, traces, options.linear_solver)
     if initial is not None:
         state.start_from(*initial)
     u, lam_tau, info = state.run(options)

@@ -19,7 +19,8 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from ..contact import compliance_form, evaluate_on_contact, normal_tangent, penetration
+from ..contact.boundary import evaluate_on_contact
+from ..contact.forms import compliance_form, friction_force, penetration
 from ..problem import exponents
 from ..sparse import BlockSum, direct_inverse
 from ..threads import threads
@@ -34,17 +35,16 @@ class ContactOperator:
     density (independent of u for Uzawa: c_tau lam_tau).
     """
 
-    def __init__(self, disc, u, psi):
+    def __init__(self, disc, contact, u, psi):
         self.disc = disc
         self.u = u
         self.linear_compliance = all(m == 1 for m in exponents(disc.problem.m_n))
-        _, t = normal_tangent()
         trial, test = disc.V.TnT()
         self.form = ngs.BilinearForm(disc.V)
-        self.form += compliance_form(disc.problem, disc.dS, trial, test)
-        self.form += psi(trial) * (test * t) * disc.dS
-        self.sum = BlockSum(disc.A, disc.contact_groups())
-        self.points = disc.contact_points()
+        self.form += compliance_form(disc.problem, contact.dS, trial, test)
+        self.form += friction_force(1, psi(trial), test, contact.dS)
+        self.sum = BlockSum(disc.A, contact.groups())
+        self.points = contact.points()
         self._gap = penetration(disc.problem, u)
         self._out = disc.F.CreateVector()
 
@@ -103,19 +103,19 @@ class ReusedFactorization:
         self.counts["solves"] += 1
 
 
-def multiplier_update(disc, lam_tau, value):
+def multiplier_update(contact, lam_tau, value):
     """A callable performing lam_tau <- ``value`` (a CoefficientFunction) at the Gauss points, in place.
 
     The Gauss-rule L2 projection onto the degree-p multiplier space is interpolation at the
     Gauss points, so the new lam_tau equals ``value`` there exactly.
     """
-    form = ngs.LinearForm(disc.Q)
-    form += value * disc.Q.TestFunction() * disc.dS
+    form = ngs.LinearForm(contact.Q)
+    form += value * contact.Q.TestFunction() * contact.dS
 
     def update():
-        with threads(disc.V.ndof):
+        with threads(contact.V.ndof):
             form.Assemble()
-        lam_tau.vec.data = disc.M_inv * form.vec
+        lam_tau.vec.data = contact.M_inv * form.vec
 
     return update
 

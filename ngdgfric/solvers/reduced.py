@@ -1,7 +1,7 @@
 r"""The contact problem condensed onto the Gauss points of :math:`\Gamma_C`: the laws, their residual and Jacobian.
 
 Unknowns: the contact forces :math:`f = (f_n, f_t)` at the :math:`M` Gauss points (:math:`f = \omega \times`
-traction density, :mod:`ngdgfric.solvers.traces`), with the traces :math:`w(f) = w_0 - W f` of the displacement
+traction density, :mod:`ngdgfric.contact.traces`), with the traces :math:`w(f) = w_0 - W f` of the displacement
 (:math:`W` the Delassus operator, :mod:`ngdgfric.solvers.condensation`).  The compliance law (1.8), the friction
 law (1.9) and Lemma 3.1 hold at every point :math:`q` iff :math:`G(f) = 0`, where
 
@@ -43,6 +43,7 @@ small step in the kernel.
 
 import numpy as np
 
+from ..contact.laws import bound_rate, pressure_rate_values, pressure_values, project_unit_values
 from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
 
@@ -52,27 +53,6 @@ __all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multipl
 EPS = np.finfo(float).eps
 DIAGONAL_FLOOR = 1e-14  # W_qq below this times the largest: raised to it (r_q = 1 / W_tt stays finite)
 NEGATIVE_DIAGONAL = 1e-10  # W_qq below -this times the largest: not round-off, A is not coercive
-
-
-def _positive_power(x, m):
-    """x_+^m for any real m, a number or one per point (1 where x > 0 for m = 0; 0 where x <= 0, also for m < 0)."""
-    out = np.zeros_like(x, dtype=float)
-    positive = x > 0
-    if np.ndim(m) == 0:
-        out[positive] = x[positive] if m == 1 else x[positive] ** m
-    else:
-        out[positive] = x[positive] ** np.asarray(m)[positive]
-    return out
-
-
-def bound_rate(gap, omega, c_tau, m_t):
-    """(beta, beta') = omega c_tau (gap)_+^{m_t} and its derivative in gap, point by point; omega c_tau and 0 where
-    m_t = 0 (the reduced law: the bound does not depend on the gap)."""
-    reduced = m_t == 0
-    exponent = np.where(reduced, 1.0, m_t)
-    beta = np.where(reduced, omega * c_tau, omega * c_tau * _positive_power(gap, exponent))
-    rate = np.where(reduced, 0.0, omega * c_tau * exponent * _positive_power(gap, exponent - 1))
-    return beta, rate
 
 
 def dense_solve(matrix, rhs, diagnostics=None):
@@ -137,23 +117,16 @@ def _exponents(law):
 def point_state(law, f, w, r):
     """The :class:`PointState` of the laws at forces f and traces w (module docstring): N, N', beta, beta', the
     stick and slip sets and G.  ``law``: the point data omega, g_a, c_n, c_tau, m_n, m_t (a :class:`ReducedContact`,
-    or the :class:`~ngdgfric.solvers.traces.ContactTraces` of the full-space solver); ``r``: r_q per point.  The one
+    or the :class:`~ngdgfric.contact.traces.ContactTraces` of the full-space solver); ``r``: r_q per point.  The one
     implementation of the laws for both contact solvers."""
     M, s = len(law.omega), PointState()
     m_n, m_t = _exponents(law)
     s.f, s.w = f, w
     gap = w[:M] - law.g_a
     s.penetrating = gap > 0
-    if np.all(m_n == 1):
-        s.N = law.omega * law.c_n * np.maximum(gap, 0.0)
-        s.dN = np.where(s.penetrating, law.omega * law.c_n, 0.0)
-    else:
-        s.N = law.omega * law.c_n * _positive_power(gap, m_n)
-        s.dN = law.omega * law.c_n * m_n * _positive_power(gap, m_n - 1)
-    if np.all(m_t == 0):
-        s.beta, s.dbeta = law.omega * law.c_tau * np.ones(M), np.zeros(M)
-    else:
-        s.beta, s.dbeta = bound_rate(gap, law.omega, law.c_tau, m_t)
+    s.N = pressure_values(gap, law.omega * law.c_n, m_n)
+    s.dN = pressure_rate_values(gap, law.omega * law.c_n, m_n)
+    s.beta, s.dbeta = bound_rate(gap, law.omega * law.c_tau * np.ones(M), m_t)
     z = f[M:] + r * w[M:]
     s.stick = np.abs(z) < s.beta
     s.sign = np.where(z >= 0, 1.0, -1.0)
@@ -167,9 +140,9 @@ def law_forces(law, w, lam_tau):
     M = len(law.omega)
     m_n, m_t = _exponents(law)
     gap = w[:M] - law.g_a
-    normal = law.omega * law.c_n * _positive_power(gap, m_n)
-    beta = bound_rate(gap, law.omega, law.c_tau, m_t)[0]
-    return np.concatenate([normal, beta * np.clip(lam_tau, -1.0, 1.0)])
+    normal = pressure_values(gap, law.omega * law.c_n, m_n)
+    beta = bound_rate(gap, law.omega * law.c_tau, m_t)[0]
+    return np.concatenate([normal, beta * project_unit_values(lam_tau)])
 
 
 def multiplier_of(s, r):
@@ -180,7 +153,7 @@ def multiplier_of(s, r):
     M = len(s.beta)
     ratio = s.f[M:] / np.where(s.beta > 0, s.beta, 1.0)
     direction = np.where(s.f[M:] + r * s.w[M:] != 0, s.sign, 0.0)
-    return np.where(s.stick, np.clip(ratio, -1.0, 1.0), direction)
+    return np.where(s.stick, project_unit_values(ratio), direction)
 
 
 def trace_scale(s, g_a):
@@ -239,7 +212,7 @@ class ReducedContact:
     @classmethod
     def condensed(cls, condensation, traces, symmetric):
         """The problem of a :class:`~ngdgfric.solvers.condensation.Condensation` (W, w0) at the points of its
-        :class:`~ngdgfric.solvers.traces.ContactTraces` ``traces`` (weights, law data, redundancy); ``symmetric``:
+        :class:`~ngdgfric.contact.traces.ContactTraces` ``traces`` (weights, law data, redundancy); ``symmetric``:
         B_h symmetric."""
         return cls(W=condensation.W, w0=condensation.w0, omega=traces.omega, g_a=traces.g_a, c_n=traces.c_n,
                    c_tau=traces.c_tau, m_n=traces.m_n, m_t=traces.m_t, symmetric=symmetric, redundant=traces.redundant)

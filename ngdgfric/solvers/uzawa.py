@@ -33,7 +33,9 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from ..contact import evaluate_on_contact, friction_matrix, normal_tangent, project_unit
+from ..contact.boundary import evaluate_on_contact, normal_tangent
+from ..contact.forms import friction_matrix
+from ..contact.laws import project_unit
 from ..errors import SolverError, check_deadline, deadline
 from ..problem import coefficient, exponents
 from ..sparse import direct_inverse
@@ -97,7 +99,7 @@ class UzawaOptions(SolverOptions):
     max_seconds: float | None = None
 
 
-def default_rho(disc, problem=None, iterations=30, safety=1.5):
+def default_rho(disc, contact, problem=None, iterations=30, safety=1.5):
     """rho = safety / L with L the largest eigenvalue of the linearised Uzawa map of ``problem`` (default
     ``disc.problem``) on ``disc``.
 
@@ -106,18 +108,18 @@ def default_rho(disc, problem=None, iterations=30, safety=1.5):
     estimated by ``iterations`` power iterations with the factorised A; the compliance term
     only adds stiffness and lowers L, so rho = 1.5/L is safe with margin.
     """
-    if disc.Q.ndof == 0:
+    if contact.Q.ndof == 0:
         return 1.0
-    G = friction_matrix(disc, (disc.problem if problem is None else problem).c_tau)
+    G = friction_matrix(contact, (disc.problem if problem is None else problem).c_tau)
     with threads(disc.V.ndof):
         inverse = direct_inverse(disc.A, disc.symmetric)
-    x = ngs.GridFunction(disc.Q).vec
+    x = ngs.GridFunction(contact.Q).vec
     rng = np.random.default_rng(0)
     x.FV().NumPy()[:] = rng.random(len(x)) + 0.5
     y = x.CreateVector()
     estimate = 0.0
     for _ in range(iterations):
-        y.data = disc.M_inv * (G.T * (inverse * (G * x)))
+        y.data = contact.M_inv * (G.T * (inverse * (G * x)))
         norm_y = np.linalg.norm(y.FV().NumPy())
         norm_x = np.linalg.norm(x.FV().NumPy())
         if norm_y == 0 or norm_x == 0:
@@ -144,22 +146,22 @@ def solve_displacement(op, linear_solver, du, solver_tol=1e-13, maxit=50):
                       solver="uzawa (inner Newton)")
 
 
-def complementarity(disc, u, lam_tau):
+def complementarity(contact, u, lam_tau):
     """max_q |lam_tau u_tau - |u_tau|| / ||u||_inf at the contact Gauss points: the residual of (3.4)."""
     _, t = normal_tangent()
-    u_tau = evaluate_on_contact(u * t, disc.gauss.points)
-    values = disc.gauss.values(lam_tau).ravel()
+    u_tau = evaluate_on_contact(u * t, contact.gauss.points)
+    values = contact.gauss.values(lam_tau).ravel()
     scale = max(np.max(np.abs(u.vec.FV().NumPy()), initial=0.0), 1e-300)
     return float(np.max(np.abs(values * u_tau - np.abs(u_tau)), initial=0.0)) / scale
 
 
-def uzawa(disc, options=None, initial=None, problem=None):
+def uzawa(disc, contact, options=None, initial=None, problem=None):
     """Uzawa's method of Section 6 with the ``UzawaOptions`` ``options`` (default: the defaults);
     returns (u, lam_tau, info) with info a dict of diagnostics.
 
-    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``disc.Q`` to start from.
+    initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``contact.Q`` to start from.
     problem: the problem whose contact law is solved (default ``disc.problem``; the fixed point passes its
-    frozen-bound problem, ``ngdgfric.contact.frozen_bound``).
+    frozen-bound problem, ``ngdgfric.contact.forms.frozen_bound``).
     info: ``iterations``, ``history`` (changes), ``kkt_history`` (complementarity residuals), ``rho``,
     ``inner_steps``, ``factorizations``, ``timings``.  Raises ``SolverError`` (module docstring) and
     ValueError for m_t > 0 (Uzawa solves the reduced law; the fixed point of :mod:`ngdgfric.solvers.fixed_point`
@@ -172,9 +174,9 @@ def uzawa(disc, options=None, initial=None, problem=None):
                          "solver='newton', or solver='fixed_point' with inner='uzawa'")
     start = time.perf_counter()
     until = deadline(options.max_seconds)
-    u, lam_tau = starting_point(disc, initial)
-    rho = default_rho(disc, problem) if options.rho is None else options.rho
-    op, update = _operators(disc, problem, u, lam_tau, rho)
+    u, lam_tau = starting_point(contact, initial)
+    rho = default_rho(disc, contact, problem) if options.rho is None else options.rho
+    op, update = _operators(disc, contact, problem, u, lam_tau, rho)
     linear_solver = ReusedFactorization(op.jacobian, disc.symmetric)
     du, u_old = u.vec.CreateVector(), u.vec.CreateVector()
     history, kkt, inner_steps = [], [], 0
@@ -185,7 +187,7 @@ def uzawa(disc, options=None, initial=None, problem=None):
         inner_steps += solve_displacement(op, linear_solver, du)
         u_old.data -= u.vec
         history.append(relative_change(u_old, u.vec))
-        kkt.append(complementarity(disc, u, lam_tau))
+        kkt.append(complementarity(contact, u, lam_tau))
         _report(options.progress, k, history, kkt)
         _check_divergence(rho, history, k)
         if _converged(options, history, kkt, k):
@@ -202,15 +204,15 @@ def uzawa(disc, options=None, initial=None, problem=None):
     return u, lam_tau, info
 
 
-def _operators(disc, problem, u, lam_tau, rho):
+def _operators(disc, contact, problem, u, lam_tau, rho):
     """Uzawa's inner operator F_lam_tau(u) (``ContactOperator`` with the friction force
     density c_tau lam_tau) and the update lam_tau <- P_[-1,1](lam_tau + rho c_tau u_tau) (sign(u_tau) where
     c_tau = 0), a callable."""
     _, t = normal_tangent()
     c_tau = coefficient(problem.c_tau)
-    op = ContactOperator(disc, u, lambda trial: c_tau * lam_tau)
+    op = ContactOperator(disc, contact, u, lambda trial: c_tau * lam_tau)
     u_tau = u * t
-    update = multiplier_update(disc, lam_tau, ngs.IfPos(c_tau, project_unit(lam_tau + rho * c_tau * u_tau),
+    update = multiplier_update(contact, lam_tau, ngs.IfPos(c_tau, project_unit(lam_tau + rho * c_tau * u_tau),
                                                         ngs.IfPos(u_tau, 1, -1)))
     return op, update
 

@@ -11,7 +11,8 @@ import ngsolve as ngs
 import numpy as np
 
 from .. import contact_state, kkt_residuals
-from ..contact import normal_tangent
+from ..contact import Contact
+from ..contact.boundary import normal_tangent
 from ..dg.discretization import Discretization, dg_space
 from ..dg.methods import get_method
 from ..energy import energy_matrix
@@ -110,10 +111,11 @@ def compliance_case(case):
     mesh = uniform_mesh(problem, case["h"])
     sol, status, seconds = _solve(problem, mesh, solver=case["solver"], maxit=case.get("maxit", 5000))
     disc = Discretization(problem, mesh) if sol is None else sol.discretization
+    contact = Contact(disc) if sol is None else sol.contact
     n, _ = normal_tangent()
     u, v = disc.V.TnT()
     stiff = ngs.BilinearForm(disc.V)
-    stiff += case["c_n"] * (u * n) * (v * n) * disc.dS
+    stiff += case["c_n"] * (u * n) * (v * n) * contact.dS
     stiff.Assemble()
     condition = float(np.linalg.cond(disc.A.ToDense().NumPy() + stiff.mat.ToDense().NumPy()))
     out = dict(case, status=status, seconds=seconds, condition=condition)

@@ -36,7 +36,9 @@ import math
 import ngsolve as ngs
 import numpy as np
 
-from ..contact import compliance, contact_state, penetration
+from ..contact.forms import compliance, penetration
+from ..contact.laws import compliance_energy_values, friction_energy_values
+from ..contact.state import contact_state
 from ..domain import Domain, Loop
 from ..meshes import mesh_arrays, mesh_from_arrays, refine
 from ..problem import ContactProblem, Polygon, coefficient, is_number, strain, strain_of, stress
@@ -106,11 +108,10 @@ def contact_profile(sol, per_edge=33):
 def contact_force(sol):
     """(F, F_n): the vertical force sum_q omega_q p_q (-n_y)(x_q) the plane exerts on the body, and the integral
     sum_q omega_q p_q of the contact pressure p = c_n (u_n - g_a)_+^{m_n}, both with the discrete contact rule
-    (Gauss points x_q, weights omega_q of the curved edges, ``sol.discretization.traces.omega``)."""
-    disc = sol.discretization
+    (Gauss points x_q, weights omega_q of the curved edges, ``sol.contact.traces.omega``)."""
     state = contact_state(sol)
-    normal = np.asarray(ngs.specialcf.normal(2)(disc.contact_points())).reshape(-1, 2)
-    omega = disc.traces.omega
+    normal = np.asarray(ngs.specialcf.normal(2)(sol.contact.points())).reshape(-1, 2)
+    omega = sol.contact.traces.omega
     return float(np.sum(omega * state["pressure"] * -normal[:, 1])), float(np.sum(omega * state["pressure"]))
 
 
@@ -167,7 +168,7 @@ def _constant(u_D):
 def discrete_energy(sol):
     """J_h(u_h) = 1/2 B_h(u_h, u_h) - F_h(u_h) + C_D + sum_q omega_q [c_n / (m_n + 1) (u_n - g_a)_+^{m_n + 1}
     + c_tau |u_tau|](x_q): the energy whose minimiser over V_h is the discrete solution of (3.1) for a symmetric
-    method and m_t = 0 (its derivative is the residual of :func:`ngdgfric.contact.residual`).  C_D = 1/2 B_h(w, w)
+    method and m_t = 0 (its derivative is the residual of :func:`ngdgfric.contact.forms.residual`).  C_D = 1/2 B_h(w, w)
     for w = u_D is the constant that makes J_h(u) the energy of the continuous problem at the exact u (the
     penalty on Gamma_D of u_D itself, which grows under refinement); u_D must be constant (then w lies in V_h, has
     no strain, and F_h = B_h(w, .) + loads), and J_h = 1/2 B_h(u_h - w, u_h - w) + (B_h(w, .) - F_h)(u_h) + contact
@@ -186,10 +187,9 @@ def discrete_energy(sol):
     d.data = sol.u.vec - w.vec
     Ad.data = A * d
     residual.data = A * w.vec - F
-    state, traces = contact_state(sol), disc.traces
-    m_n = problem.m_n
-    contact = np.sum(traces.omega * (traces.c_n / (m_n + 1) * np.maximum(state["gap"], 0.0) ** (m_n + 1)
-                                     + traces.c_tau * np.abs(state["u_tau"])))
+    state, traces = contact_state(sol), sol.contact.traces
+    contact = np.sum(traces.omega * (compliance_energy_values(state["gap"], traces.c_n, problem.m_n)
+                                     + friction_energy_values(traces.c_tau, state["u_tau"])))
     return 0.5 * ngs.InnerProduct(d, Ad) + ngs.InnerProduct(residual, sol.u.vec) + float(contact)
 
 

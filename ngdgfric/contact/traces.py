@@ -22,11 +22,11 @@ those matrices are :math:`B_e^T D_e V_e`, so :math:`B_e = D_e^{-1} V_e^{-T} (\te
 import ngsolve as ngs
 import numpy as np
 
-from ..contact import contact_boundary, contact_rule, evaluate_on_contact, normal_tangent
 from ..problem import PerSide
 from ..threads import threads
+from .boundary import boundary_edges, contact_rule, edge_jacobians, evaluate_on_contact, normal_tangent
 
-__all__ = ["ContactTraces", "edge_jacobians"]
+__all__ = ["ContactTraces"]
 
 
 def _point_values(value, points):
@@ -37,33 +37,27 @@ def _point_values(value, points):
     return np.full(len(points), float(value))
 
 
-def edge_jacobians(points):
-    """|dx/ds| of the edge mapping at mapped boundary points (the edge length on a straight edge; on a curved
-    one the element mapping's, so that sum omega_q v(x_q) is the Gauss rule of the curved edge)."""
-    return np.asarray(ngs.Norm(ngs.specialcf.JacobianMatrix(2, 1))(points)).ravel()
-
-
 class ContactTraces:
     """B, the weights and the data of the contact laws at the M Gauss points of Gamma_C.
 
-    ``disc``: a :class:`~ngdgfric.dg.discretization.Discretization`; ``problem``: the problem whose contact
-    law is evaluated at the points (``disc.problem``, or the problem of a fixed-point step,
-    :func:`ngdgfric.contact.frozen_bound`, which differs from it in c_tau and m_t only).
+    ``contact``: a :class:`~ngdgfric.Contact`; ``problem``: the problem whose contact
+    law is evaluated at the points (``contact.problem``, or the problem of a fixed-point step,
+    :func:`ngdgfric.contact.forms.frozen_bound`, which differs from it in c_tau and m_t only).
     Attributes: ``rows``, ``cols``, ``values`` (B as COO triplets, shape ``(2 M, ndof)``),
     ``omega``, ``g_a``, ``c_n``, ``c_tau`` (arrays of length M, in the point order of
-    ``disc.gauss``: edge by edge), ``m_n``, ``m_t`` (numbers, or arrays of length M where the contact sides have
+    ``contact.gauss``: edge by edge), ``m_n``, ``m_t`` (numbers, or arrays of length M where the contact sides have
     their own), and ``redundant``: True if some element's
     traces at its points are linearly dependent (an element with two edges on Gamma_C, or on hp
     meshes an element of degree p_T < p, whose trace is fixed by fewer than p + 1 values); then
     the forces at those points are not unique (u is); for the conforming baseline see :meth:`_redundant`.
     """
 
-    def __init__(self, disc, problem):
-        gauss = disc.gauss
-        self.ndof = disc.V.ndof
+    def __init__(self, contact, problem):
+        gauss = contact.gauss
+        self.ndof = contact.V.ndof
         self.M = gauss.dofs.size
         q = gauss.q
-        weights = np.asarray(contact_rule(disc.contact_order)[ngs.SEGM].weights)
+        weights = np.asarray(contact_rule(contact.order)[ngs.SEGM].weights)
         self.omega = np.tile(weights, len(gauss.dofs)) * edge_jacobians(gauss.points)
         self.g_a = _point_values(problem.g_a, gauss.points)
         self.c_n = _point_values(problem.c_n, gauss.points)
@@ -71,14 +65,14 @@ class ContactTraces:
         self.m_n, self.m_t = (np.repeat(m.at(gauss.sides), q) if isinstance(m, PerSide) else float(m)
                               for m in (problem.m_n, problem.m_t))
         # Q dof -> (edge, basis index) and V_e^-T
-        edge_of = np.empty(disc.Q.ndof, dtype=np.int64)
-        index_of = np.empty(disc.Q.ndof, dtype=np.int64)
+        edge_of = np.empty(contact.Q.ndof, dtype=np.int64)
+        index_of = np.empty(contact.Q.ndof, dtype=np.int64)
         edge_of[gauss.dofs.ravel()] = np.repeat(np.arange(len(gauss.dofs)), q)
         index_of[gauss.dofs.ravel()] = np.tile(np.arange(q), len(gauss.dofs))
         inverse_t = np.linalg.inv(gauss.vandermonde).transpose(0, 2, 1)
         rows, cols, values = [], [], []
         for component, direction in enumerate(normal_tangent()):
-            mass = self._mass_matrix(disc, direction)
+            mass = self._mass_matrix(contact, direction)
             v_dof, q_dof, entry = mass
             e, k = edge_of[q_dof], index_of[q_dof]
             for i in range(q):
@@ -90,15 +84,15 @@ class ContactTraces:
         summed = np.bincount(where, weights=values)
         keep = np.abs(summed) > 1e-13 * np.max(np.abs(summed), initial=0.0)
         self.rows, self.cols, self.values = keys[keep] // self.ndof, keys[keep] % self.ndof, summed[keep]
-        self.redundant = self._redundant(disc)
+        self.redundant = self._redundant(contact)
 
     @staticmethod
-    def _mass_matrix(disc, direction):
+    def _mass_matrix(contact, direction):
         """(V dof, Q dof, value) of int (u . direction) mu ds over Gamma_C (Gauss rule), copied."""
-        mu, v = disc.Q.TrialFunction(), disc.V_plain.TestFunction()
-        form = ngs.BilinearForm(trialspace=disc.Q, testspace=disc.V_plain)
-        form += mu * (v * direction) * disc.dS
-        with threads(disc.V.ndof):
+        mu, v = contact.Q.TrialFunction(), contact.V_plain.TestFunction()
+        form = ngs.BilinearForm(trialspace=contact.Q, testspace=contact.V_plain)
+        form += mu * (v * direction) * contact.dS
+        with threads(contact.V.ndof):
             form.Assemble()
         values, cols, rowptr = form.mat.CSR()
         rowptr = np.array(rowptr, dtype=np.int64)
@@ -107,21 +101,21 @@ class ContactTraces:
         nonzero = values != 0
         return rows[nonzero], np.array(cols, dtype=np.int64)[nonzero], values[nonzero]
 
-    def _redundant(self, disc):
+    def _redundant(self, contact):
         """Whether the rows of B belonging to some element are linearly dependent.  For the conforming baseline
         (continuous traces of degree p on every edge of Gamma_C, p points per edge) the points of an open chain of
         edges are independent; a closed one (a hole's whole boundary) can have a kernel (p = 1: alternating signs
         on an even number of edges)."""
-        gauss = disc.gauss
-        edges = contact_boundary(disc.problem, disc.mesh)
+        gauss = contact.gauss
+        edges = boundary_edges(contact.problem, contact.mesh)
         element_of_edge = [element.nr for _, element in edges]
         vertices = {v.nr for el, _ in edges for v in el.vertices}
-        if disc.method.conforming:
+        if contact.conforming:
             return len(vertices) <= len(element_of_edge)
         element_of_edge = np.asarray(element_of_edge)
         if len(np.unique(element_of_edge)) < len(element_of_edge):
             return True  # an element with two edges on Gamma_C
-        orders = disc.orders[element_of_edge]
+        orders = contact.orders[element_of_edge]
         return bool(np.any(orders + 1 < gauss.q))
 
     def apply(self, vec):

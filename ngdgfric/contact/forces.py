@@ -14,7 +14,7 @@ r"""Contact forces of a solution of (3.3), side by side: resultants and contact,
     F_S &= -\int_S \left(c_n (u_{hn} - g_a)_+^{m_n} n + \beta \lambda_\tau t\right) ds \quad (\text{on the body}),
 
 each with the contact Gauss rule of the discrete problem (:math:`p + 1` points per edge, weights
-:math:`\omega_q` of ``ContactTraces`` in :mod:`ngdgfric.solvers.traces`, :math:`n` and :math:`t` at the points
+:math:`\omega_q` of ``ContactTraces`` in :mod:`ngdgfric.contact.traces`, :math:`n` and :math:`t` at the points
 from its trace matrix :math:`B`), so that :math:`F_S \cdot e_i = -(j_n(u_h, e_i) + g(\lambda_\tau, e_i))` over the
 edges of :math:`S`: the discrete contact forces of (3.3), not an approximation of them.  Sign conventions:
 :math:`n` is the outward normal, :math:`t = (-n_y, n_x)` the direction in which the boundary runs with the body on
@@ -57,7 +57,8 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
-from .contact import contact_boundary, contact_rule, contact_state
+from .boundary import boundary_edges, contact_rule
+from .state import contact_state
 
 __all__ = ["Zone", "ContactSide", "contact_sides", "constant_vectors", "LAM_TOL", "SLIP_TOL"]
 
@@ -141,9 +142,9 @@ def contact_sides(sol, lam_tol=LAM_TOL, slip_tol=SLIP_TOL, constants=None):
     """{contact side: :class:`ContactSide`}: the contact part of :func:`ngdgfric.forces.force_balance` (no assembly;
     also for plots).  ``lam_tol``, ``slip_tol``: module docstring; ``constants``: :func:`constant_vectors` of the
     solution's space if at hand."""
-    disc = sol.discretization
+    disc, contact = sol.discretization, sol.contact
     constants = constant_vectors(disc.V) if constants is None else constants
-    traces, q = disc.traces, disc.gauss.q
+    traces, q = contact.traces, contact.gauss.q
     M = traces.M
     state = contact_state(sol)
     # n, t at the points as (3.3) sees them: (B e_i)_q = n_i(x_q), (B e_i)_{M+q} = t_i(x_q)
@@ -192,14 +193,14 @@ def _cells(q):
 def _walks(mesh, problem, fractions, t):
     """({contact side: its edges chained along t, a list of (edge number, reversed)}, the cell ends of every
     contact edge mapped, (edges, q + 1, 2) in reference order).  Edge k holds the Gauss points k q ... (k + 1) q - 1
-    (the order of :class:`ngdgfric.contact.ContactGauss`); reversed: walked from xi = 1 to xi = 0."""
+    (the order of :class:`ngdgfric.contact.boundary.ContactGauss`); reversed: walked from xi = 1 to xi = 0."""
     q = len(fractions) - 1
     rule = ngs.IntegrationRule([(c,) for c in fractions], [0.0] * len(fractions))
     mapped = mesh.MapToAllElements({ngs.SEGM: rule}, mesh.Boundaries(problem.where("contact")))
     cell_ends = np.column_stack([np.asarray(ngs.x(mapped)).ravel(),
                                  np.asarray(ngs.y(mapped)).ravel()]).reshape(-1, q + 1, 2)
     sides, vertices = [], []
-    for k, (el, _) in enumerate(contact_boundary(problem, mesh)):
+    for k, (el, _) in enumerate(boundary_edges(problem, mesh)):
         a, b = (v.nr for v in el.vertices)
         at_a = np.asarray(mesh[el.vertices[0]].point)
         if np.linalg.norm(cell_ends[k, 0] - at_a) > np.linalg.norm(cell_ends[k, -1] - at_a):

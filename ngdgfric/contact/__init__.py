@@ -1,0 +1,20 @@
+r"""Contact on :math:`\Gamma_C`: normal compliance (1.8) and friction (1.9)-(1.10), in one package.
+
+- :mod:`~ngdgfric.contact.laws`: the laws, each once, as CoefficientFunctions and as numpy functions side by side;
+- :mod:`~ngdgfric.contact.boundary`: the edges of a boundary part, the contact Gauss rule and points, the
+  multiplier space and multiplier values at the points;
+- :mod:`~ngdgfric.contact.traces`: the traces :math:`B` of :math:`V_h` at the Gauss points and the laws' data there;
+- :mod:`~ngdgfric.contact.discrete`: :class:`Contact`, the contact data of one mesh, built beside the
+  :class:`~ngdgfric.dg.discretization.Discretization`;
+- :mod:`~ngdgfric.contact.forms`: the contact forms of (3.1), the residual of (3.3), the estimator's contact
+  residuals;
+- :mod:`~ngdgfric.contact.state`: a solution's state on :math:`\Gamma_C` and its KKT residuals;
+- :mod:`~ngdgfric.contact.forces`: contact resultants and the contact, stick and slip zones per side.
+
+Nothing here imports :mod:`ngdgfric.dg` or :mod:`ngdgfric.solvers`.
+"""
+
+from .discrete import Contact
+from .state import contact_state, kkt_residuals, rounding_residual, transitions
+
+__all__ = ["Contact", "contact_state", "kkt_residuals", "rounding_residual", "transitions"]

@@ -1,0 +1,95 @@
+r"""The contact part of the discrete problem on one mesh, built beside the
+:class:`~ngdgfric.dg.discretization.Discretization` (which keeps the DG spaces and the matrices of :math:`B_h`).
+
+:class:`Contact` holds what every contact computation of a mesh shares: the multiplier space :math:`Q` on
+:math:`\Gamma_C`, the contact measure with its Gauss rule, the Gauss points, the traces :math:`B` at those points
+and the multiplier's mass matrix.  :func:`ngdgfric.solve` builds one per mesh and passes it, with the
+discretisation, to the solvers; a :class:`~ngdgfric.Solution` keeps it as ``contact``.
+"""
+
+import functools
+
+import ngsolve as ngs
+
+from ..threads import threads
+from .boundary import ContactGauss, boundary_edges, contact_measure, contact_points, multiplier_space
+from .traces import ContactTraces
+
+__all__ = ["Contact"]
+
+
+class Contact:
+    r"""The contact data of one mesh: the multiplier space, Gauss points and traces of :math:`\Gamma_C`.
+
+    Parameters
+    ----------
+    disc : Discretization
+        The discretisation whose space :math:`V_h` the traces act on (:class:`ngdgfric.Discretization`).
+
+    Attributes
+    ----------
+    problem, mesh
+        Those of ``disc``.
+    V, V_plain
+        :math:`V_h` and the test space of the mixed contact forms (``disc.V``, ``disc.V_plain``).
+    orders
+        :math:`p_T` per element, an integer array.
+    conforming
+        Whether :math:`V_h` is the conforming baseline's (continuous traces on :math:`\Gamma_C`).
+    order
+        The degree of the multiplier space and of the contact Gauss rule (``order + 1`` points per edge):
+        the largest :math:`p_T`, one less for the conforming baseline, whose traces on :math:`\Gamma_C` are
+        continuous (``order + 1`` points per edge would make them linearly dependent and the Delassus operator
+        singular).
+    Q
+        The multiplier space on :math:`\Gamma_C` (``multiplier_space`` of :mod:`ngdgfric.contact.boundary`).
+    dS
+        The contact measure, with the contact Gauss rule.
+
+    Examples
+    --------
+    >>> problem = ndf.example("6.1")
+    >>> disc = ndf.Discretization(problem, ndf.uniform_mesh(problem, 0.5), order=2)
+    >>> contact = ndf.Contact(disc)
+    >>> contact.Q.ndof, contact.traces.M
+    (6, 6)
+    """
+
+    def __init__(self, disc):
+        self.problem, self.mesh = disc.problem, disc.mesh
+        self.V, self.V_plain, self.orders = disc.V, disc.V_plain, disc.orders
+        self.conforming = disc.method.conforming
+        self.order = disc.order - 1 if self.conforming else disc.order
+        self.Q = multiplier_space(self.problem, self.mesh, self.order)
+        self.dS = contact_measure(self.problem, self.mesh, self.order)
+
+    @functools.cached_property
+    def M_inv(self):
+        """The inverse Gauss-rule mass matrix of the multiplier space.
+
+        Factorised when first used; only the multiplier updates of Uzawa and the fixed point need it.
+        """
+        lam_tau, q = self.Q.TnT()
+        m = ngs.BilinearForm(self.Q)
+        m += lam_tau * q * self.dS
+        with threads(self.V.ndof):
+            m.Assemble()
+            return m.mat.Inverse(inverse="sparsecholesky")
+
+    @functools.cached_property
+    def gauss(self):
+        """The :class:`~ngdgfric.contact.boundary.ContactGauss` of this mesh (built on first use)."""
+        return ContactGauss(self.problem, self.mesh, self.order, self.Q)
+
+    @functools.cached_property
+    def traces(self):
+        """The :class:`~ngdgfric.contact.traces.ContactTraces` of this mesh and its problem (built on first use)."""
+        return ContactTraces(self, self.problem)
+
+    def points(self):
+        r"""Mapped Gauss points on :math:`\Gamma_C` (``contact_points`` of :mod:`ngdgfric.contact.boundary`)."""
+        return contact_points(self.problem, self.mesh, self.order)
+
+    def groups(self):
+        r"""For each edge on :math:`\Gamma_C`, the DOFs of :math:`V_h` of its element."""
+        return [list(self.V.GetDofNrs(element)) for _, element in boundary_edges(self.problem, self.mesh)]
