@@ -17,7 +17,7 @@ from ..meshes import check_mesh, curve
 from ..problem import ContactProblem
 from ..solvers.traces import ContactTraces
 from ..threads import threads
-from .forms import dg_terms, edge_length, load_terms, penalty_length
+from .forms import FormsContext, dg_terms, edge_length, load_terms, penalty_length
 from .liftings import lifting_terms
 from .material import Lame, Material, largest
 from .methods import check_locking, check_penalty, get_method, penalty
@@ -292,6 +292,7 @@ class Discretization:
         self.Q = multiplier_space(problem, mesh, self.contact_order)
         self.h_e = edge_length(mesh)
         self.h_penalty = penalty_length(mesh)
+        self.forms = FormsContext(problem, mesh, self.material, self.method, self.penalty, self.p, self.h_penalty)
         self.dS = contact_measure(problem, mesh, self.contact_order)
         self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
@@ -308,19 +309,15 @@ class Discretization:
 
     def _assemble(self):
         """The matrix A of B_h (with the lifting terms of Bassi, Brezzi, LDG) and the load vector F."""
-        problem, mesh = self.problem, self.mesh
         u, v = self.V.TnT()
         with threads(self.V.ndof):
             a = ngs.BilinearForm(self.V)
-            for term in dg_terms(problem, self.material, mesh, u, v, self.method, self.penalty, self.p,
-                                 self.h_penalty):
+            for term in dg_terms(self.forms, u, v):
                 a += term
             a.Assemble()
-            A, lifted_load = lifting_terms(problem, self.material, mesh, self.V, self.orders, self.method,
-                                           self.penalty.boundary, a.mat)
+            A, lifted_load = lifting_terms(self.forms, self.V, self.orders, a.mat)
             f = ngs.LinearForm(self.V)
-            for term in load_terms(problem, self.material, mesh, v, self.method, self.penalty, self.p,
-                                   self.h_penalty):
+            for term in load_terms(self.forms, v):
                 f += term
             f.Assemble()
             if lifted_load is not None:
