@@ -242,8 +242,7 @@ def _support_form(disc, part, side):
     """The terms of B_h on the edges of one Dirichlet or symmetry side (:func:`ngdgfric.dg.forms.support_terms`), as
     a bilinear form on V_h that is applied, not assembled."""
     u, v = disc.V.TnT()
-    consistency, penalised = support_terms(disc.problem, disc.material, disc.mesh, u, v, disc.method, disc.penalty,
-                                           disc.p, disc.h_penalty, part, sides=[side])
+    consistency, penalised = support_terms(disc.forms, u, v, part, sides=[side])
     form = ngs.BilinearForm(disc.V, nonassemble=True)
     for term in consistency + ([penalised] if penalised is not None else []):
         form += term
@@ -254,8 +253,7 @@ def _dirichlet_load(disc, side):
     """The part of the load vector that u_D carries on one Dirichlet side
     (:func:`ngdgfric.dg.forms.dirichlet_load_terms`)."""
     form = ngs.LinearForm(disc.V)
-    for term in dirichlet_load_terms(disc.problem, disc.material, disc.mesh, disc.V.TestFunction(), disc.method,
-                                     disc.penalty, disc.p, disc.h_penalty, sides=[side]):
+    for term in dirichlet_load_terms(disc.forms, disc.V.TestFunction(), sides=[side]):
         form += term
     form.Assemble()
     return form.vec.FV().NumPy().copy()

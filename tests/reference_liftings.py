@@ -119,14 +119,14 @@ def reference_system(disc, parts=None):
     """(A, F) of the discretisation's method from the definition (module docstring), dense and numpy: B_h's form
     and load with weight (C r[u - u_D], r[v]) = weight v^T R^T P (R u - R u_D) added (``parts``: those of
     :func:`reference_parts`, computed if not given)."""
-    problem, mesh, method = disc.problem, disc.mesh, disc.method
+    method = disc.method
     u, v = disc.V.TnT()
     a = ngs.BilinearForm(disc.V)
-    for term in dg_terms(problem, disc.material, mesh, u, v, method, disc.penalty, disc.p, disc.h_penalty):
+    for term in dg_terms(disc.forms, u, v):
         a += term
     a.Assemble()
     f = ngs.LinearForm(disc.V)
-    for term in load_terms(problem, disc.material, mesh, v, method, disc.penalty, disc.p, disc.h_penalty):
+    for term in load_terms(disc.forms, v):
         f += term
     f.Assemble()
     A, F = dense(a.mat), f.vec.FV().NumPy().copy()

@@ -1,3 +1,5 @@
+import dataclasses
+
 import ngsolve as ngs
 import numpy as np
 import pytest
@@ -84,7 +86,7 @@ def test_the_default_sipg_penalty_stays_coercive_on_thin_triangles(order):
     u, v = disc.V.TnT()
     form = ngs.BilinearForm(disc.V)
     length = EdgeCoefficient(edge_length(mesh), edge_length(mesh), "|e|")
-    for term in dg_terms(problem, disc.material, mesh, u, v, disc.method, disc.penalty, order, length):
+    for term in dg_terms(dataclasses.replace(disc.forms, p=order, h_penalty=length), u, v):
         form += term
     form.Assemble()
     A = form.mat.ToDense().NumPy()

@@ -15,7 +15,7 @@ from ..contact.boundary import contact_edges
 from ..meshes import check_mesh, curve
 from ..problem import ContactProblem
 from ..threads import threads
-from .forms import dg_terms, edge_length, load_terms, penalty_length
+from .forms import FormsContext, dg_terms, edge_length, load_terms, penalty_length
 from .liftings import lifting_terms
 from .material import Lame, Material, largest
 from .methods import check_locking, check_penalty, get_method, penalty
@@ -187,6 +187,8 @@ class Discretization:
         The edge length :math:`|e|`, a CoefficientFunction.
     h_penalty
         The penalty's length (``penalty_length`` of :mod:`ngdgfric.dg.forms`).
+    forms
+        What the form builders of :mod:`ngdgfric.dg.forms` share (``FormsContext``).
     timings
         Seconds of ``"assemble"`` and ``"setup"``, a dict.
     orders
@@ -267,6 +269,7 @@ class Discretization:
         self.V = space(problem, mesh, order, self.method)
         self.h_e = edge_length(mesh)
         self.h_penalty = penalty_length(mesh)
+        self.forms = FormsContext(problem, mesh, self.material, self.method, self.penalty, self.p, self.h_penalty)
         self.A, self.F = self._assemble()
         self.timings["assemble"] = time.perf_counter() - start
         # the test space of the mixed contact forms (H^1 has no facet couplings to leave out)
@@ -282,19 +285,15 @@ class Discretization:
 
     def _assemble(self):
         """The matrix A of B_h (with the lifting terms of Bassi, Brezzi, LDG) and the load vector F."""
-        problem, mesh = self.problem, self.mesh
         u, v = self.V.TnT()
         with threads(self.V.ndof):
             a = ngs.BilinearForm(self.V)
-            for term in dg_terms(problem, self.material, mesh, u, v, self.method, self.penalty, self.p,
-                                 self.h_penalty):
+            for term in dg_terms(self.forms, u, v):
                 a += term
             a.Assemble()
-            A, lifted_load = lifting_terms(problem, self.material, mesh, self.V, self.orders, self.method,
-                                           self.penalty.boundary, a.mat)
+            A, lifted_load = lifting_terms(self.forms, self.V, self.orders, a.mat)
             f = ngs.LinearForm(self.V)
-            for term in load_terms(problem, self.material, mesh, v, self.method, self.penalty, self.p,
-                                   self.h_penalty):
+            for term in load_terms(self.forms, v):
                 f += term
             f.Assemble()
             if lifted_load is not None:

@@ -37,16 +37,74 @@ coercivity; ``tests/test_forms.py``).  With :math:`A, B` the angles of :math:`T`
 :math:`2 h_T = 2 |e| / (\cot A + \cot B)`, so :math:`h_e = |e|` wherever :math:`\cot A + \cot B \le 2`: on the
 structured meshes of Section 6 (the diagonals, :math:`2 h_T = |e|`, are the edges on which the SIPG thresholds of
 :mod:`ngdgfric.dg.methods` were measured; the legs have :math:`2 h_T = 2 |e|`) and on equilateral triangles.
+
+The builders of the terms (``dg_terms``, ``support_terms``, ``load_terms``, ``dirichlet_load_terms``, and
+``lifting_terms`` of :mod:`ngdgfric.dg.liftings`) read the data of one mesh, the material, the method, :math:`\eta`,
+:math:`p` and :math:`h_e`, from one ``FormsContext``, which ``Discretization`` builds once per mesh.
 """
+
+from dataclasses import dataclass
 
 import ngsolve as ngs
 
 from ..problem import coefficient, is_number, pattern, strain, stress
 from .material import EdgeCoefficient
 
-__all__ = ["edge_length", "penalty_length", "element_areas", "edge_penalty", "edge_order", "dg_terms", "load_terms",
-           "jump_inner", "normal_part", "has_dirichlet_data", "support_terms", "dirichlet_load_terms",
-           "SYMMETRY_WEIGHT"]
+__all__ = ["FormsContext", "edge_length", "penalty_length", "element_areas", "edge_penalty", "edge_order",
+           "dg_terms", "load_terms", "jump_inner", "normal_part", "has_dirichlet_data", "support_terms",
+           "dirichlet_load_terms", "SYMMETRY_WEIGHT"]
+
+
+@dataclass(frozen=True, eq=False)
+class FormsContext:
+    r"""The data every builder of :math:`B_h` (Section 3) and of the load functional of (3.1) reads, on one mesh.
+
+    The builders (``dg_terms``, ``support_terms``, ``load_terms``, ``dirichlet_load_terms`` and ``lifting_terms``
+    of :mod:`ngdgfric.dg.liftings`) take it as their first argument, followed only by what is their own: the trial
+    and test functions, a boundary part and its sides, the space of the liftings.  ``Discretization`` builds one
+    per mesh (its attribute ``forms``) from its own attributes of the same names, so its matrix, its load vector
+    and the terms that :mod:`ngdgfric.forces` takes apart are built from the same data.  A context is read, never
+    changed: a variant (another penalty length, say) is ``dataclasses.replace(context, h_penalty=...)``.  Two
+    contexts are equal only if they are the same object (``eq=False``: the fields are NGSolve objects).
+
+    ``problem``: the ``ContactProblem`` with its data made CoefficientFunctions on ``mesh``
+    (``ContactProblem.on``): the volume force :math:`f` and the traction :math:`g` of the load functional, the
+    prescribed displacement :math:`u_D` on :math:`\Gamma_D` and the sides of each boundary part (``where``,
+    ``sides``).
+
+    ``mesh``: the ``ngsolve.Mesh`` of :math:`V_h`.
+
+    ``material``: the ``Material`` of :mod:`ngdgfric.dg.material`: the Lame parameters of the element integrated
+    over (``own``) and of its neighbour across an interior edge (``neighbour``), and the stiffness-weighted
+    average :math:`\{\!\{\sigma\}\!\}` (``average``).
+
+    ``method``: the method's row of :data:`ngdgfric.METHODS` (a ``Method``): the sign :math:`s` of the
+    consistency term (``symmetry``), the stabilisation (``penalty``: ``"edge"`` for
+    :math:`\eta\, p_e^2 / h_e\, [\![u]\!] : [\![v]\!]`, ``"lift"`` for
+    :math:`\eta \sum_e (C r_e([\![u]\!]), r_e([\![v]\!]))`), the global lifting :math:`(C r_0, r_0)`
+    (``global_lift``) and whether :math:`V_h` is continuous (``conforming``: no terms on interior edges).
+
+    ``penalty``: :math:`\eta` as an ``EdgeCoefficient`` of :mod:`ngdgfric.dg.material` (``penalty`` of
+    :mod:`ngdgfric.dg.methods`), ``interior`` on interior edges and ``boundary`` on boundary edges: a given
+    :math:`\eta` on every edge, or the method's default, for the edge penalty on a varying material the harmonic
+    mean of the two neighbours' defaults on interior edges; the lifting methods' :math:`\eta` is
+    ``penalty.boundary``.
+
+    ``p``: the degree in the edge penalty, the number :math:`p` or the degrees :math:`p_T` as a piecewise constant
+    GridFunction (variable order; ``edge_order`` makes :math:`p_e = \max(p_{T^+}, p_{T^-})` of it on interior
+    edges).
+
+    ``h_penalty``: the length :math:`h_e` of the edge penalty as an ``EdgeCoefficient``, ``penalty_length``
+    (:math:`\min(|e|, 2 h_{T^+}, 2 h_{T^-})`, module docstring) unless a caller replaces it.
+    """
+
+    problem: object
+    mesh: object
+    material: object
+    method: object
+    penalty: object
+    p: object
+    h_penalty: object
 
 
 def jump_inner(a, b, n):
@@ -107,22 +165,20 @@ def edge_order(order):
     return ngs.IfPos(order - order.Other(), order, order.Other())
 
 
-def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
-    """The integrals of B_h(u, v) for the edge-penalty part of ``method`` (Section 3).
+def dg_terms(context, u, v):
+    """The integrals of B_h(u, v) for the edge-penalty part of ``context.method`` (Section 3).
 
     Returns a list of symbolic integrals (one integrator each: NGSolve assembles separate
     skeleton integrators several times faster than their sum).  Lifting terms are added by the
-    caller from :mod:`ngdgfric.dg.liftings`.  ``u``, ``v`` are trial and test functions (or any
-    vector proxies) of a DG space with ``dgjumps=True`` (or of H^1 for the conforming baseline: no terms on
-    interior edges); ``material``: the
-    ``Material`` on the mesh; ``penalty``: eta as an
-    ``EdgeCoefficient``; ``order``: p, or the element order GridFunction of a
-    variable-order space; ``h``: the penalty length (default ``penalty_length``).
+    caller from :mod:`ngdgfric.dg.liftings`.  ``context``: the :class:`FormsContext` (data, material, method, eta,
+    p and h_e); ``u``, ``v`` are trial and test functions (or any vector proxies) of a DG space with
+    ``dgjumps=True`` (or of H^1 for the conforming baseline: no terms on interior edges).
 
     On the symmetry sides the boundary terms act on the normal component only (Nitsche's method for
     u . n = 0 with a free tangential component): [u] = sym((u . n) n (x) n), {sigma(v)} . [u] = (u . n)
     (sigma(v) n . n), and [u]:[v] = (u . n)(v . n).
     """
+    problem, material, mesh, method = context.problem, context.material, context.mesh, context.method
     s = method.symmetry
     n = ngs.specialcf.normal(2)
     interior = ngs.dx(skeleton=True)
@@ -132,32 +188,34 @@ def dg_terms(problem, material, mesh, u, v, method, penalty, order, h=None):
     terms = [ngs.InnerProduct(stress(own, strain(u)), strain(v)) * ngs.dx]
     if not method.conforming:  # continuous u, v: every term on interior edges vanishes
         terms += [-s * ju * avg_sn(v) * interior, -jv * avg_sn(u) * interior]
-    h = penalty_length(mesh) if h is None and method.penalty == "edge" else h
     found = set(mesh.GetBoundaries())
-    parts = [support_terms(problem, material, mesh, u, v, method, penalty, order, h, part)
+    parts = [support_terms(context, u, v, part)
              for part in ("dirichlet", "symmetry") if part == "dirichlet" or found & set(problem.sides(part))]
     terms += [term for consistency, _ in parts for term in consistency]
     if method.penalty == "edge":
         if not method.conforming:
-            weight = edge_penalty(penalty.interior, edge_order(order), h.interior)
+            weight = edge_penalty(context.penalty.interior, edge_order(context.p), context.h_penalty.interior)
             terms.append(weight * jump_inner(ju, jv, n) * interior)
         terms += [penalised for _, penalised in parts]
     return terms
 
 
-def support_terms(problem, material, mesh, u, v, method, penalty, order, h, part, sides=None):
+def support_terms(context, u, v, part, sides=None):
     """The terms of B_h(u, v) on the edges of a supported part ("dirichlet" or "symmetry"; ``sides``: only these
-    of its sides) as (consistency terms, penalty term or None): with the parts of u, v the part's jumps see, u, v
-    on Gamma_D, (u . n) n, (v . n) n on symmetry sides (there with the penalty weight SYMMETRY_WEIGHT)."""
+    of its sides) as (consistency terms, penalty term or None), with the data of ``context``
+    (:class:`FormsContext`): with the parts of u, v the part's jumps see, u, v on Gamma_D, (u . n) n, (v . n) n on
+    symmetry sides (there with the penalty weight SYMMETRY_WEIGHT)."""
+    method = context.method
     n = ngs.specialcf.normal(2)
-    s, own = method.symmetry, material.own
+    s, own = method.symmetry, context.material.own
     pu, pv, weight = (u, v, 1.0) if part == "dirichlet" else (normal_part(u, n), normal_part(v, n), SYMMETRY_WEIGHT)
-    boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where(part) if sides is None
-                                                                else pattern(sides)))
+    boundary = ngs.ds(skeleton=True, definedon=context.mesh.Boundaries(context.problem.where(part) if sides is None
+                                                                        else pattern(sides)))
     consistency = [-s * pu * (stress(own, strain(v)) * n) * boundary, -pv * (stress(own, strain(u)) * n) * boundary]
     if method.penalty != "edge":
         return consistency, None
-    return consistency, weight * edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(pu, pv, n) * boundary
+    eta_e = edge_penalty(context.penalty.boundary, context.p, context.h_penalty.boundary)
+    return consistency, weight * eta_e * jump_inner(pu, pv, n) * boundary
 
 
 # the weight of a symmetry side's jump terms in the penalty and the energy norm: half of an interior edge's
@@ -178,29 +236,32 @@ def has_dirichlet_data(problem):
     return not (isinstance(value, (tuple, list)) and all(is_number(c) and c == 0 for c in value))
 
 
-def load_terms(problem, material, mesh, v, method, penalty, order, h=None):
-    """The right-hand side of (3.1): (f, v) of (1.4), the traction g on Gamma_F, and, for a prescribed
-    displacement u_D on Gamma_D, the part of B_h's Dirichlet terms that u_D carries (B_h with [u] = u - u_D on
-    Gamma_D): -s <u_D, sigma_h(v) n> + eta p^2 / h_e [u_D]:[v] (the lifting terms' part comes from
-    :func:`ngdgfric.dg.liftings.lifting_terms`)."""
+def load_terms(context, v):
+    """The right-hand side of (3.1) with the data of ``context`` (:class:`FormsContext`): (f, v) of (1.4), the
+    traction g on Gamma_F, and, for a prescribed displacement u_D on Gamma_D, the part of B_h's Dirichlet terms that
+    u_D carries (B_h with [u] = u - u_D on Gamma_D): -s <u_D, sigma_h(v) n> + eta p^2 / h_e [u_D]:[v] (the lifting
+    terms' part comes from :func:`ngdgfric.dg.liftings.lifting_terms`)."""
+    problem, mesh = context.problem, context.mesh
     f, g = coefficient(problem.f), coefficient(problem.g)
     terms = [f * v * ngs.dx]
     if any(name in mesh.GetBoundaries() for name in problem.sides("traction")):
         terms.append(g * v * ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("traction"))))
     if has_dirichlet_data(problem):
-        terms += dirichlet_load_terms(problem, material, mesh, v, method, penalty, order, h)
+        terms += dirichlet_load_terms(context, v)
     return terms
 
 
-def dirichlet_load_terms(problem, material, mesh, v, method, penalty, order, h=None, sides=None):
+def dirichlet_load_terms(context, v, sides=None):
     """The part of B_h's Dirichlet terms that u_D carries to the right-hand side, on Gamma_D (``sides``: only these
-    of its sides): -s <u_D, sigma_h(v) n> + eta p^2 / h_e [u_D]:[v] (edge-penalty methods)."""
+    of its sides), with the data of ``context`` (:class:`FormsContext`): -s <u_D, sigma_h(v) n> + eta p^2 / h_e
+    [u_D]:[v] (edge-penalty methods)."""
+    method = context.method
     n = ngs.specialcf.normal(2)
-    u_D = coefficient(problem.u_D)
-    boundary = ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("dirichlet") if sides is None
-                                                                else pattern(sides)))
-    terms = [-method.symmetry * u_D * (stress(material.own, strain(v)) * n) * boundary]
+    u_D = coefficient(context.problem.u_D)
+    boundary = ngs.ds(skeleton=True, definedon=context.mesh.Boundaries(
+        context.problem.where("dirichlet") if sides is None else pattern(sides)))
+    terms = [-method.symmetry * u_D * (stress(context.material.own, strain(v)) * n) * boundary]
     if method.penalty == "edge":
-        h = penalty_length(mesh) if h is None else h
-        terms.append(edge_penalty(penalty.boundary, order, h.boundary) * jump_inner(u_D, v, n) * boundary)
+        eta_e = edge_penalty(context.penalty.boundary, context.p, context.h_penalty.boundary)
+        terms.append(eta_e * jump_inner(u_D, v, n) * boundary)
     return terms

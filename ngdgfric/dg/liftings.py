@@ -55,20 +55,23 @@ from .moments import csr, liftings
 __all__ = ["lifting_terms"]
 
 
-def lifting_terms(problem, material, mesh, V, orders, method, eta, A):
-    """B_h's matrix ``A`` with the lifting terms of ``method`` added, and the load vector they give a prescribed
-    displacement u_D (a numpy array; None if u_D = 0 or the method has no liftings): (matrix, load).
+def lifting_terms(context, V, orders, A):
+    """B_h's matrix ``A`` with the lifting terms of ``context.method`` added, and the load vector they give a
+    prescribed displacement u_D (a numpy array; None if u_D = 0 or the method has no liftings): (matrix, load).
 
-    ``orders``: the degree of every element of V_h (Sigma_h has the largest).  Bassi et al. (B_h^(3)): eta sum_e
-    (C r_e, r_e), edge by edge into the pattern of ``A`` (whose values change: it is returned); Brezzi et al.
-    (B_h^(4)): that plus (C r_0, r_0), and LDG (B_h^(5)): (C r_0, r_0), element by element into a new matrix whose
-    stencil reaches the neighbours' neighbours, with ``A`` added.  With [u] = u - u_D on Gamma_D, (C r_e[u], r_e[v])
-    = m[v]^T S (m[u] - m[u_D]), so u_D adds m[v]^T S m[u_D] to the right-hand side.
+    ``context``: the ``FormsContext`` of :mod:`ngdgfric.dg.forms` (data, material, method; eta is
+    ``context.penalty.boundary``); ``V``: V_h; ``orders``: the degree of every element of V_h (Sigma_h has the
+    largest).  Bassi et al. (B_h^(3)): eta sum_e (C r_e, r_e), edge by edge into the pattern of ``A`` (whose values
+    change: it is returned); Brezzi et al. (B_h^(4)): that plus (C r_0, r_0), and LDG (B_h^(5)): (C r_0, r_0),
+    element by element into a new matrix whose stencil reaches the neighbours' neighbours, with ``A`` added.  With
+    [u] = u - u_D on Gamma_D, (C r_e[u], r_e[v]) = m[v]^T S (m[u] - m[u_D]), so u_D adds m[v]^T S m[u_D] to the
+    right-hand side.
     """
+    method = context.method
     if method.penalty != "lift" and not method.global_lift:
         return A, None
-    ops = liftings(problem, material, mesh, V, orders)
-    local = eta if method.penalty == "lift" else 0.0
+    ops = liftings(context.problem, context.material, context.mesh, V, orders)
+    local = context.penalty.boundary if method.penalty == "lift" else 0.0
     other, across = neighbours(ops.facets)
     with threads(V.ndof):
         sides = _side_moments(ops, other)
