@@ -100,7 +100,7 @@ __all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "
            "ADMISSIBLE"]
 
 ADMISSIBLE = 1e-10  # relative jump of u_D at a vertex of Gamma_D still called round-off
-BONUS = 6  # extra quadrature degree of the non-polynomial integrands (data, kinks of (.)_+)
+DATA_BONUS = 6  # extra quadrature degree of the non-polynomial integrands (data, kinks of (.)_+)
 EDGE_BONUS = 24  # the same on the edges, for g and the contact traction (kinks where P(lam_tau) or (.)_+ cut off)
 
 
@@ -291,7 +291,7 @@ def equilibrated_stress(sol, traction, skew_weight=None):
     t_n, t_tau = traction
     load = ngs.LinearForm(X)
     load += ngs.InnerProduct(strain(sol.u), tau) * ngs.dx(bonus_intorder=2)
-    load += -coefficient(problem.f).Compile() * v * ngs.dx(bonus_intorder=BONUS)  # Compile: 20x faster for data
+    load += -coefficient(problem.f).Compile() * v * ngs.dx(bonus_intorder=DATA_BONUS)  # Compile: 20x faster for data
     k = int(polynomial_degrees(disc).max())
     for part, datum in (("traction", -coefficient(problem.g)), ("contact", t_n * n + t_tau * t)):
         on = facet_indicator(mesh, problem.where(part))
@@ -310,8 +310,9 @@ def inf_sup_lower_bounds(mesh):
 
 def _element_range(mesh, cf):
     """(smallest, largest) value of a scalar CoefficientFunction per element, at its vertices and the points of a
-    Gauss rule of degree BONUS (exact for data constant on every element, as materials on meshes that follow them)."""
-    rule = ngs.IntegrationRule(ngs.TRIG, BONUS)
+    Gauss rule of degree DATA_BONUS (exact for data constant on every element, as materials on meshes that follow
+    them)."""
+    rule = ngs.IntegrationRule(ngs.TRIG, DATA_BONUS)
     points = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] + [tuple(point)[:2] for point in rule.points]
     values = np.asarray(cf(mesh.MapToAllElements({ngs.TRIG: ngs.IntegrationRule(points, [0.0] * len(points))},
                                                  ngs.VOL))).reshape(mesh.ne, len(points))
@@ -482,7 +483,7 @@ def _rho_parts(problem, mesh, sigma, divergence, traction, k, order):
     korn = np.sqrt((1 + 2 / beta**2) / stiff)  # ||grad(z - r)||_T <= korn ||C^1/2 eps(z)||_T
     skew = _element_values(mesh, (sigma[0, 1] - sigma[1, 0]) ** 2, order)
     load_residual = coefficient(problem.f) + divergence
-    residual = _element_values(mesh, load_residual * load_residual, order + BONUS)
+    residual = _element_values(mesh, load_residual * load_residual, order + DATA_BONUS)
     n, t = normal_tangent()
     misses = {part: edge_integrals(mesh, problem.where(part), (sigma * n - prescribed) ** 2, k)
               for part, prescribed in (("traction", coefficient(problem.g)),

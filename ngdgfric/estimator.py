@@ -97,7 +97,7 @@ import numpy as np
 from .contact.boundary import contact_elements, normal_tangent
 from .contact.forms import contact_residuals
 from .dg.forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
-from .dg.material import BONUS
+from .dg.material import MATERIAL_BONUS
 from .errors import warn
 from .meshes import boundary_elements, element_diameters, facet_indicator
 from .problem import PARTS, coefficient, strain, stress
@@ -347,7 +347,7 @@ def _in_energy_units(sol, parts):
     residual_weight = calibration * _inverse_stiffness(disc.material, sol.mesh)
     parts = {name: value * (calibration if name == "eta3" else residual_weight) for name, value in parts.items()}
     if not disc.material.constant:
-        parts["eta1"] = parts["eta1"] + _material_oscillation(sol, 2 * disc.order + 2 + BONUS)
+        parts["eta1"] = parts["eta1"] + _material_oscillation(sol, 2 * disc.order + 2 + MATERIAL_BONUS)
     return parts
 
 

@@ -35,14 +35,14 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .contact.forces import LAM_TOL, SLIP_TOL, ContactSide, Zone, constant_vectors, contact_sides
+from .contact.forces import LAM_TOL, SLIP_TOL, constant_vectors, contact_sides
 from .dg.forms import dirichlet_load_terms, has_dirichlet_data, support_terms
 from .dg.liftings import liftings
 from .meshes import facet_indicator
 from .problem import coefficient, pattern
 from .threads import threads
 
-__all__ = ["Zone", "ContactSide", "Reaction", "ForceBalance", "force_balance", "contact_sides", "LAM_TOL", "SLIP_TOL"]
+__all__ = ["Reaction", "ForceBalance", "force_balance"]
 
 
 @dataclass(frozen=True)

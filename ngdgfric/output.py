@@ -32,9 +32,9 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
+from .contact.forces import contact_sides
 from .contact.state import contact_state
 from .files import atomic_path
-from .forces import contact_sides
 from .meshes import mesh_arrays
 from .problem import von_mises
 
@@ -155,7 +155,7 @@ def plot_deformed(ax, sol, scale=None, sides=None):
         The displacement's magnification.  Default ``None``: the largest displacement drawn as 10 % of the
         domain's size.
     sides : dict or None, optional
-        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.forces`), to share them between
+        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.contact.forces`), to share them between
         plots.  Default ``None``: computed.
 
     Returns
@@ -366,7 +366,7 @@ def plot_zones(ax, sol, side, sides=None):
     side : str
         The name of a contact side of the problem.
     sides : dict or None, optional
-        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.forces`), to share them between
+        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.contact.forces`), to share them between
         plots.  Default ``None``: computed.
 
     Returns

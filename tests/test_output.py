@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import ngdgfric as ndf
+from ngdgfric.contact.forces import contact_sides
 from ngdgfric.domain import Domain, Loop
-from ngdgfric.forces import contact_sides
 from ngdgfric.meshes import mesh_arrays
 from ngdgfric.output import (
     ZONE_STYLE,

@@ -84,21 +84,23 @@ class EdgeCoefficient:
         return EdgeCoefficient(factor * self.interior, factor * self.boundary, text)
 
 
-BONUS = 8
+MATERIAL_BONUS = 8
 """Extra quadrature degree of the projections and of the points that check them: data that jump inside an
 element are integrated by many points, not by the few that a polynomial of the element's degree needs."""
 
 
 def _evaluation_points(mesh, order):
-    """Gauss points of degree 2 p + :data:`BONUS` in every element, mapped (an element's points are consecutive)."""
-    rule = ngs.IntegrationRule(ngs.TRIG, 2 * order + BONUS)
+    """Gauss points of degree 2 p + :data:`MATERIAL_BONUS` in every element, mapped (an element's points are
+    consecutive)."""
+    rule = ngs.IntegrationRule(ngs.TRIG, 2 * order + MATERIAL_BONUS)
     return mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL), len(rule.weights)
 
 
 def largest(value, mesh):
     """The largest value of a scalar datum: a number itself, a CoefficientFunction at the Gauss points of degree
-    2 + :data:`BONUS` of every element of ``mesh`` (Poisson's ratio for :func:`ngdgfric.adaptivity.choose_method`
-    and the locking check of :class:`~ngdgfric.Discretization`, a stress scale for the penalty check)."""
+    2 + :data:`MATERIAL_BONUS` of every element of ``mesh`` (Poisson's ratio for
+    :func:`ngdgfric.adaptivity.choose_method` and the locking check of :class:`~ngdgfric.Discretization`, a stress
+    scale for the penalty check)."""
     if is_number(value):
         return float(value)
     points, _ = _evaluation_points(mesh, 1)
@@ -108,7 +110,7 @@ def largest(value, mesh):
 def _projection(value, mesh, degree):
     """The element-wise L2 projection of ``value`` onto polynomials of ``degree`` (a GridFunction of L2)."""
     field = ngs.GridFunction(ngs.L2(mesh, order=degree))
-    field.Set(value, bonus_intorder=BONUS)
+    field.Set(value, bonus_intorder=MATERIAL_BONUS)
     return field
 
 
