@@ -17,7 +17,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .bounds import DATA
-from .dg.spaces import element_dofs
+from .dg.dofs import element_dofs
 from .problem import pattern
 
 __all__ = ["check_data", "check_size", "estimated_bytes", "DataError", "MEMORY_BUDGET"]

@@ -96,7 +96,7 @@ from .dg.discretization import (
     polynomial_degrees,
 )
 from .dg.forms import element_areas
-from .lifting import dirichlet_vertex_values, lifting_energies, set_dirichlet_vertices
+from .dirichlet_lifting import dirichlet_vertex_values, lifting_energies, set_dirichlet_vertices
 from .meshes import boundary_elements, element_diameters, facet_indicator, smallest_angles
 from .problem import coefficient, exponents, strain, stress
 from .reference import energy_norm_squared_parts
