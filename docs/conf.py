@@ -69,6 +69,9 @@ napoleon_use_rtype = False
 napoleon_use_ivar = True
 # types of other packages: no inventory to link them to offline (intersphinx would fetch one at build time)
 nitpick_ignore_regex = [("py:class", r"(numpy|ngsolve|netgen|matplotlib|pathlib|scipy)\..*")]
+# TEMPORARY: ngdgfric.lifting is now ngdgfric.dirichlet_lifting; the module docstring of ngdgfric/equilibration.py
+# (being rewritten on another branch) still names the old module.  Drop this entry once it names the new one.
+nitpick_ignore = [("py:mod", "ngdgfric.lifting")]
 # no default options: a class's members are shown where its directive asks (``:members:``)
 
 html_theme = "alabaster"
