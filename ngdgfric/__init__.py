@@ -11,12 +11,13 @@ beside :mod:`ngdgfric.contact` (the laws and :math:`\Gamma_C`) -> :mod:`ngdgfric
 The entry points (:func:`~ngdgfric.solve`, :func:`~ngdgfric.finish`, :func:`~ngdgfric.estimate`,
 :func:`~ngdgfric.adapt`) limit OpenBLAS to one thread while they run (``blas_threads`` of
 :mod:`ngdgfric.threads`); importing changes nothing.  Import paths of 0.1 that
-moved in 0.2 still work for one release, with a DeprecationWarning (:mod:`ngdgfric._moved`).
+moved in 0.2 still work for one release, with a DeprecationWarning: each is a stub module of the old name
+(``ngdgfric.newton``, ...) that warns and hands over the module at its new place.
 """
 
+from importlib import import_module as _import_module
 from importlib.metadata import PackageNotFoundError, version
 
-from . import _moved
 from .adaptivity import Adaptation, AdaptOptions, adapt, dorfler_mark
 from .checks import DataError
 from .contact import Contact, contact_state, kkt_residuals
@@ -26,6 +27,7 @@ from .dg.methods import DG_METHODS, METHODS, LockingWarning, Method, PenaltyWarn
 from .domain import Domain, Loop
 from .equilibration import Equilibration, equilibrate
 from .errors import SolverError, SolverWarning, TimeLimitError
+from .errors import warn as _warn
 from .estimator import Estimate, estimate
 from .examples import example, example_6_1, example_6_2
 from .forces import ForceBalance, force_balance
@@ -70,9 +72,25 @@ __all__ = [
     "energy_norm", "Reference", "energy_error", "load_reference", "save_reference",
 ]
 
-_moved.install()
+_OLD_MODULES = frozenset({
+    "methods", "forms", "liftings", "material", "discretization",  # now in ngdgfric.dg
+    "newton", "fixed_point", "uzawa", "semismooth", "reduced", "condensation", "complementary_energy", "nonlinear",
+    "traces", "pardiso", "options",  # now in ngdgfric.solvers
+    "linalg",  # now ngdgfric.sparse and ngdgfric.threads
+})
+"""The module paths of 0.1 kept as stub modules of the same name for one release (they go in 0.3)."""
+
+_MOVED_NAMES = {"refine": "ngdgfric.meshes", "minimum_angle": "ngdgfric.adaptivity", "HPState": "ngdgfric.hp"}
+"""Names that left the top level in 0.2 -> the module that has them."""
 
 
 def __getattr__(name):
-    """Top-level names of 0.1 that moved in 0.2 (``refine``, ``minimum_angle``, ``HPState``), with a warning."""
-    return _moved.moved_name(name)
+    """Names of 0.1 that moved in 0.2, each with a DeprecationWarning: an old module as an attribute
+    (``ngdgfric.uzawa``: its stub module warns) and ``refine``, ``minimum_angle``, ``HPState``."""
+    if name in _OLD_MODULES:
+        return _import_module(f"{__name__}.{name}")
+    if name not in _MOVED_NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    _warn(f"ngdgfric.{name} moved to {_MOVED_NAMES[name]}.{name} in ngdgfric 0.2; the old path goes in 0.3",
+          DeprecationWarning)
+    return getattr(_import_module(_MOVED_NAMES[name]), name)

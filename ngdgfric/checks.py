@@ -6,8 +6,8 @@ at the points where the forms evaluate them (each triangle's Gauss points of deg
 2p + 2`, its edges' Gauss points and its vertices; the Gauss points, among them the contact rule's,
 and end points of the edges of :math:`\Gamma_F` and :math:`\Gamma_C`; :math:`p` the largest order) and names the
 datum and a point where it fails with a :class:`~ngdgfric.DataError` (a datum invalid only at isolated points
-between these can pass): ``g_a = "sqrt(x - 2)"`` or ``E = "2000*(0.5 - x)"`` used to end in a no-contact answer
-or a complex energy norm.
+between these can pass): unchecked, ``g_a = "sqrt(x - 2)"`` or ``E = "2000*(0.5 - x)"`` would end in a
+no-contact answer or a complex energy norm.
 
 ``check_size`` refuses a discretisation whose estimated memory is above a budget (``max_bytes``, default
 ``MEMORY_BUDGET``, 8 GB) before it is assembled.
@@ -17,7 +17,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .bounds import DATA
-from .dg.spaces import element_dofs
+from .dg.dofs import element_dofs
 from .problem import pattern
 
 __all__ = ["check_data", "check_size", "estimated_bytes", "DataError", "MEMORY_BUDGET"]

@@ -8,7 +8,7 @@ For :math:`m_t = 0` the exact :math:`u` minimises :math:`J(v) = \frac12 a(v, v) 
     j(v) = \int_{\Gamma_C} \frac{c_n}{m_n + 1} (v_n - g_a)_+^{m_n + 1} + c_\tau |v \cdot t| \, ds.
 
 Take :math:`v = s + \ell` with :math:`s` continuous (``potential``) and :math:`\ell` the lifting of
-:math:`u_D - s` into the elements of :math:`\Gamma_D` (:mod:`ngdgfric.lifting`: :math:`v = u_D` on
+:math:`u_D - s` into the elements of :math:`\Gamma_D` (:mod:`ngdgfric.dirichlet_lifting`: :math:`v = u_D` on
 :math:`\Gamma_D`, :math:`\ell = 0` on every other edge), a contact traction :math:`t` that is admissible pointwise,
 :math:`j^*(t) < \infty` (:math:`t_n \ge 0`, :math:`|t \cdot t| \le c_\tau`: ``contact_traction``), and a stress
 :math:`\sigma \in H(\operatorname{div})` whose divergence and normal traces meet :math:`-f`, :math:`g` on
@@ -89,7 +89,7 @@ from .dg.discretization import (
     polynomial_degrees,
 )
 from .dg.forms import element_areas
-from .lifting import dirichlet_vertex_values, lifting_energies, set_dirichlet_vertices
+from .dirichlet_lifting import dirichlet_vertex_values, lifting_energies, set_dirichlet_vertices
 from .meshes import boundary_elements, element_diameters, facet_indicator, smallest_angles
 from .problem import coefficient, exponents, strain, stress
 from .reference import energy_norm_squared_parts

@@ -80,7 +80,7 @@ def check_deadline(when, solver, history, what):
 
 
 def _ours(frame):
-    """True for a frame of ngdgfric or of the import machinery (an old import path resolved by ngdgfric._moved)."""
+    """True for a frame of ngdgfric or of the import machinery (an old import path: its stub module is imported)."""
     name = frame.f_code.co_filename
     return name.startswith("<frozen importlib") or str(Path(name).resolve()).startswith((PACKAGE, IMPORTLIB))
 

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .dg.spaces import dg_ndof
+from .dg.dofs import dg_ndof
 from .meshes import refine, triangle_corners
 
 __all__ = ["HPState", "smooth", "refinement_parents", "hp_refine", "containing"]

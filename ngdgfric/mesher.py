@@ -6,28 +6,20 @@ in another process and sent back through files; this process waits in short poll
 it at once, and a child still busy after ``timeout`` seconds is killed and reported as a TimeoutError
 (a ValueError from :func:`~ngdgfric.netgen_mesh`).
 
-**Where the child comes from.**  It used to be forked from this process, which by then runs OpenBLAS and
-NGSolve's TaskManager threads: a forked child inherits the locks those threads may hold (deadlock risk;
-Python 3.12 warns about ``fork`` in a multi-threaded process).  Now the children are forked by a *mesh
-server* (:mod:`ngdgfric._mesh_worker`): a fresh interpreter started once per process by ``subprocess``
-(fork + exec, which inherits nothing) that imports Netgen only (not ngsolve, not ngdgfric) with
-``OPENBLAS_NUM_THREADS=1`` and so stays single-threaded, and forks one child per mesh.
-multiprocessing's ``forkserver`` and ``spawn`` contexts were not used: their children import the user's
-``__main__`` again, which re-runs a script without an ``if __name__ == "__main__":`` guard (a ten-line
-script calling ``netgen_mesh`` failed: tests/test_mesher.py).
+**Where the child comes from.**  The children are forked by a *mesh server* (:mod:`ngdgfric._mesh_worker`): a
+fresh interpreter started once per process by ``subprocess`` (fork + exec, which inherits nothing) that imports
+Netgen only (not ngsolve, not ngdgfric) with ``OPENBLAS_NUM_THREADS=1`` and so stays single-threaded, and forks one
+child per mesh.  Not from this process, which by then runs OpenBLAS and NGSolve's TaskManager threads: a forked
+child inherits the locks those threads may hold (deadlock risk; Python 3.12 warns about ``fork`` in a
+multi-threaded process).  Not by multiprocessing's ``forkserver`` or ``spawn`` contexts either: their children
+import the user's ``__main__`` again, which re-runs a script without an ``if __name__ == "__main__":`` guard
+(tests/test_mesher.py).
 
 The server is this module's one piece of process state (``_SERVER``): started at the first
 ``generate``, again after it died or in a forked copy of this process; it ignores Ctrl-C and ends
 when this process ends (its stdin closes) or at ``shutdown``.  It is kept because a fresh interpreter
-per mesh costs the interpreter's start and Netgen's import every time.  Cost of ``generate`` per mesh of
-Example 6.1's rectangle, best of 3 after the first, measured on 2 busy cores (2026-11; they vary with the load):
-
-    | maxh (triangles) | forked from this process | fresh interpreter per mesh | mesh server |
-    | 0.2 (52)         | 7-24 ms                  | 190-350 ms                 | 22-50 ms    |
-    | 0.02 (5806)      | 140-320 ms               | 340-670 ms                 | 270-300 ms  |
-
-plus the server's start, 0.25-0.6 s, once per process.  Without ``os.fork`` (Windows) every mesh gets its
-own fresh interpreter.
+per mesh costs the interpreter's start and Netgen's import every time (the three ways timed:
+:ref:`decisions-mesher`).  Without ``os.fork`` (Windows) every mesh gets its own fresh interpreter.
 
 The child writes the mesh to a temporary Netgen ``.vol`` file (it keeps every boundary segment's curve and
 parameter, which ``mesh.Curve`` and refinement onto curved sides need) and sends the exact coordinates (the

@@ -13,7 +13,7 @@ import netgen.meshing as nm
 import ngsolve as ngs
 import numpy as np
 
-from .dg.spaces import element_dofs
+from .dg.dofs import element_dofs
 from .domain import INTERFACE
 from .mesher import default_timeout, generate, triangles_of
 

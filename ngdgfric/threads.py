@@ -4,10 +4,9 @@ On a machine with few cores, idle OpenBLAS threads busy-wait and take the cores 
 TaskManager; small sparse work gains nothing from threads.  Everything here is scoped to a call
 (a context manager or a decorator); importing changes nothing and nothing is cached: the environment
 variable ``NGDGFRIC_BLAS_THREADS`` is read, and the loaded OpenBLAS libraries are found, each time a limit
-is set (``blas_threads``), so a change of either takes effect at the next call.  Finding them costs
-0.3 ms (``threadpoolctl.ThreadpoolController().select(internal_api="openblas")``, best of 3 x 50 calls,
-2026-11), against the solve, estimate or adapt call, or the dense solve of 1000 or more rows (tens of
-milliseconds and up), that each limit wraps.
+is set (``blas_threads``), so a change of either takes effect at the next call.  Finding them costs a
+fraction of a millisecond, little against what each limit wraps: the solve, estimate or adapt call, or a dense
+solve of 1000 or more rows, tens of milliseconds and up (the timing: :ref:`decisions-threads`).
 """
 
 import contextlib
@@ -53,7 +52,7 @@ def default_blas_threads():
 
 def _openblas():
     """The OpenBLAS libraries loaded in this process now (numpy's, NGSolve's, and any loaded since the last
-    call), found by threadpoolctl (0.3 ms: module docstring)."""
+    call), found by threadpoolctl (cheap: module docstring)."""
     return threadpoolctl.ThreadpoolController().select(internal_api="openblas")
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from .contact.boundary import GaussValues
 from .contact.laws import project_unit_values
 from .dg.discretization import dg_space
-from .dg.spaces import element_dofs
+from .dg.dofs import element_dofs
 from .meshes import same_mesh
 
 __all__ = ["WarmStart", "initial_guess", "starting_point", "multiplier_snapshot", "copy_orders", "discontinuous",

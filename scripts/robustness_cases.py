@@ -46,8 +46,8 @@ import numpy as np
 
 import ngdgfric as ndf
 from ngdgfric.contact import rounding_residual
+from ngdgfric.dg.dofs import dg_ndof
 from ngdgfric.dg.methods import METHODS
-from ngdgfric.dg.spaces import dg_ndof
 from ngdgfric.examples import EXAMPLES
 from ngdgfric.solvers.condensation import Condensation
 from ngdgfric.solvers.reduced import ReducedContact

@@ -10,7 +10,7 @@ import ngdgfric as ndf
 from ngdgfric.contact import Contact
 from ngdgfric.contact.boundary import contact_edges
 from ngdgfric.dg.discretization import Discretization, conforming_space, edge_orders, element_edges
-from ngdgfric.dg.spaces import dg_ndof
+from ngdgfric.dg.dofs import dg_ndof
 from ngdgfric.hp import HPState, containing, hp_refine
 from ngdgfric.meshes import element_diameters
 from ngdgfric.studies.manufactured import contact_manufactured

@@ -7,7 +7,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.dg.discretization import check_order, dg_space
-from ngdgfric.dg.spaces import dg_ndof
+from ngdgfric.dg.dofs import dg_ndof
 
 
 def test_dimension_of_the_dg_space():

@@ -237,7 +237,7 @@ def test_every_formula_on_the_site_renders(site, tmp_path):
     assert not failed, f"formulas not rendered: {failed}"
 
 
-USER_PAGES = ["index.html", "getting_started.html", "paper.html", "testing.html", "user_guide/*.html",
+USER_PAGES = ["index.html", "getting_started.html", "paper.html", "testing.html", "decisions.html", "user_guide/*.html",
               "gallery/*.html", "gallery/notebooks/*.html", "api/*.html"]
 # a file that is a page of the site: name its page with a link, not its path
 SITE_FILES = re.compile(r"\b(results/[\w.-]+\.md|notebooks/[\w.-]+\.ipynb|ngdgfric/[\w/.-]+\.(py|toml))\b")

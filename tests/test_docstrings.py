@@ -1,14 +1,22 @@
-"""The public API's docstrings are NumPy style, and their examples run.
+"""The public API's docstrings are NumPy style, their examples run, and no docstring keeps a lab notebook.
 
 numpydoc's own validator (``numpydoc.validate``, the checker of the NumPy/SciPy ecosystem) reads the
 docstring of every public function and class: the names of ``ngdgfric.__all__`` and the plotting and
 writing functions of ``ngdgfric.output``.  Each must parse as a NumPy docstring with a one-line summary,
 document every argument of its signature and no other (Parameters), and, for a function, say what it
 returns (Returns or Yields) and describe it.  The Examples sections are run as doctests.
+
+Every docstring of every module (module, class, function, and the attribute docstrings after an assignment) states
+the contract and the mathematics; the story of what was tried goes to the decisions page of the docs
+(docs/decisions.md).  So no docstring has the words of such a story (``HISTORY``).
 """
 
+import ast
 import doctest
 import inspect
+import itertools
+import re
+from pathlib import Path
 
 import numpydoc.validate
 import pytest
@@ -92,3 +100,75 @@ def test_examples_run(name):
     for test in finder.find(obj, name, globs={"ndf": ngdgfric, "ngdgfric": ngdgfric}):
         runner.run(test)
     assert runner.summarize(verbose=False).failed == 0, f"{name}: an example failed (see the output above)"
+
+
+PACKAGE = Path(ngdgfric.__file__).resolve().parent
+# whole words, any case, matched in text whose white space is single spaces (``plain``): "tried" but not "retried"
+# or "untried", and not the present passive "is tried", "are tried", "be tried" (what the code does: "the
+# refinement is tried on a copy of the mesh")
+HISTORY = re.compile(r"\b(?<!\bis )(?<!\bare )(?<!\bbe )tried\b|\bexploratory\b|\breverted\b|\bnot kept\b",
+                     re.IGNORECASE)
+
+
+def plain(text):
+    """``text`` with every run of white space (line breaks, indentation) as one space."""
+    return " ".join(text.split())
+
+
+def docstrings(tree):
+    """(line, name, text) of every docstring of a module's syntax tree: the module's, each class's and function's
+    (also nested ones), and each attribute docstring (a string statement right after an assignment, in any block,
+    as Sphinx reads them)."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+            text = ast.get_docstring(node, clean=False)
+            if text is not None:
+                line = node.body[0].lineno
+                found.append((line, getattr(node, "name", "module docstring"), text))
+        for field in ("body", "orelse", "finalbody"):
+            block = getattr(node, field, None)
+            if not isinstance(block, list):
+                continue
+            for previous, statement in itertools.pairwise(block):
+                if isinstance(previous, (ast.Assign, ast.AnnAssign)) and isinstance(statement, ast.Expr) \
+                        and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str):
+                    targets = previous.targets if isinstance(previous, ast.Assign) else [previous.target]
+                    found.append((statement.lineno, " = ".join(ast.unparse(t) for t in targets), statement.value.value))
+    return found
+
+
+def history_sentences(path):
+    """``line name: sentence`` for every sentence of a docstring of ``path`` that has a word of ``HISTORY``."""
+    result = []
+    for line, name, text in docstrings(ast.parse(path.read_text())):
+        for sentence in re.split(r"(?<=[.;]) ", plain(text)):
+            if HISTORY.search(sentence):
+                result.append(f"{line} {name}: {sentence}")
+    return result
+
+
+def test_the_history_words_are_found_and_only_they():
+    tree = ast.parse('''"""Module: exploratory runs, not
+    kept."""
+
+X = 1
+"""Attribute: since reverted."""
+
+
+class C:
+    """Class: the refinement is
+    tried on a copy."""
+
+    def f(self):
+        """Function: also tried a larger step; retried and untried are other words."""
+''')
+    counts = {name: len(HISTORY.findall(plain(text))) for _, name, text in docstrings(tree)}
+    assert counts == {"module docstring": 2, "X": 1, "C": 0, "f": 1}
+
+
+@pytest.mark.parametrize("path", sorted(PACKAGE.rglob("*.py")), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_docstring_keeps_a_lab_notebook(path):
+    """Words of a story of what was tried (``HISTORY``) in no docstring: that story is on the decisions page."""
+    found = history_sentences(path)
+    assert not found, f"{path.relative_to(PACKAGE)}: move to docs/decisions.md:\n" + "\n".join(found)

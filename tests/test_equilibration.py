@@ -235,13 +235,13 @@ def test_an_exact_solution_with_u_d_or_without_loads_has_a_round_off_guaranteed_
 @pytest.mark.parametrize("triangle", [[0, 1, 2], [1, 2, 0]])
 def test_lifting_energy_against_the_explicit_lifting(apex, triangle):
     """||C^1/2 eps(l)||^2 of the lifting of u_D - s (s = 0 on the Dirichlet edge, u_D not a polynomial) from the
-    one-dimensional formula of ngdgfric.lifting, against the lifting written out, l = (1 - r) u_D(A + tau (B - A)),
-    integrated on a mesh of h = 0.01 (degree 14): 1e-6 (measured: 1e-9 on the right triangle, 1.1e-7 on the thin
-    one, where the fine mesh resolves the map from the apex less well); a right and a thin triangle, the
-    element's vertices in two orders."""
+    one-dimensional formula of ngdgfric.dirichlet_lifting, against the lifting written out,
+    l = (1 - r) u_D(A + tau (B - A)), integrated on a mesh of h = 0.01 (degree 14): 1e-6 (measured: 1e-9 on the right
+    triangle, 1.1e-7 on the thin one, where the fine mesh resolves the map from the apex less well); a right and a
+    thin triangle, the element's vertices in two orders."""
     from netgen.geom2d import SplineGeometry
 
-    from ngdgfric.lifting import lifting_energies
+    from ngdgfric.dirichlet_lifting import lifting_energies
     from ngdgfric.meshes import mesh_from_arrays
 
     points = np.array([[0.0, 0.0], [1.0, 0.0], apex])
@@ -299,7 +299,7 @@ def test_lifting_at_a_corner_of_gamma_d_bounds_the_sum_of_the_two_liftings():
     sum L_1^2 + L_2^2 = 1.38 was below it)."""
     from netgen.geom2d import SplineGeometry
 
-    from ngdgfric.lifting import lifting_energies
+    from ngdgfric.dirichlet_lifting import lifting_energies
     from ngdgfric.meshes import mesh_from_arrays
 
     points = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])

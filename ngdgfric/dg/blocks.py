@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .spaces import element_dofs
+from .dofs import element_dofs
 
 __all__ = ["ElementBlocks", "Pattern", "neighbours"]
 

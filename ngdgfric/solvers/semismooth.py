@@ -23,25 +23,19 @@ outer loops around them:
   point (or half a step) is taken if it lowers :math:`r` by the fraction :math:`\sigma`, else the fixed-point step
   :math:`f \leftarrow T(f)`.  Where :math:`T` is a contraction with constant :math:`L`, the regime in which the QVI
   is known to have a unique solution (small :math:`c_\tau m_t (u_n - g_a)^{m_t - 1}`), :math:`r` falls at least by
-  :math:`\max(1 - \sigma/2, L)` per step, and the coupled Newton finishes quadratically.  (The merit :math:`\Psi`
-  stalled here: seen with :math:`c_n = 0`, :math:`m_t = 2`.)  If :math:`r` stops falling (:math:`T` no
-  contraction, no Newton progress: seen with :math:`c_n = 0`, :math:`m_t = 1`, where :math:`T` cycles between two
-  states), a continuation in :math:`c_\tau` follows: :math:`c_\tau` scaled by :math:`s = 10^{-6}`, then :math:`s`
-  multiplied by 4 (the factor squared after a success, square-rooted after a failure) up to 1, so the solution
-  branch is followed from the contractive regime of small :math:`c_\tau`.
+  :math:`\max(1 - \sigma/2, L)` per step, and the coupled Newton finishes quadratically.  If :math:`r` stops
+  falling (:math:`T` no contraction, no Newton progress: e.g. :math:`c_n = 0`, :math:`m_t = 1`, where :math:`T`
+  cycles between two states), a continuation in :math:`c_\tau` follows: :math:`c_\tau` scaled by
+  :math:`s = 10^{-6}`, then :math:`s` multiplied by 4 (the factor squared after a success, square-rooted after a
+  failure) up to 1, so the solution branch is followed from the contractive regime of small :math:`c_\tau`.
 
 **Proximal point method** (redundant points, :math:`m_t = 0`, :mod:`ngdgfric.solvers.reduced`).  With :math:`W`
-singular whole groups of points are degenerate (stick and slip both hold for some of the optimal forces) and the
-Newton iterates wander along the set of solutions: with energy, the captured final hp level of Example 6.1,
-:math:`M = 1926`: the stick set swinging by 200 points, no convergence in 100 iterations (83 on the level before);
-without energy (NIPG), level 17 of ``adapt(example_6_1(), method="nipg", tol=1e-4)``, :math:`M = 1992`: :math:`W`
-has 1472 of its 3984 singular values below :math:`10^{-10}` times the largest, 542 of them in the block of the
-sticking points; the Newton steps (:math:`10^{-8}` on the sticking diagonal) stay in that kernel, 20-30 points at
-:math:`|f_t + r w_t| = \beta` within :math:`10^{-9}` flip between stick and slip at every step and the KKT
-residual stays at :math:`2 \cdot 10^{-8} \dots 3 \cdot 10^{-9}` from iteration 25 to 100 (the dense Newton
-systems are solved to a relative residual of :math:`8 \cdot 10^{-15}`: not round-off).  So such a problem is
-solved by the proximal point method (Rockafellar, SIAM J. Control Optim. 14, 1976, for maximal monotone
-operators, so also for the non-symmetric :math:`W` of NIPG, whose symmetric part is positive semidefinite):
+singular whole groups of points are degenerate (stick and slip both hold for some of the optimal forces): the
+Newton steps stay in the kernel of :math:`W`, points at the friction bound flip between stick and slip at every
+step and the iterates wander along the set of solutions without converging (the observations:
+:ref:`decisions-semismooth`).  Such a problem is solved by the proximal point method (Rockafellar, SIAM J.
+Control Optim. 14, 1976, for maximal monotone operators, so also for the non-symmetric :math:`W` of NIPG, whose
+symmetric part is positive semidefinite):
 
 .. math::
 
@@ -58,22 +52,10 @@ A subproblem not solved within ``PROXIMAL_BUDGET`` = 10 iterations (without ener
 remaining ``maxit``), or whose globalisation gives up, is continued from where it stopped with :math:`10 \mu_k`
 (an inexact proximal step: the iteration stops as soon as the original problem meets the stopping test, so the
 subproblems only steer it).  If the proximal method fails, the plain iteration follows (then, without energy, the
-continuation): on random NIPG-like problems with 3 of 8 points per edge redundant (:math:`M = 240`,
-``tests/reduced_problems.py``) the proximal method failed on all 8 tried, the old order (plain iteration, then
-the continuation) solved 23 of 24, and with the fallback all 20 tried were solved, the one of the old order's
-failures among them.  The proximal map is nonexpansive, so which of the optimal forces is returned depends
-continuously on the data and the start; the multiplier :math:`\lambda_\tau = f_t / \beta` enters the estimator
-(:math:`\eta_4`), and with the plain iteration Example 6.1 adapted to ``tol = 5e-4`` with
-:math:`E \times (1 \pm 10^{-13})` gave final :math:`\eta_h` differing by :math:`3 \cdot 10^{-3}` relative (now
-:math:`4 \cdot 10^{-7}`).  Measured on the captured levels of Example 6.1 with energy (:math:`M = 945 \dots 1926`),
-each subproblem with the whole remaining budget: 20-27 Newton steps in all where the plain iteration took 42, 44,
-83 and failed.  (A budget of 10 there too made hp SIPG on Example 6.1, ``tol = 1e-4``, run past 22 levels with
-:math:`\eta_h` rising to :math:`5 \cdot 10^{-3}`, against 14 levels and 26 s.)  (Also tried:
-:math:`\mu_0 = 10^{-2}`, :math:`10^{-1}` or :math:`\mu / 10` per step: 19-33 steps; a smaller :math:`r` in the
-stick/slip decision needed fewer steps only because it loosened the stopping test at sticking points.)  NIPG,
-levels 14-17 of the run above (:math:`M = 1320 \dots 1992`): 23, 35, 32, 45 steps (4, 10, 13, 38 s) where the
-plain iteration took 96, 71, 39 steps and failed after 100 (170 s); with the whole remaining budget per
-subproblem instead of 10: 35, 26, 90, 42 steps (17-85 s).
+continuation).  The proximal map is nonexpansive, so which of the optimal forces is returned depends
+continuously on the data and the start; this matters because the multiplier :math:`\lambda_\tau = f_t / \beta`
+enters the estimator (:math:`\eta_4`).  The choice of :math:`\mu_0`, the decrease, the budgets and the order of
+the fallbacks, with their measurements: :ref:`decisions-semismooth`.
 """
 
 import numpy as np
