@@ -169,9 +169,8 @@ def potential(sol):
     elements) closest to u_h in the energy, min ||C^1/2 eps_h(s - u_h)||, with s = u_D interpolated on Gamma_D,
     and the tangential part of s removed on the contact edges where u_h sticks (``stick_edges``: there u . t = 0,
     and a tangential s . t != 0 would cost the contact term c_tau |s . t| - t_tau s . t, linear in s - u instead of
-    quadratic).  The degree p_T + 1 lets div s follow div u_h as nu -> 1/2 (effectivity 1.3-1.7 at nu = 0.4999
-    with Bassi et al., p = 2, 3, against 3-4 with degree p_T and 35 with u_h averaged).  One statically condensed
-    Cholesky solve of the conforming space."""
+    quadratic).  The degree p_T + 1 lets div s follow div u_h as nu -> 1/2 (decisions page, equilibration).  One
+    statically condensed Cholesky solve of the conforming space."""
     disc = sol.discretization
     problem, mesh = disc.problem, sol.mesh
     space = conforming_space(mesh, polynomial_degrees(disc) + POTENTIAL_RAISE)

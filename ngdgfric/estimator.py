@@ -56,10 +56,8 @@ unknown weighted by :math:`1/\mu`) and Wihler (Math. Comp. 75, 2006); the averag
 interpolation of Karakashian & Pascal (SINUM 41, 2003) applied to the pressure.  Using :math:`\tilde p_h`
 instead of :math:`p_h` matters for :math:`\nu \to 1/2`: :math:`h_T \|\nabla p_h\|` and the jumps
 :math:`[\![p_h]\!]` of an oscillating discrete pressure are much larger than the pressure's share
-:math:`\lambda \|\operatorname{div}(u - u_h)\|^2` of the energy error (measured on
-``incompressible_contact_manufactured`` of :mod:`ngdgfric.studies.manufactured`, NIPG, P3,
-:math:`\nu = 0.4999`, :math:`h = 1/16`, before the calibration below: effectivity 12.5 with :math:`p_h`, 5.5
-with :math:`\tilde p_h`).  Where the material jumps across edges (``Material.jumps`` of
+:math:`\lambda \|\operatorname{div}(u - u_h)\|^2` of the energy error (:ref:`decisions-estimator`).  Where the
+material jumps across edges (``Material.jumps`` of
 :mod:`ngdgfric.dg.material`) the pressure jumps with it and is not averaged: the terms use
 :math:`\sigma_h(u_h)` itself (still divided by :math:`2\mu`).
 

@@ -61,8 +61,8 @@ from .reduced import law_forces, multiplier_of, point_state, trace_scale
 __all__ = ["FullSpace", "applicable", "kkt_residual", "full_space_newton", "FULL_SPACE_POINTS"]
 
 R_FACTOR = 0.1
-"""r_q = R_FACTOR / d_q: d_q (Jacobi) falls 2-150 times below W_qq (measured on Example 6.1, SIPG P3, h = 1/8), and
-with r_q = 1 / d_q the stick/slip decisions of two points cycled there; from 0.3 / d_q down to 0.001 / d_q: 9 steps."""
+"""r_q = R_FACTOR / d_q: the Jacobi diagonal d_q stands in for W_qq, which it underestimates; a factor below 1 keeps
+the stick/slip decision from cycling (the decisions page of the docs, full-space Newton)."""
 STICK_REGULARIZATION = 1e-8
 """C = STICK_REGULARIZATION d_q on a sticking row instead of 0: the Newton matrix stays nonsingular where the rows of
 B of an element are dependent (redundant points: an element with two edges on Gamma_C, or p_T < p on hp meshes),
@@ -72,9 +72,9 @@ WOODBURY_ROWS, WOODBURY_RANK = 32, 256
 """A Newton step factorises again when more than WOODBURY_ROWS trace rows would need new solves, or the rows changed
 since the factorisation pass WOODBURY_RANK (``FullSpace._solve``)."""
 JACOBI_MARGIN = 100.0
-"""The stopping test is d_q |G_q| <= solver_tol D / JACOBI_MARGIN: d_q falls 2-150 times below W_qq (see R_FACTOR), so
-that the condensed solver's test W_qq |G_q| <= solver_tol D holds too (with solver_tol 1e-13 and d_q alone the
-solutions of the two differed by 2.8e-10 |||u_h||| on a long strip, cg P1, M = 1000; with the margin 7e-13)."""
+"""The stopping test is d_q |G_q| <= solver_tol D / JACOBI_MARGIN: d_q underestimates W_qq (see R_FACTOR), and the
+margin makes the condensed solver's test W_qq |G_q| <= solver_tol D hold too, so that both solvers return the same
+solution to round-off (the decisions page of the docs, full-space Newton)."""
 FULL_SPACE_POINTS = 1000
 """The number of contact points M from which ``formulation="auto"`` of :func:`ngdgfric.solvers.newton.newton` takes
 this solver (the cross-over measured in results/solver_benchmark.md)."""
