@@ -1,7 +1,7 @@
 r"""The contact part of the discrete problem on one mesh, built beside the
 :class:`~ngdgfric.dg.discretization.Discretization` (which keeps the DG spaces and the matrices of :math:`B_h`).
 
-:class:`Contact` holds what every contact computation of a mesh shares: the multiplier space :math:`Q` on
+:class:`~ngdgfric.Contact` holds what every contact computation of a mesh shares: the multiplier space :math:`Q` on
 :math:`\Gamma_C`, the contact measure with its Gauss rule, the Gauss points, the traces :math:`B` at those points
 and the multiplier's mass matrix.  :func:`ngdgfric.solve` builds one per mesh and passes it, with the
 discretisation, to the solvers; a :class:`~ngdgfric.Solution` keeps it as ``contact``.
@@ -28,10 +28,14 @@ class Contact:
 
     Attributes
     ----------
-    problem, mesh
-        Those of ``disc``.
-    V, V_plain
-        :math:`V_h` and the test space of the mixed contact forms (``disc.V``, ``disc.V_plain``).
+    problem
+        The problem of ``disc``.
+    mesh
+        The mesh of ``disc``.
+    V
+        :math:`V_h` (``disc.V``).
+    V_plain
+        The test space of the mixed contact forms (``disc.V_plain``).
     orders
         :math:`p_T` per element, an integer array.
     conforming
@@ -78,12 +82,12 @@ class Contact:
 
     @functools.cached_property
     def gauss(self):
-        """The :class:`~ngdgfric.contact.boundary.ContactGauss` of this mesh (built on first use)."""
+        """The ``ContactGauss`` of :mod:`ngdgfric.contact.boundary` of this mesh (built on first use)."""
         return ContactGauss(self.problem, self.mesh, self.order, self.Q)
 
     @functools.cached_property
     def traces(self):
-        """The :class:`~ngdgfric.contact.traces.ContactTraces` of this mesh and its problem (built on first use)."""
+        """The ``ContactTraces`` of :mod:`ngdgfric.contact.traces` of this mesh and its problem (built on first use)."""
         return ContactTraces(self, self.problem)
 
     def points(self):
