@@ -37,7 +37,8 @@ FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", 
 @contextlib.contextmanager
 def frozen_older_objects():
     """The objects alive on entry moved out of the garbage collector's view until exit (``gc.freeze``): the full
-    collection of every level (``AdaptiveLoop.refine``) then scans only what the loop made, 17 ms -> about 1 ms."""
+    collection of every level (``AdaptiveLoop.refine``) then scans only what the loop made
+    (:doc:`/decisions_adaptivity`)."""
     gc.freeze()
     try:
         yield
