@@ -19,6 +19,7 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
@@ -28,7 +29,7 @@ from .dg.methods import get_method
 from .estimator import KINDS, VARIANTS, deprecated_weights, estimate
 from .files import check_writable, write_csv
 from .hp import containing
-from .levels import FIELDS, AdaptiveLoop, frozen_older_objects, record, timed
+from .levels import FIELDS, AdaptiveLoop, LoopSettings, frozen_older_objects, record, timed
 from .marking import dorfler_mark
 from .meshes import grid_mesh, minimum_angle, netgen_mesh, refine
 from .progress import log, reporter
@@ -337,33 +338,38 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     _check_arguments(order, settings, gamma_lin)
     _check_applicable(solver, estimator, variant, gamma_lin)
     start, say = time.perf_counter(), reporter(progress)
-    hp = settings.hp
-    max_order, layers = (MAX_ORDER if settings.max_order is None else settings.max_order,
-                         LAYERS if settings.layers is None else settings.layers) if hp else (None, 0)
-    mesh = initial_mesh(problem, INITIAL_LAYERS if hp and layers else 0) if mesh is None else mesh
+    settings = _with_hp_defaults(settings)
+    mesh = initial_mesh(problem, INITIAL_LAYERS if settings.layers else 0) if mesh is None else mesh
     if csv_path is not None:
         csv_path = Path(csv_path)
         check_writable(csv_path.parent)
     method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
     say(f"method {method}: {reason}")
-    loop = AdaptiveLoop(problem, mesh, order, max_order, functools.partial(estimate, variant=variant, kind=estimator),
-                        (settings.tol, settings.rtol), layers, gamma_lin,
-                        dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol,
-                             max_bytes=settings.max_bytes, **options))
-    limits = dict(theta=settings.theta, max_levels=settings.max_levels, max_ndof=settings.max_ndof,
-                  max_bytes=settings.max_bytes, max_seconds=settings.max_seconds, start=start)
-    stopped, records, sol, est = _levels(loop, limits, keep, csv_path, functools.partial(_say_level, say, solver))
+    solve_options = MappingProxyType(dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol,
+                                          max_bytes=settings.max_bytes, **options))
+    loop = AdaptiveLoop(problem, mesh, LoopSettings(settings, order, functools.partial(
+        estimate, variant=variant, kind=estimator), gamma_lin, solve_options, start))
+    stopped, records, sol, est = _levels(loop, keep, csv_path, functools.partial(_say_level, say, solver))
     return Adaptation(records, sol, est, stopped, method, reason)
 
 
-def _levels(loop, limits, keep, csv_path, show):
+def _with_hp_defaults(settings):
+    """``settings`` with ``max_order`` and ``layers`` given for hp (``MAX_ORDER``, ``LAYERS`` where None); h
+    settings as they are (both None)."""
+    if not settings.hp:
+        return settings
+    return dataclasses.replace(settings, max_order=MAX_ORDER if settings.max_order is None else settings.max_order,
+                               layers=LAYERS if settings.layers is None else settings.layers)
+
+
+def _levels(loop, keep, csv_path, show):
     """Run the levels of ``loop`` until it stops; returns (why, the records, the last solution and estimate).
     Every finished level is written to ``csv_path`` (``write_levels``) and shown (``show(record)``)."""
-    records = []
+    records, max_levels = [], loop.settings.options.max_levels
     with frozen_older_objects():
-        for level in range(limits["max_levels"]):
-            sol, est, seconds = loop.solve(level == limits["max_levels"] - 1)
-            sol, est, stopped, refinement = loop.decide(level, sol, est, seconds, records, limits)
+        for level in range(max_levels):
+            sol, est, seconds = loop.solve(level == max_levels - 1)
+            sol, est, stopped, refinement = loop.decide(level, sol, est, seconds, records)
             records.append(record(level, sol, est, loop.state, seconds, loop.tol))
             if keep is not None:
                 keep(level, sol, est)

@@ -11,6 +11,8 @@ import contextlib
 import gc
 import math
 import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
@@ -26,12 +28,37 @@ from .reference import energy_norm
 from .solution import finish, solve
 from .transfer import WarmStart, copy_orders, discontinuous, multiplier_snapshot
 
-__all__ = ["AdaptiveLoop", "FIELDS", "record", "target", "out_of_time", "settle", "too_large", "frozen_older_objects"]
+__all__ = ["AdaptiveLoop", "LoopSettings", "FIELDS", "record", "target", "out_of_time", "settle", "too_large",
+           "frozen_older_objects"]
 
 FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",
           "iterations", "solve_seconds", "assemble_seconds", "estimate_seconds", "mark_refine_seconds", "h_min",
           "min_angle", "p_min", "p_max"]
 
+
+@dataclass(frozen=True)
+class LoopSettings:
+    """What every level of :func:`ngdgfric.adapt` is solved, estimated, marked and refined with.
+
+    ``options``: the :class:`ngdgfric.AdaptOptions` of the run (theta, tol, rtol, max_levels, max_ndof, max_bytes,
+    max_seconds) with the hp defaults given: ``max_order`` and ``layers`` numbers for hp, None for h.  ``order``: the
+    degree of the first level (of every level for h).  ``estimator``: callable(sol) -> Estimate.  ``gamma_lin``:
+    the inexact solves' eta_lin <= gamma_lin eta_h (None: exact solves).  ``solve_options``: the keywords of every
+    :func:`ngdgfric.solve` (``method``, ``solver_tol``, ...).  ``start``: the ``time.perf_counter()`` that
+    ``max_seconds`` counts from.
+    """
+
+    options: object
+    order: int
+    estimator: Callable
+    gamma_lin: float | None
+    solve_options: Mapping
+    start: float
+
+    @property
+    def tolerances(self):
+        """(tol, rtol): the targets of :func:`target`."""
+        return self.options.tol, self.options.rtol
 
 
 @contextlib.contextmanager
@@ -56,71 +83,74 @@ def out_of_time(records, sol, seconds, start, max_seconds):
 
 class AdaptiveLoop:
     """The state the levels of :func:`ngdgfric.adapt` hand on: the mesh and its :class:`HPState`, the previous
-    solution on the refined mesh (a warm start) and the eta_h the next level starts from."""
+    solution on the refined mesh (a warm start) and the eta_h the next level starts from.  ``mesh`` is refined in
+    place; ``settings``: a :class:`LoopSettings`."""
 
-    def __init__(self, problem, mesh, order, max_order, estimator, tolerances, layers, gamma_lin, solve_options):
-        self.problem, self.mesh, self.order, self.max_order, self.layers = problem, mesh, order, max_order, layers
-        self.estimator, self.gamma_lin, self.solve_options = estimator, gamma_lin, solve_options
-        self.tolerances, self.tol = tolerances, None
-        self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
+    def __init__(self, problem, mesh, settings):
+        self.problem, self.mesh, self.settings, self.tol = problem, mesh, settings, None
+        self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, settings.order), None, None, None
         self.expected = None  # the eta_h the last marking expected of this level, (1 - theta)^(1/2) eta_h
         self.singular = None  # the points the next hp refinement grades towards (set by solve)
         # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
         # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
-        self.carrier_order = order if max_order is None else max_order
+        self.carrier_order = settings.options.max_order if settings.options.hp else settings.order
         self.carrier = ngs.GridFunction(ngs.L2(mesh, order=self.carrier_order, autoupdate=True) ** 2, autoupdate=True)
+
+    def orders(self, state):
+        """The degrees of the method's V_h on a mesh of ``state``: its p_T for hp, ``order`` for h."""
+        return state.orders if self.settings.options.hp else self.settings.order
 
     def solve(self, last):
         """Solve and estimate this level (inexactly unless ``last``); returns (sol, est, seconds)."""
-        start = time.perf_counter()
-        inexact = {} if self.gamma_lin is None or self.predicted is None else dict(energy_tol=self.gamma_lin
-                                                                                    * self.predicted)
-        orders = self.order if self.max_order is None else self.state.orders
-        sol = solve(self.problem, self.mesh, order=orders, initial=self.previous, **inexact, **self.solve_options)
-        self.tol = target(self.tolerances, sol)
+        settings, start = self.settings, time.perf_counter()
+        inexact = {} if settings.gamma_lin is None or self.predicted is None else dict(energy_tol=settings.gamma_lin
+                                                                                        * self.predicted)
+        sol = solve(self.problem, self.mesh, order=self.orders(self.state), initial=self.previous, **inexact,
+                    **settings.solve_options)
+        self.tol = target(settings.tolerances, sol)
         seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
         sol, est = self.settle(sol, None, last, seconds)
         self.sol, self.predicted = sol, est.eta_h
         # the points the next refinement grades towards (hp_refine): corners and ends of the contact and stick zones
-        graded = self.layers and self.max_order is not None
+        graded = settings.options.hp and settings.options.layers
         self.singular = np.vstack([self.problem.geometry.corners, transitions(sol)]) if graded else None
         return sol, est, seconds
 
-    def decide(self, level, sol, est, seconds, records, limits):
+    def decide(self, level, sol, est, seconds, records):
         """(sol, est, why the loop stops or None, the refinement to make): eta_h <= tol, the last level, the
         time limit (``out_of_time``), else Doerfler marking and the size of the refined mesh
-        (:meth:`too_large`); a level the loop stops at is solved to the full tolerance (:meth:`settle`).
-        ``limits``: theta, max_levels, max_ndof, max_bytes, max_seconds and the loop's start time."""
-        refinement = None
+        (:meth:`too_large`); a level the loop stops at is solved to the full tolerance (:meth:`settle`)."""
+        options, refinement = self.settings.options, None
         if self.tol is not None and est.eta_h <= self.tol:
             stopped = "tol"
-        elif level == limits["max_levels"] - 1:
+        elif level == options.max_levels - 1:
             stopped = "max_levels"
-        elif out_of_time(records, sol, seconds, limits["start"], limits["max_seconds"]):
+        elif out_of_time(records, sol, seconds, self.settings.start, options.max_seconds):
             stopped = "max_seconds"
         else:
             reduction = 1.0 if not self.expected else min(max(est.eta_h / self.expected, 0.25), 1.5)
-            theta = landing_theta(limits["theta"], est.eta_h, self.tol, est.kind, reduction)
+            theta = landing_theta(options.theta, est.eta_h, self.tol, est.kind, reduction)
             self.expected = (1.0 - theta) ** 0.5 * est.eta_h  # 0 for theta = 1: no correction next level
             marked = timed(seconds, "mark_refine", dorfler_mark, est.eta_T_squared, theta)
             refinement = dict(indicators=est.eta_T_squared, marked=marked)
-            stopped = timed(seconds, "mark_refine", self.too_large, limits, refinement)
+            stopped = timed(seconds, "mark_refine", self.too_large, refinement)
         if stopped not in (None, "tol", "max_levels"):
             sol, est = self.settle(sol, est, True, seconds)
         return sol, est, stopped, refinement
 
     def settle(self, sol, est, returned, seconds):
         """``settle`` with this loop's estimator, tolerances and gamma_lin."""
-        return settle(sol, est, self.estimator, (self.tol, self.solve_options["solver_tol"]), self.gamma_lin, returned,
-                       seconds)
+        settings = self.settings
+        return settle(sol, est, settings.estimator, (self.tol, settings.solve_options["solver_tol"]),
+                      settings.gamma_lin, returned, seconds)
 
-    def too_large(self, limits, refinement):
+    def too_large(self, refinement):
         """``too_large`` for this mesh and state, counting the DOFs of the method's V_h (the conforming
         baseline's are about half the DG count on the same mesh and orders)."""
-        method = get_method(self.solve_options["method"])
+        method = get_method(self.settings.solve_options["method"])
         count = None if not method.conforming else lambda mesh, state: space(
-            self.problem, mesh, self.order if self.max_order is None else state.orders, method).ndof
-        return too_large(self.mesh, self.state, limits, self.max_order is not None, self._refine, refinement, count)
+            self.problem, mesh, self.orders(state), method).ndof
+        return too_large(self.mesh, self.state, self.settings.options, self._refine, refinement, count)
 
     def refine(self, refinement):
         """Carry the solution over, then refine the mesh in place (h or hp) and update the state."""
@@ -132,11 +162,12 @@ class AdaptiveLoop:
 
     def _refine(self, mesh, state, indicators, marked):
         """Refine ``mesh`` in place (h: one bisection; hp: :func:`hp_refine`); returns the new HPState."""
-        if self.max_order is not None:
-            return hp_refine(mesh, state, indicators, marked, self.max_order, singular=self.singular,
-                             layers=self.layers)
+        options = self.settings.options
+        if options.hp:
+            return hp_refine(mesh, state, indicators, marked, options.max_order, singular=self.singular,
+                             layers=options.layers)
         refine(mesh, marked)
-        return HPState.uniform(mesh, self.order)
+        return HPState.uniform(mesh, self.settings.order)
 
 
 def record(level, sol, est, state, seconds, tol):
@@ -191,10 +222,10 @@ def timed(seconds, key, function, *args, **kwargs):
     return result
 
 
-def too_large(mesh, state, limits, hp, refine_mesh, refinement, count=None):
-    """"max_ndof" if the refined mesh would have more than ``limits["max_ndof"]`` DOFs, "memory" if its solve
-    would need more than ``limits["max_bytes"]`` (the memory model of :func:`ngdgfric.checks.check_size`),
-    else None.
+def too_large(mesh, state, options, refine_mesh, refinement, count=None):
+    """"max_ndof" if the refined mesh would have more than ``options.max_ndof`` DOFs, "memory" if its solve
+    would need more than ``options.max_bytes`` (the memory model of :func:`ngdgfric.checks.check_size`),
+    else None; ``options``: an :class:`ngdgfric.AdaptOptions` (hp or h refinement, the budgets).
 
     One pass of bisection with closure gives an element at most 4 children (hp_refine makes two
     passes) and raising p_T to p_T + 1 at most doubles its n_T = (p_T + 1)(p_T + 2) DOFs (so at most
@@ -203,8 +234,8 @@ def too_large(mesh, state, limits, hp, refine_mesh, refinement, count=None):
     ``count``: callable(mesh, state) -> the DOFs of the method's V_h there (None: the DG count ``state.ndof``,
     which bounds the conforming one from above, so the first test holds for both).
     """
-    max_ndof, max_bytes = limits["max_ndof"], limits["max_bytes"]
-    growth, memory_growth = (32, 64) if hp else (4, 4)
+    max_ndof, max_bytes = options.max_ndof, options.max_bytes
+    growth, memory_growth = (32, 64) if options.hp else (4, 4)
     if state.ndof * growth <= max_ndof and estimated_bytes(state.orders) * memory_growth <= max_bytes:
         return None
     copy = ngs.Mesh(mesh.ngmesh.Copy())
