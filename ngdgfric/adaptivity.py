@@ -347,10 +347,11 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     say(f"method {method}: {reason}")
     solve_options = MappingProxyType(dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol,
                                           max_bytes=settings.max_bytes, **options))
-    loop = AdaptiveLoop(problem, mesh, LoopSettings(settings, order, functools.partial(
-        estimate, variant=variant, kind=estimator), gamma_lin, solve_options, start))
-    stopped, records, sol, est = _levels(loop, keep, csv_path, functools.partial(_say_level, say, solver))
-    return Adaptation(records, sol, est, stopped, method, reason)
+    loop = AdaptiveLoop(problem, mesh, LoopSettings(
+        options=settings, order=order, estimator=functools.partial(estimate, variant=variant, kind=estimator),
+        gamma_lin=gamma_lin, solve_options=solve_options, start=start))
+    records, last = _levels(loop, keep, csv_path, functools.partial(_say_level, say, solver))
+    return Adaptation(records, last.sol, last.est, last.stopped, method, reason)
 
 
 def _with_hp_defaults(settings):
@@ -363,23 +364,22 @@ def _with_hp_defaults(settings):
 
 
 def _levels(loop, keep, csv_path, show):
-    """Run the levels of ``loop`` until it stops; returns (why, the records, the last solution and estimate).
+    """Run the levels of ``loop`` until it stops; returns (the records, the last ``Level``, which says why).
     Every finished level is written to ``csv_path`` (``write_levels``) and shown (``show(record)``)."""
-    records, max_levels = [], loop.settings.options.max_levels
+    records = []
     with frozen_older_objects():
-        for level in range(max_levels):
-            sol, est, seconds = loop.solve(level == max_levels - 1)
-            sol, est, stopped, refinement = loop.decide(level, sol, est, seconds, records)
-            records.append(record(level, sol, est, loop.state, seconds, loop.tol))
+        for number in range(loop.settings.options.max_levels):
+            level = loop.decide(loop.solve(number), records)
+            records.append(record(level, loop.state))
             if keep is not None:
-                keep(level, sol, est)
-            if stopped is None:
-                sol = est = None
-                timed(records[-1], "mark_refine_seconds", loop.refine, refinement)
+                keep(number, level.sol, level.est)
+            if level.stopped is None:
+                marking, level = level.marking, None  # the solution gone before the mesh changes (loop.refine)
+                records[-1]["mark_refine_seconds"] += timed(loop.refine, marking)[1]
             write_levels(csv_path, records)
             show(records[-1])
-            if stopped is not None:
-                return stopped, records, sol, est
+            if level is not None:  # the loop stopped at this level
+                return records, level
     raise AssertionError("the last level always stops")  # pragma: no cover
 
 
