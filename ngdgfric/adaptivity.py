@@ -3,28 +3,14 @@ r"""SOLVE, ESTIMATE, MARK, REFINE (Section 6): the adaptive loop :func:`ngdgfric
 Doerfler marking (:func:`ngdgfric.dorfler_mark`), then bisection of the marked elements or the hp decision of
 :func:`ngdgfric.hp_refine`; one level at a time by ``AdaptiveLoop`` (:mod:`ngdgfric.levels`).
 
-Choice of the defaults of :func:`ngdgfric.adapt` (time to an answer): the conforming baseline where
-:math:`\nu` is moderate (``choose_method``), hp from :math:`p = 4` up to 8, :math:`\theta = 0.8` and one
-geometric layer (``layers=1``): a marked element that the hp decision bisects and that contains a singular point
-(a corner of the domain, an end of the contact or the stick zone) is bisected twice more towards it in the same
-step.  Before, the levels were paced by the grading towards the singular points: :math:`h_{min}` halved on every
-level (5.3e-9 at level 27 on Example 6.1) and :math:`\eta_h` fell by about 0.67 per level whatever else was
-refined, with DOFs growing ~1.1 per level (28 levels to tol = 5e-4, about 10 linear solves of the final mesh).
-With the layer :math:`h_{min}` falls by 4 per level and :math:`\theta = 0.8` lets the DOFs grow ~1.3 per level:
-11-12 levels to true errors of 1e-4 on both examples (:doc:`/results/time_to_accuracy`).  Exploratory runs (a
-loaded machine, not kept), to 1e-3 on Example 6.2 without the graded first mesh: :math:`p = 4`,
-:math:`\theta = 0.8`, one layer 1.8-1.9 s; from :math:`p = 3` 2.1-2.4 s; two layers 2.4-2.8 s (they grade faster
-than the p around can follow); :math:`\theta = 0.9`-0.95 2.3-2.5 s; :math:`\theta = 0.5` with two layers 3.1 s; no
-layers, :math:`\theta = 0.8`, 3.1 s.  The paper's loop (``method="sipg", hp=False, order=1, theta=0.3,
-variant="paper"``) is unchanged: layers act in hp refinement only.  Earlier attempts at faster growth without the
-layers (Doerfler's set extended to a DOF growth of 1.3, marked h elements bisected four times everywhere, a second
-Doerfler round on predicted indicators, p raised by 2) gave more DOFs for the same accuracy or the same number of
-levels.
-
-``gamma_lin`` is not the default: on Example 6.1 ``gamma_lin = 0.1`` left 0-3 Newton iterations per level, but
-the contact indicators :math:`\eta_4, \eta_6` of the inexact solutions steered the hp decisions into bisecting
-:math:`\Gamma_C` (to tol = 1e-2: 91,760 DOFs and 54 s instead of 20,158 DOFs and 4.2 s,
-:doc:`/results/time_to_accuracy`), and ``gamma_lin = 0.01`` kept the path but not the iterations.
+The defaults of :func:`ngdgfric.adapt`: the conforming baseline where :math:`\nu` is moderate
+(``choose_method``), hp from :math:`p = 4` up to ``MAX_ORDER``, :math:`\theta = 0.8` and ``LAYERS`` geometric layers:
+a marked element that the hp decision bisects and that contains a singular point (a corner of the domain, an end of
+the contact or the stick zone) is bisected twice more towards it in the same step, so that the grading towards the
+singular points does not pace the levels.  The paper's loop (``method="sipg", hp=False, order=1, theta=0.3,
+variant="paper"``) is unchanged by them: layers act in hp refinement only.  The inexact solves of ``gamma_lin``
+(Ern and Vohralik, SISC 35, 2013) are not the default.  The time to an accuracy these defaults reach:
+:doc:`/results/time_to_accuracy`; the runs that chose them: :doc:`/decisions_adaptivity`.
 """
 
 import dataclasses
@@ -33,6 +19,7 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
@@ -42,7 +29,7 @@ from .dg.methods import get_method
 from .estimator import KINDS, VARIANTS, deprecated_weights, estimate
 from .files import check_writable, write_csv
 from .hp import containing
-from .levels import FIELDS, AdaptiveLoop, frozen_older_objects, record, timed
+from .levels import FIELDS, AdaptiveLoop, LoopSettings, frozen_older_objects, record, timed
 from .marking import dorfler_mark
 from .meshes import grid_mesh, minimum_angle, netgen_mesh, refine
 from .progress import log, reporter
@@ -52,16 +39,11 @@ __all__ = ["dorfler_mark", "adapt", "AdaptOptions", "Adaptation", "minimum_angle
            "level_line", "FIELDS", "MAX_ORDER", "LAYERS", "INITIAL_LAYERS"]
 
 MAX_ORDER = 8
-"""The largest degree of hp-adaptivity unless :func:`adapt` is given ``max_order``.
-
-Measured against lower caps (2026-12, with the PARDISO Cholesky path since reverted: CPU seconds of the
-loop, one MKL thread, to the first level with a true error at or below 1e-2, 1e-3, 3e-4, 1.5e-4 on Examples 6.1 and
-6.2, sipg and cg): max_order 7 and 8 take the same path down to the references' accuracy, and no lower cap is
-faster throughout: to 1.5e-4 cap 4, 5, 6, 7, 8 took 9.1, 9.5, 8.4, 7.9, 7.8 s (sipg, 6.2), 9.8, 11.2, 11.0, 10.7,
-11.0 s (sipg, 6.1), 4.2, 3.9, 3.4, 3.4, 3.3 s (cg, 6.2); cap 4 was 11-14 % faster on two of the eight sipg (example,
-target) pairs and up to 1.25 times (sipg) and 1.9 times (cg) slower elsewhere."""
+"""The largest degree of hp-adaptivity unless :func:`adapt` is given ``max_order``: no lower cap reaches the same
+accuracy faster on the paper's examples (the measurements: :doc:`/decisions_adaptivity`)."""
 LAYERS = 1
-"""The geometric layers per hp step unless :func:`adapt` is given ``layers`` (why: module docstring)."""
+"""The geometric layers per hp step unless :func:`adapt` is given ``layers`` (what a layer is: module docstring;
+why one: :doc:`/decisions_adaptivity`)."""
 INITIAL_LAYERS = 2
 """Geometric layers towards the corners of the domain in ``initial_mesh`` for hp-adaptivity."""
 
@@ -104,8 +86,7 @@ def choose_method(problem, mesh, order):
     :doc:`/results/time_to_accuracy`) where it locks at no degree: below nu = 0.49, from where its error grows more than
     twice at p = 1-3.  At p = 4 its displacement does not lock (x1.84 at nu = 0.49999), but its stresses are worse: the
     estimator's effectivity (which sees them) rises from 2.0 at nu = 0.3 to 4.9 at nu = 0.49 and 6.6 at 0.4999 (Bassi
-    et al.: 2.1-2.5), so adapt would stop far below tol (an exploratory run, not kept, to 1e-3 |||u||| on the
-    divergence-free scene at nu = 0.4999: true error 0.05 tol, effectivity 18 on the hp meshes).  From nu = 0.49 the
+    et al.: 2.1-2.5), so adapt would stop far below tol (:doc:`/decisions_adaptivity`).  From nu = 0.49 the
     first of Bassi et al. (symmetric, error growth at most x1.08 up to nu = 0.49999) and Brezzi et al. (as robust at
     1.3-1.5 times Bassi's assembly cost) that does not lock at ``order``."""
     nu = largest(problem.on(mesh).nu, mesh)
@@ -357,43 +338,48 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     _check_arguments(order, settings, gamma_lin)
     _check_applicable(solver, estimator, variant, gamma_lin)
     start, say = time.perf_counter(), reporter(progress)
-    hp = settings.hp
-    max_order, layers = (MAX_ORDER if settings.max_order is None else settings.max_order,
-                         LAYERS if settings.layers is None else settings.layers) if hp else (None, 0)
-    mesh = initial_mesh(problem, INITIAL_LAYERS if hp and layers else 0) if mesh is None else mesh
+    settings = _with_hp_defaults(settings)
+    mesh = initial_mesh(problem, INITIAL_LAYERS if settings.layers else 0) if mesh is None else mesh
     if csv_path is not None:
         csv_path = Path(csv_path)
         check_writable(csv_path.parent)
     method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
     say(f"method {method}: {reason}")
-    loop = AdaptiveLoop(problem, mesh, order, max_order, functools.partial(estimate, variant=variant, kind=estimator),
-                        (settings.tol, settings.rtol), layers, gamma_lin,
-                        dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol,
-                             max_bytes=settings.max_bytes, **options))
-    limits = dict(theta=settings.theta, max_levels=settings.max_levels, max_ndof=settings.max_ndof,
-                  max_bytes=settings.max_bytes, max_seconds=settings.max_seconds, start=start)
-    stopped, records, sol, est = _levels(loop, limits, keep, csv_path, functools.partial(_say_level, say, solver))
-    return Adaptation(records, sol, est, stopped, method, reason)
+    solve_options = MappingProxyType(dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol,
+                                          max_bytes=settings.max_bytes, **options))
+    loop = AdaptiveLoop(problem, mesh, LoopSettings(
+        options=settings, order=order, estimator=functools.partial(estimate, variant=variant, kind=estimator),
+        gamma_lin=gamma_lin, solve_options=solve_options, start=start))
+    records, last = _levels(loop, keep, csv_path, functools.partial(_say_level, say, solver))
+    return Adaptation(records, last.sol, last.est, last.stopped, method, reason)
 
 
-def _levels(loop, limits, keep, csv_path, show):
-    """Run the levels of ``loop`` until it stops; returns (why, the records, the last solution and estimate).
+def _with_hp_defaults(settings):
+    """``settings`` with ``max_order`` and ``layers`` given for hp (``MAX_ORDER``, ``LAYERS`` where None); h
+    settings as they are (both None)."""
+    if not settings.hp:
+        return settings
+    return dataclasses.replace(settings, max_order=MAX_ORDER if settings.max_order is None else settings.max_order,
+                               layers=LAYERS if settings.layers is None else settings.layers)
+
+
+def _levels(loop, keep, csv_path, show):
+    """Run the levels of ``loop`` until it stops; returns (the records, the last ``Level``, which says why).
     Every finished level is written to ``csv_path`` (``write_levels``) and shown (``show(record)``)."""
     records = []
     with frozen_older_objects():
-        for level in range(limits["max_levels"]):
-            sol, est, seconds = loop.solve(level == limits["max_levels"] - 1)
-            sol, est, stopped, refinement = loop.decide(level, sol, est, seconds, records, limits)
-            records.append(record(level, sol, est, loop.state, seconds, loop.tol))
+        for number in range(loop.settings.options.max_levels):
+            level = loop.decide(loop.solve(number), records)
+            records.append(record(level, loop.state))
             if keep is not None:
-                keep(level, sol, est)
-            if stopped is None:
-                sol = est = None
-                timed(records[-1], "mark_refine_seconds", loop.refine, refinement)
+                keep(number, level.sol, level.est)
+            if level.stopped is None:
+                marking, level = level.marking, None  # the solution gone before the mesh changes (loop.refine)
+                records[-1]["mark_refine_seconds"] += timed(loop.refine, marking)[1]
             write_levels(csv_path, records)
             show(records[-1])
-            if stopped is not None:
-                return stopped, records, sol, est
+            if level is not None:  # the loop stopped at this level
+                return records, level
     raise AssertionError("the last level always stops")  # pragma: no cover
 
 
@@ -402,8 +388,7 @@ def initial_mesh(problem, layers=0):
     (``grid_mesh``: uniform h = 1/2 on the paper's examples), else Netgen with maxh = min(1/2,
     a quarter of the domain's diameter, its longest extent); then ``layers`` geometric layers towards the domain's
     corners (the elements containing one bisected twice, ``layers`` times), where the solution is singular whatever
-    the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (exploratory runs, not kept: on Examples 6.1 and 6.2
-    the true errors 1e-1 ... 1e-4 are reached in 35-65 % less time, 1e-1 one level sooner)."""
+    the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (why: :doc:`/decisions_adaptivity`)."""
     size = problem.geometry.diameter()
     if problem.geometry.is_rectangle:
         mesh = grid_mesh(problem, min(0.5, size / 2))

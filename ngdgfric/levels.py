@@ -1,16 +1,20 @@
 r"""One level of the adaptive loop of Section 6 (SOLVE -> ESTIMATE -> MARK -> REFINE), for :func:`ngdgfric.adapt`.
 
-``AdaptiveLoop`` holds what the levels hand on (the mesh, its ``HPState``, the previous solution as a warm start,
-the :math:`\eta_h` the next level starts from) and does one step each: ``AdaptiveLoop.solve`` (solve and
-estimate, inexactly where ``gamma_lin`` allows: ``settle``), ``AdaptiveLoop.decide`` (stop, or Doerfler marking,
-:mod:`ngdgfric.marking`, and the size of the next mesh: ``too_large``, ``out_of_time``) and
-``AdaptiveLoop.refine`` (h or hp).  ``record`` is a level's row of the CSV (``FIELDS``).
+A level is a ``Level`` record, made by ``AdaptiveLoop.solve`` (solve and estimate, inexactly where
+``gamma_lin`` allows: ``settle``) and completed by ``AdaptiveLoop.decide`` (why the loop stops, or Doerfler's
+``Marking``, :mod:`ngdgfric.marking`, after the size of the next mesh: ``too_large``, ``out_of_time``), whose
+marking ``AdaptiveLoop.refine`` refines by (h or hp).  ``AdaptiveLoop`` holds what the levels hand on (the mesh,
+its ``HPState``, the previous solution as a warm start, the :math:`\eta_h` the next level starts from); its
+settings are one ``LoopSettings``.  ``record`` is a level's row of the CSV (``FIELDS``).
 """
 
 import contextlib
 import gc
 import math
 import time
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass, replace
+from typing import TYPE_CHECKING
 
 import ngsolve as ngs
 import numpy as np
@@ -19,34 +23,109 @@ from .checks import estimated_bytes
 from .contact.state import transitions
 from .dg.discretization import space
 from .dg.methods import get_method
+from .estimator import Estimate
 from .hp import HPState, hp_refine
 from .marking import dorfler_mark, landing_theta
 from .meshes import element_diameters, minimum_angle, refine
 from .reference import energy_norm
-from .solution import finish, solve
+from .solution import Solution, finish, solve
 from .transfer import WarmStart, copy_orders, discontinuous, multiplier_snapshot
 
-__all__ = ["AdaptiveLoop", "FIELDS", "record", "target", "out_of_time", "settle", "too_large", "frozen_older_objects"]
+if TYPE_CHECKING:  # adaptivity imports this module
+    from .adaptivity import AdaptOptions
+
+__all__ = ["AdaptiveLoop", "LoopSettings", "Level", "Seconds", "Marking", "FIELDS", "record", "target",
+           "out_of_time", "settle", "too_large", "timed", "frozen_older_objects"]
 
 FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",
           "iterations", "solve_seconds", "assemble_seconds", "estimate_seconds", "mark_refine_seconds", "h_min",
           "min_angle", "p_min", "p_max"]
 
 
+@dataclass(frozen=True)
+class LoopSettings:
+    """What every level of :func:`ngdgfric.adapt` is solved, estimated, marked and refined with.
+
+    ``options``: the :class:`ngdgfric.AdaptOptions` of the run (theta, tol, rtol, max_levels, max_ndof, max_bytes,
+    max_seconds) with the hp defaults given: ``max_order`` and ``layers`` numbers for hp, None for h.  ``order``: the
+    degree of the first level (of every level for h).  ``estimator``: callable(sol) -> Estimate.  ``gamma_lin``:
+    the inexact solves' eta_lin <= gamma_lin eta_h (None: exact solves).  ``solve_options``: the keywords of every
+    :func:`ngdgfric.solve` (``method``, ``solver_tol``, ...).  ``start``: the ``time.perf_counter()`` that
+    ``max_seconds`` counts from.
+    """
+
+    options: "AdaptOptions"
+    order: int
+    estimator: Callable
+    gamma_lin: float | None
+    solve_options: Mapping
+    start: float
+
+    @property
+    def tolerances(self):
+        """(tol, rtol): the targets of :func:`target`."""
+        return self.options.tol, self.options.rtol
+
+
+@dataclass(frozen=True)
+class Seconds:
+    """The seconds of a level by phase: solving (with the finishing of inexact solves), estimating, and marking and
+    refining (with the trial refinement of :func:`too_large`); the columns ``solve_seconds``, ``estimate_seconds``,
+    ``mark_refine_seconds`` of its record."""
+
+    solve: float = 0.0
+    estimate: float = 0.0
+    mark_refine: float = 0.0
+
+    def plus(self, **seconds):
+        """These seconds with ``seconds`` (keywords: phases) added."""
+        return replace(self, **{phase: getattr(self, phase) + value for phase, value in seconds.items()})
+
+
+@dataclass(frozen=True, eq=False)
+class Marking:
+    r"""The refinement a level asks for: the squared indicators :math:`\eta_T^2` it was marked by and Doerfler's
+    marked set (a boolean per element, :func:`ngdgfric.dorfler_mark`)."""
+
+    indicators: np.ndarray
+    marked: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Level:
+    """One level of the loop as it passes from SOLVE and ESTIMATE to MARK and REFINE.
+
+    ``number`` counts from 0; ``sol`` and ``est``: its Solution and Estimate (``est`` None until estimated);
+    ``tol``: the eta_h it must reach (:func:`target`; None: no target); ``seconds``: the time of its phases;
+    ``marking``: the refinement that makes the next level (None where the loop stops); ``stopped``: why the loop
+    stops here (``"tol"``, ``"max_levels"``, ``"max_seconds"``, ``"max_ndof"``, ``"memory"``; None: it goes on).
+    """
+
+    number: int
+    sol: Solution
+    est: Estimate | None
+    tol: float | None
+    seconds: Seconds
+    marking: Marking | None = None
+    stopped: str | None = None
+
 
 @contextlib.contextmanager
 def frozen_older_objects():
     """The objects alive on entry moved out of the garbage collector's view until exit (``gc.freeze``): the full
-    collection of every level (``AdaptiveLoop.refine``) then scans only what the loop made, 17 ms -> about 1 ms."""
+    collection of every level (``AdaptiveLoop.refine``) then scans only what the loop made
+    (:doc:`/decisions_adaptivity`)."""
     gc.freeze()
     try:
         yield
     finally:
         gc.unfreeze()
 
+
 def out_of_time(records, sol, seconds, start, max_seconds):
     """Whether the next level would end after ``max_seconds`` from ``start``: the time so far plus this
-    level's ``seconds`` times its growth in DOFs over the last level (2 after the first)."""
+    level's ``seconds`` (by phase, a mapping) times its growth in DOFs over the last level of ``records`` (2 after
+    the first)."""
     if max_seconds is None:
         return False
     growth = sol.ndof / records[-1]["ndof"] if records else 2.0
@@ -55,99 +134,106 @@ def out_of_time(records, sol, seconds, start, max_seconds):
 
 class AdaptiveLoop:
     """The state the levels of :func:`ngdgfric.adapt` hand on: the mesh and its :class:`HPState`, the previous
-    solution on the refined mesh (a warm start) and the eta_h the next level starts from."""
+    solution on the refined mesh (a warm start) and the eta_h the next level starts from.  ``mesh`` is refined in
+    place; ``settings``: a :class:`LoopSettings`."""
 
-    def __init__(self, problem, mesh, order, max_order, estimator, tolerances, layers, gamma_lin, solve_options):
-        self.problem, self.mesh, self.order, self.max_order, self.layers = problem, mesh, order, max_order, layers
-        self.estimator, self.gamma_lin, self.solve_options = estimator, gamma_lin, solve_options
-        self.tolerances, self.tol = tolerances, None
-        self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, order), None, None, None
+    def __init__(self, problem, mesh, settings):
+        self.problem, self.mesh, self.settings = problem, mesh, settings
+        self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, settings.order), None, None, None
         self.expected = None  # the eta_h the last marking expected of this level, (1 - theta)^(1/2) eta_h
         self.singular = None  # the points the next hp refinement grades towards (set by solve)
         # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
         # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
-        self.carrier_order = order if max_order is None else max_order
+        self.carrier_order = settings.options.max_order if settings.options.hp else settings.order
         self.carrier = ngs.GridFunction(ngs.L2(mesh, order=self.carrier_order, autoupdate=True) ** 2, autoupdate=True)
 
-    def solve(self, last):
-        """Solve and estimate this level (inexactly unless ``last``); returns (sol, est, seconds)."""
-        start = time.perf_counter()
-        inexact = {} if self.gamma_lin is None or self.predicted is None else dict(energy_tol=self.gamma_lin
-                                                                                    * self.predicted)
-        orders = self.order if self.max_order is None else self.state.orders
-        sol = solve(self.problem, self.mesh, order=orders, initial=self.previous, **inexact, **self.solve_options)
-        self.tol = target(self.tolerances, sol)
-        seconds = dict(solve=time.perf_counter() - start, estimate=0.0, mark_refine=0.0)
-        sol, est = self.settle(sol, None, last, seconds)
-        self.sol, self.predicted = sol, est.eta_h
+    def orders(self, state):
+        """The degrees of the method's V_h on a mesh of ``state``: its p_T for hp, ``order`` for h."""
+        return state.orders if self.settings.options.hp else self.settings.order
+
+    def solve(self, number):
+        """SOLVE and ESTIMATE level ``number`` (inexactly unless it is the last): its :class:`Level`."""
+        settings, start = self.settings, time.perf_counter()
+        inexact = {} if settings.gamma_lin is None or self.predicted is None else dict(energy_tol=settings.gamma_lin
+                                                                                        * self.predicted)
+        sol = solve(self.problem, self.mesh, order=self.orders(self.state), initial=self.previous, **inexact,
+                    **settings.solve_options)
+        tol = target(settings.tolerances, sol)
+        level = Level(number, sol, None, tol, Seconds(solve=time.perf_counter() - start))
+        level = self.settle(level, number == settings.options.max_levels - 1)
+        self.sol, self.predicted = level.sol, level.est.eta_h
         # the points the next refinement grades towards (hp_refine): corners and ends of the contact and stick zones
-        graded = self.layers and self.max_order is not None
-        self.singular = np.vstack([self.problem.geometry.corners, transitions(sol)]) if graded else None
-        return sol, est, seconds
+        graded = settings.options.hp and settings.options.layers
+        self.singular = np.vstack([self.problem.geometry.corners, transitions(level.sol)]) if graded else None
+        return level
 
-    def decide(self, level, sol, est, seconds, records, limits):
-        """(sol, est, why the loop stops or None, the refinement to make): eta_h <= tol, the last level, the
-        time limit (``out_of_time``), else Doerfler marking and the size of the refined mesh
-        (:meth:`too_large`); a level the loop stops at is solved to the full tolerance (:meth:`settle`).
-        ``limits``: theta, max_levels, max_ndof, max_bytes, max_seconds and the loop's start time."""
-        refinement = None
-        if self.tol is not None and est.eta_h <= self.tol:
-            stopped = "tol"
-        elif level == limits["max_levels"] - 1:
-            stopped = "max_levels"
-        elif out_of_time(records, sol, seconds, limits["start"], limits["max_seconds"]):
-            stopped = "max_seconds"
-        else:
-            reduction = 1.0 if not self.expected else min(max(est.eta_h / self.expected, 0.25), 1.5)
-            theta = landing_theta(limits["theta"], est.eta_h, self.tol, est.kind, reduction)
-            self.expected = (1.0 - theta) ** 0.5 * est.eta_h  # 0 for theta = 1: no correction next level
-            marked = timed(seconds, "mark_refine", dorfler_mark, est.eta_T_squared, theta)
-            refinement = dict(indicators=est.eta_T_squared, marked=marked)
-            stopped = timed(seconds, "mark_refine", self.too_large, limits, refinement)
-        if stopped not in (None, "tol", "max_levels"):
-            sol, est = self.settle(sol, est, True, seconds)
-        return sol, est, stopped, refinement
+    def decide(self, level, records):
+        """MARK: ``level`` with why the loop stops there (eta_h <= tol, the last level, the time limit:
+        ``out_of_time``, the size of the refined mesh: :meth:`too_large`) or with Doerfler's marking of it; a level
+        the loop stops at for a budget is solved to the full tolerance (:meth:`settle`).  ``records``: the rows of
+        the levels before (:func:`record`)."""
+        options, est = self.settings.options, level.est
+        if level.tol is not None and est.eta_h <= level.tol:
+            return replace(level, stopped="tol")
+        if level.number == options.max_levels - 1:
+            return replace(level, stopped="max_levels")
+        if out_of_time(records, level.sol, asdict(level.seconds), self.settings.start, options.max_seconds):
+            return self.settle(replace(level, stopped="max_seconds"), True)
+        reduction = 1.0 if not self.expected else min(max(est.eta_h / self.expected, 0.25), 1.5)
+        theta = landing_theta(options.theta, est.eta_h, level.tol, est.kind, reduction)
+        self.expected = (1.0 - theta) ** 0.5 * est.eta_h  # 0 for theta = 1: no correction next level
+        marked, mark_seconds = timed(dorfler_mark, est.eta_T_squared, theta)
+        marking = Marking(est.eta_T_squared, marked)
+        stopped, size_seconds = timed(self.too_large, marking)
+        level = replace(level, seconds=level.seconds.plus(mark_refine=mark_seconds + size_seconds))
+        if stopped is None:
+            return replace(level, marking=marking)
+        return self.settle(replace(level, stopped=stopped), True)
 
-    def settle(self, sol, est, returned, seconds):
-        """``settle`` with this loop's estimator, tolerances and gamma_lin."""
-        return settle(sol, est, self.estimator, (self.tol, self.solve_options["solver_tol"]), self.gamma_lin, returned,
-                       seconds)
+    def settle(self, level, returned):
+        """``settle`` with this loop's estimator, solver tolerance and gamma_lin."""
+        settings = self.settings
+        return settle(level, settings.estimator, settings.solve_options["solver_tol"], settings.gamma_lin, returned)
 
-    def too_large(self, limits, refinement):
+    def too_large(self, marking):
         """``too_large`` for this mesh and state, counting the DOFs of the method's V_h (the conforming
         baseline's are about half the DG count on the same mesh and orders)."""
-        method = get_method(self.solve_options["method"])
+        method = get_method(self.settings.solve_options["method"])
         count = None if not method.conforming else lambda mesh, state: space(
-            self.problem, mesh, self.order if self.max_order is None else state.orders, method).ndof
-        return too_large(self.mesh, self.state, limits, self.max_order is not None, self._refine, refinement, count)
+            self.problem, mesh, self.orders(state), method).ndof
+        return too_large(self.mesh, self.state, self.settings.options, self._refine, marking, count)
 
-    def refine(self, refinement):
-        """Carry the solution over, then refine the mesh in place (h or hp) and update the state."""
+    def refine(self, marking):
+        """REFINE: carry the solution over, then refine the mesh in place by ``marking`` (h or hp) and update the
+        state.  The caller holds no Level of this mesh any more (its solution must go before the mesh changes)."""
         copy_orders(*discontinuous(self.sol), self.carrier, np.full(self.mesh.ne, self.carrier_order))
         self.previous = WarmStart(u=self.carrier, mesh=self.mesh, multiplier=multiplier_snapshot(self.sol))
         self.sol = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
         gc.collect()  # reference cycles may keep them alive (seen in dask workers); adapt froze the older objects
-        self.state = self._refine(self.mesh, self.state, **refinement)
+        self.state = self._refine(self.mesh, self.state, marking)
 
-    def _refine(self, mesh, state, indicators, marked):
-        """Refine ``mesh`` in place (h: one bisection; hp: :func:`hp_refine`); returns the new HPState."""
-        if self.max_order is not None:
-            return hp_refine(mesh, state, indicators, marked, self.max_order, singular=self.singular,
-                             layers=self.layers)
-        refine(mesh, marked)
-        return HPState.uniform(mesh, self.order)
+    def _refine(self, mesh, state, marking):
+        """Refine ``mesh`` in place by ``marking`` (h: one bisection; hp: :func:`hp_refine`); returns the new
+        HPState."""
+        options = self.settings.options
+        if options.hp:
+            return hp_refine(mesh, state, marking.indicators, marking.marked, options.max_order,
+                             singular=self.singular, layers=options.layers)
+        refine(mesh, marking.marked)
+        return HPState.uniform(mesh, self.settings.order)
 
 
-def record(level, sol, est, state, seconds, tol):
-    """The CSV row of a level (keys ``FIELDS``; ``tol``: the level's target eta_h, :func:`target`)."""
-    mesh = sol.mesh
-    return dict(level=level, ndof=sol.ndof, elements=mesh.ne, eta_h=est.eta_h,
+def record(level, state):
+    """The CSV row of ``level`` (keys ``FIELDS``, and ``target``: its target eta_h, NaN for none); ``state``: the
+    HPState of its mesh, which must not be refined yet."""
+    sol, est, seconds, mesh = level.sol, level.est, level.seconds, level.sol.mesh
+    return dict(level=level.number, ndof=sol.ndof, elements=mesh.ne, eta_h=est.eta_h,
                 **{k: math.sqrt(v) for k, v in est.terms_squared.items()}, eta_lin=sol.info.get("linearization", 0.0),
-                iterations=sol.iterations, solve_seconds=seconds["solve"], assemble_seconds=sol.timings["assemble"],
-                estimate_seconds=seconds["estimate"],
-                mark_refine_seconds=seconds["mark_refine"], h_min=float(element_diameters(mesh).min()),
+                iterations=sol.iterations, solve_seconds=seconds.solve, assemble_seconds=sol.timings["assemble"],
+                estimate_seconds=seconds.estimate,
+                mark_refine_seconds=seconds.mark_refine, h_min=float(element_diameters(mesh).min()),
                 min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()),
-                target=math.nan if tol is None else tol)
+                target=math.nan if level.tol is None else level.tol)
 
 
 def target(tolerances, sol):
@@ -159,55 +245,56 @@ def target(tolerances, sol):
     return max(given) if given else None
 
 
-def settle(sol, est, estimator, tolerances, gamma_lin, returned, seconds):
-    """The estimate of a level, and an inexact solve made good enough (Ern & Vohralik's adaptive
-    inexact loop): if eta_lin > gamma_lin eta_h, solved on to eta_lin <= gamma_lin eta_h and
-    re-estimated (then, if still short, to the full tolerance); solved to the full tolerance at once
-    where it is returned (``returned``, or eta_h <= tol; ``tolerances``: (tol, solver_tol)).  ``estimator``:
-    callable(sol) -> Estimate.  ``est``: the
-    estimate of ``sol`` if known;
-    ``seconds``: its "solve" and "estimate" entries are increased.  Returns (sol, est)."""
-    tol, solver_tol = tolerances
-    if est is None:
-        est = timed(seconds, "estimate", estimator, sol)
+def settle(level, estimator, solver_tol, gamma_lin, returned):
+    """``level`` estimated, and an inexact solve made good enough (Ern & Vohralik's adaptive inexact loop): if
+    eta_lin > gamma_lin eta_h, solved on to eta_lin <= gamma_lin eta_h and re-estimated (then, if still short, to
+    the full tolerance ``solver_tol``); solved to the full tolerance at once where it is returned (``returned``, or
+    eta_h <= ``level.tol``).  ``estimator``: callable(sol) -> Estimate.  Returns the level with its solution,
+    estimate and seconds (solve, estimate) brought up to date."""
+    if level.est is None:
+        est, seconds = timed(estimator, level.sol)
+        level = replace(level, est=est, seconds=level.seconds.plus(estimate=seconds))
     for partial in (True, False):
+        sol, est = level.sol, level.est
         if sol.state is None:
             break
-        full = not partial or returned or (tol is not None and est.eta_h <= tol)
+        full = not partial or returned or (level.tol is not None and est.eta_h <= level.tol)
         if not full and sol.info["linearization"] <= gamma_lin * est.eta_h:
             break
-        sol = timed(seconds, "solve", finish, sol, solver_tol=solver_tol,
-                     energy_tol=None if full else gamma_lin * est.eta_h)
-        est = timed(seconds, "estimate", estimator, sol)
-    return sol, est
+        sol, solve_seconds = timed(finish, sol, solver_tol=solver_tol,
+                                   energy_tol=None if full else gamma_lin * est.eta_h)
+        est, estimate_seconds = timed(estimator, sol)
+        level = replace(level, sol=sol, est=est, seconds=level.seconds.plus(solve=solve_seconds,
+                                                                            estimate=estimate_seconds))
+    return level
 
 
-def timed(seconds, key, function, *args, **kwargs):
-    """function(*args, **kwargs), its seconds added to ``seconds[key]``."""
+def timed(function, *args, **kwargs):
+    """(function(*args, **kwargs), the seconds it took)."""
     start = time.perf_counter()
     result = function(*args, **kwargs)
-    seconds[key] += time.perf_counter() - start
-    return result
+    return result, time.perf_counter() - start
 
 
-def too_large(mesh, state, limits, hp, refine_mesh, refinement, count=None):
-    """"max_ndof" if the refined mesh would have more than ``limits["max_ndof"]`` DOFs, "memory" if its solve
-    would need more than ``limits["max_bytes"]`` (the memory model of :func:`ngdgfric.checks.check_size`),
-    else None.
+def too_large(mesh, state, options, refine_mesh, marking, count=None):
+    """"max_ndof" if the refined mesh would have more than ``options.max_ndof`` DOFs, "memory" if its solve
+    would need more than ``options.max_bytes`` (the memory model of :func:`ngdgfric.checks.check_size`),
+    else None; ``options``: an :class:`ngdgfric.AdaptOptions` (hp or h refinement, the budgets).
 
     One pass of bisection with closure gives an element at most 4 children (hp_refine makes two
     passes) and raising p_T to p_T + 1 at most doubles its n_T = (p_T + 1)(p_T + 2) DOFs (so at most
     quadruples its memory n_T (1000 + 270 n_T)); near the limits the refinement is done on a copy
     of the mesh (Netgen's copy keeps the bisection data, so the copy refines exactly as the mesh would).
+    ``refine_mesh``: callable(mesh, state, marking) -> the HPState of ``mesh`` refined in place by ``marking``.
     ``count``: callable(mesh, state) -> the DOFs of the method's V_h there (None: the DG count ``state.ndof``,
     which bounds the conforming one from above, so the first test holds for both).
     """
-    max_ndof, max_bytes = limits["max_ndof"], limits["max_bytes"]
-    growth, memory_growth = (32, 64) if hp else (4, 4)
+    max_ndof, max_bytes = options.max_ndof, options.max_bytes
+    growth, memory_growth = (32, 64) if options.hp else (4, 4)
     if state.ndof * growth <= max_ndof and estimated_bytes(state.orders) * memory_growth <= max_bytes:
         return None
     copy = ngs.Mesh(mesh.ngmesh.Copy())
-    refined = refine_mesh(copy, state, **refinement)
+    refined = refine_mesh(copy, state, marking)
     if (refined.ndof if count is None else count(copy, refined)) > max_ndof:
         return "max_ndof"
     return "memory" if estimated_bytes(refined.orders) > max_bytes else None
