@@ -10,7 +10,7 @@ the contact or the stick zone) is bisected twice more towards it in the same ste
 singular points does not pace the levels.  The paper's loop (``method="sipg", hp=False, order=1, theta=0.3,
 variant="paper"``) is unchanged by them: layers act in hp refinement only.  The inexact solves of ``gamma_lin``
 (Ern and Vohralik, SISC 35, 2013) are not the default.  The time to an accuracy these defaults reach:
-:doc:`/results/time_to_accuracy`; the runs that chose them: :doc:`/decisions_adaptivity`.
+:doc:`/results/time_to_accuracy`; the runs that chose them: :ref:`decisions-adaptivity`.
 """
 
 import dataclasses
@@ -40,10 +40,10 @@ __all__ = ["dorfler_mark", "adapt", "AdaptOptions", "Adaptation", "minimum_angle
 
 MAX_ORDER = 8
 """The largest degree of hp-adaptivity unless :func:`adapt` is given ``max_order``: no lower cap reaches the same
-accuracy faster on the paper's examples (the measurements: :doc:`/decisions_adaptivity`)."""
+accuracy faster on the paper's examples (the measurements: :ref:`decisions-adaptivity`)."""
 LAYERS = 1
 """The geometric layers per hp step unless :func:`adapt` is given ``layers`` (what a layer is: module docstring;
-why one: :doc:`/decisions_adaptivity`)."""
+why one: :ref:`decisions-adaptivity`)."""
 INITIAL_LAYERS = 2
 """Geometric layers towards the corners of the domain in ``initial_mesh`` for hp-adaptivity."""
 
@@ -86,7 +86,7 @@ def choose_method(problem, mesh, order):
     :doc:`/results/time_to_accuracy`) where it locks at no degree: below nu = 0.49, from where its error grows more than
     twice at p = 1-3.  At p = 4 its displacement does not lock (x1.84 at nu = 0.49999), but its stresses are worse: the
     estimator's effectivity (which sees them) rises from 2.0 at nu = 0.3 to 4.9 at nu = 0.49 and 6.6 at 0.4999 (Bassi
-    et al.: 2.1-2.5), so adapt would stop far below tol (:doc:`/decisions_adaptivity`).  From nu = 0.49 the
+    et al.: 2.1-2.5), so adapt would stop far below tol (:ref:`decisions-adaptivity`).  From nu = 0.49 the
     first of Bassi et al. (symmetric, error growth at most x1.08 up to nu = 0.49999) and Brezzi et al. (as robust at
     1.3-1.5 times Bassi's assembly cost) that does not lock at ``order``."""
     nu = largest(problem.on(mesh).nu, mesh)
@@ -388,7 +388,7 @@ def initial_mesh(problem, layers=0):
     (``grid_mesh``: uniform h = 1/2 on the paper's examples), else Netgen with maxh = min(1/2,
     a quarter of the domain's diameter, its longest extent); then ``layers`` geometric layers towards the domain's
     corners (the elements containing one bisected twice, ``layers`` times), where the solution is singular whatever
-    the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (why: :doc:`/decisions_adaptivity`)."""
+    the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (why: :ref:`decisions-adaptivity`)."""
     size = problem.geometry.diameter()
     if problem.geometry.is_rectangle:
         mesh = grid_mesh(problem, min(0.5, size / 2))

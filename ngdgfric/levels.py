@@ -114,7 +114,7 @@ class Level:
 def frozen_older_objects():
     """The objects alive on entry moved out of the garbage collector's view until exit (``gc.freeze``): the full
     collection of every level (``AdaptiveLoop.refine``) then scans only what the loop made
-    (:doc:`/decisions_adaptivity`)."""
+    (:ref:`decisions-levels`)."""
     gc.freeze()
     try:
         yield
