@@ -139,10 +139,11 @@ def rho_case(case):
     """case: example, factor, h.  Uzawa with rho = factor * default_rho (the paper's solver)."""
     problem = example(case["example"])
     disc = Discretization(problem, uniform_mesh(problem, case["h"]))
-    rho = case["factor"] * default_rho(disc)
+    contact = Contact(disc)
+    rho = case["factor"] * default_rho(disc, contact)
     start = time.perf_counter()
     try:
-        _, _, info = uzawa(disc, UzawaOptions(rho=rho, maxit=case.get("maxit", 3000)))
+        _, _, info = uzawa(disc, contact, UzawaOptions(rho=rho, maxit=case.get("maxit", 3000)))
         status, iterations = "converged", info["iterations"]
     except SolverError as error:
         status, iterations = _failed(error), len(error.history)
