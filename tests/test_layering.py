@@ -11,6 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
+from test_house import documentation_lines
 
 import ngdgfric as ndf
 
@@ -46,9 +47,7 @@ FORMER = [
 def code_lines(path):
     """(line number, text) of the lines of ``path`` that are code: docstrings and comments left out."""
     text = path.read_text()
-    tree = ast.parse(text)
-    docs = {line for node in ast.walk(tree) if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)
-            and isinstance(node.value.value, str) for line in range(node.lineno, node.end_lineno + 1)}
+    docs = documentation_lines(ast.parse(text))
     return [(k, line) for k, line in enumerate(text.splitlines(), 1)
             if k not in docs and not line.lstrip().startswith("#")]
 

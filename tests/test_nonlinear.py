@@ -24,7 +24,7 @@ def setup(m_n=1.0, order=2):
     u.vec.FV().NumPy()[:] = 0.05 * rng.standard_normal(disc.V.ndof)
     lam_tau.vec.FV().NumPy()[:] = rng.uniform(-1, 1, contact.Q.ndof)
     c_tau = coefficient(p.c_tau)
-    return disc, contact, u, lam_tau, ContactOperator(disc, contact, u, lambda trial: c_tau * lam_tau)
+    return disc, contact, u, lam_tau, ContactOperator(disc, contact, u, c_tau, lam_tau)
 
 
 def test_operator_is_the_residual_of_3_3():

@@ -52,7 +52,7 @@ def friction_bound(problem, u):
     if max(exponents(problem.m_t)) == 0:
         return coefficient(problem.c_tau)
     d = penetration(problem, u)
-    return coefficient(problem.c_tau) * _side_by_side(problem.m_t, lambda m: laws.bound(d, 1, m))
+    return _side_by_side(problem.m_t, lambda m: laws.bound(d, coefficient(problem.c_tau), m))
 
 
 def compliance_form(problem, dS, u, v):

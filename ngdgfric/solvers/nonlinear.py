@@ -29,20 +29,18 @@ __all__ = ["ContactOperator", "ReusedFactorization", "multiplier_update", "newto
 
 
 class ContactOperator:
-    """F(u) and its Jacobian for the GridFunction ``u`` and a friction force density ``psi(u)``.
-
-    ``psi``: callable mapping the displacement (a trial function) to the tangential friction force
-    density (independent of u for Uzawa: c_tau lam_tau).
+    """F(u) and its Jacobian for the GridFunction ``u`` with the friction term g(lam_tau, v) of a fixed multiplier:
+    B_h(u, v) + j_n(u, v) + g(lam_tau, v) - (f, v), the friction bound ``bound`` independent of u (Uzawa: c_tau).
     """
 
-    def __init__(self, disc, contact, u, psi):
+    def __init__(self, disc, contact, u, bound, lam_tau):
         self.disc = disc
         self.u = u
         self.linear_compliance = all(m == 1 for m in exponents(disc.problem.m_n))
         trial, test = disc.V.TnT()
         self.form = ngs.BilinearForm(disc.V)
         self.form += compliance_form(disc.problem, contact.dS, trial, test)
-        self.form += friction_force(1, psi(trial), test, contact.dS)
+        self.form += friction_force(bound, lam_tau, test, contact.dS)
         self.sum = BlockSum(disc.A, contact.groups())
         self.points = contact.points()
         self._gap = penetration(disc.problem, u)

@@ -210,7 +210,7 @@ def _operators(disc, contact, problem, u, lam_tau, rho):
     c_tau = 0), a callable."""
     _, t = normal_tangent()
     c_tau = coefficient(problem.c_tau)
-    op = ContactOperator(disc, contact, u, lambda trial: c_tau * lam_tau)
+    op = ContactOperator(disc, contact, u, c_tau, lam_tau)
     u_tau = u * t
     update = multiplier_update(contact, lam_tau, ngs.IfPos(c_tau, project_unit(lam_tau + rho * c_tau * u_tau),
                                                         ngs.IfPos(u_tau, 1, -1)))
