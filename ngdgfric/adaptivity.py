@@ -15,15 +15,16 @@ variant="paper"``) is unchanged by them: layers act in hp refinement only.  The 
 
 import dataclasses
 import functools
-import math
 import time
 from dataclasses import dataclass
+from numbers import Integral, Real
 from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
 
-from .checks import MEMORY_BUDGET
+from .checks import MEMORY_BUDGET, callback, optional, positive_integer, positive_number
+from .dg.discretization import MAX_DEGREE, check_order, space
 from .dg.material import largest
 from .dg.methods import get_method
 from .estimator import KINDS, VARIANTS, deprecated_weights, estimate
@@ -56,7 +57,9 @@ class Adaptation:
     ----------
     levels : list of dict
         One record per solved level, with the keys of ``ngdgfric.adaptivity.FIELDS`` (level, DOFs, degrees,
-        :math:`\\eta_h`, iterations, times; the columns of ``adapt``'s CSV).
+        :math:`\\eta_h`, iterations, times; the columns of ``adapt``'s CSV) and ``target``: the :math:`\\eta_h` the
+        level had to reach, the larger of ``tol`` and ``rtol`` :math:`|\\!|\\!| u_h |\\!|\\!|_h`, NaN (a float, as
+        the other values) when neither ``tol`` nor ``rtol`` is given.
     solution : Solution
         The :class:`ngdgfric.Solution` of the last level; its mesh is the final mesh, not refined after the solve.
     estimate : Estimate
@@ -170,28 +173,33 @@ class AdaptOptions:
     max_seconds: float | None = None
 
     def __post_init__(self):
-        if not (isinstance(self.theta, (int, float)) and not isinstance(self.theta, bool) and 0 < self.theta <= 1):
-            raise ValueError(f"theta must be in (0, 1], got {self.theta!r}")
-        if not isinstance(self.hp, bool):
-            raise ValueError(f"hp must be True or False, got {self.hp!r}")
-        if self.max_order is not None and not (isinstance(self.max_order, (int, np.integer))
-                                               and not isinstance(self.max_order, bool) and self.max_order >= 1):
-            raise ValueError(f"max_order must be an integer >= 1 or None, got {self.max_order!r}")
-        if not (self.layers is None or (isinstance(self.layers, (int, np.integer)) and not isinstance(self.layers, bool)
-                                        and self.layers >= 0)):
-            raise ValueError(f"layers must be an integer >= 0, got {self.layers!r}")
-        for name in ("max_levels", "max_ndof"):
+        def fraction(value, name):
+            if not (isinstance(value, Real) and not isinstance(value, bool) and 0 < value <= 1):
+                raise ValueError(f"{name} must be in (0, 1], got {value!r}")
+
+        def hp_order(value, name):
+            if not (isinstance(value, Integral) and not isinstance(value, bool) and 1 <= value <= MAX_DEGREE):
+                raise ValueError(f"{name} must be an integer in 1..{MAX_DEGREE} (MAX_DEGREE, the largest degree "
+                                 f"NGSolve assembles) or None, got {value!r}")
+
+        def layer_count(value, name):
+            if not (isinstance(value, Integral) and not isinstance(value, bool) and value >= 0):
+                raise ValueError(f"{name} must be an integer >= 0, got {value!r}")
+
+        def flag(value, name):
+            if not isinstance(value, (bool, np.bool_)):
+                raise ValueError(f"{name} must be True or False, got {value!r}")
+
+        checks = dict(theta=fraction, hp=flag, max_order=optional(hp_order), layers=optional(layer_count),
+                      tol=optional(positive_number), rtol=optional(positive_number), max_levels=positive_integer,
+                      max_ndof=positive_integer, max_bytes=positive_number, max_seconds=optional(positive_number))
+        kinds = dict(theta=float, hp=bool, max_order=int, layers=int, tol=float, rtol=float, max_levels=int,
+                     max_ndof=int, max_bytes=float, max_seconds=float)
+        for name, check in checks.items():
             value = getattr(self, name)
-            if not (isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 1):
-                raise ValueError(f"{name} must be a positive integer, got {value!r}")
-        for name in ("tol", "rtol", "max_seconds"):
-            value = getattr(self, name)
-            if value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
-                                          and math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a positive number or None, got {value!r}")
-        if not (isinstance(self.max_bytes, (int, float)) and not isinstance(self.max_bytes, bool)
-                and math.isfinite(self.max_bytes) and self.max_bytes > 0):
-            raise ValueError(f"max_bytes must be a positive number of bytes, got {self.max_bytes!r}")
+            check(value, name)
+            if value is not None:  # numpy's numbers as Python's: in the records, the CSV and repr
+                object.__setattr__(self, name, kinds[name](value))
         for name in ("max_order", "layers"):
             if getattr(self, name) is not None and not self.hp:
                 raise ValueError(f"{name}={getattr(self, name)!r} acts in hp refinement only; hp=False would ignore it")
@@ -337,6 +345,7 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     settings = AdaptOptions.merged(settings, options)
     _check_arguments(order, settings, gamma_lin)
     _check_applicable(solver, estimator, variant, gamma_lin)
+    callback(keep, "keep")
     start, say = time.perf_counter(), reporter(progress)
     settings = _with_hp_defaults(settings)
     mesh = initial_mesh(problem, INITIAL_LAYERS if settings.layers else 0) if mesh is None else mesh
@@ -344,6 +353,7 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
         csv_path = Path(csv_path)
         check_writable(csv_path.parent)
     method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
+    _check_first_level(problem, mesh, order, get_method(method), settings)
     say(f"method {method}: {reason}")
     solve_options = MappingProxyType(dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol,
                                           max_bytes=settings.max_bytes, **options))
@@ -401,14 +411,26 @@ def initial_mesh(problem, layers=0):
 
 def _check_arguments(order, settings, gamma_lin):
     """ValueError naming the first argument of :func:`adapt` out of its range (the settings checked themselves)."""
-    if not (isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order >= 1):
-        raise ValueError(f"order must be an integer >= 1, got {order!r}")
+    if np.ndim(order) != 0:
+        raise ValueError(f"order must be an integer in 1..{MAX_DEGREE} (the degree of the first level), got {order!r}")
+    check_order(order)
     largest = MAX_ORDER if settings.max_order is None else settings.max_order
     if settings.hp and largest < order:
         raise ValueError(f"max_order must be an integer >= order = {order}, got {settings.max_order!r}"
                          f"{f' (the default {MAX_ORDER})' if settings.max_order is None else ''}")
-    if gamma_lin is not None and not (isinstance(gamma_lin, (int, float)) and 0 < gamma_lin < 1):
+    if gamma_lin is not None and not (isinstance(gamma_lin, Real) and not isinstance(gamma_lin, bool)
+                                      and 0 < gamma_lin < 1):
         raise ValueError(f"gamma_lin must be a number in (0, 1) or None, got {gamma_lin!r}")
+
+
+def _check_first_level(problem, mesh, order, method, settings):
+    """ValueError before the first solve if the first level alone has more than ``max_ndof`` DOFs (those of ``method``
+    on ``mesh`` at degree ``order``; its ``max_bytes`` are checked by the first solve before assembly)."""
+    ndof = space(problem, mesh, order, method).ndof
+    if ndof > settings.max_ndof:
+        raise ValueError(f"max_ndof = {settings.max_ndof} is below the first level's {ndof} DOFs ({method.name}, "
+                         f"degree {order}, {mesh.ne} elements): give max_ndof >= {ndof}, a lower order or a coarser "
+                         f"first mesh")
 
 
 def _check_applicable(solver, estimator, variant, gamma_lin):

@@ -9,9 +9,17 @@ datum and a point where it fails with a :class:`~ngdgfric.DataError` (a datum in
 between these can pass): unchecked, ``g_a = "sqrt(x - 2)"`` or ``E = "2000*(0.5 - x)"`` would end in a
 no-contact answer or a complex energy norm.
 
+``check_solution`` names an argument that is not a solution where one is needed; ``positive_number``,
+``positive_integer``, ``callback``, ``choice`` and ``optional`` check one argument each (any real number is a number,
+any integral one an integer: numpy's too), for the solvers' options, :func:`~ngdgfric.solve` and
+:func:`~ngdgfric.adapt`.
+
 ``check_size`` refuses a discretisation whose estimated memory is above a budget (``max_bytes``, default
 ``MEMORY_BUDGET``, 8 GB) before it is assembled.
 """
+
+import reprlib
+from numbers import Integral, Real
 
 import ngsolve as ngs
 import numpy as np
@@ -20,7 +28,8 @@ from .bounds import DATA
 from .dg.dofs import element_dofs
 from .problem import pattern
 
-__all__ = ["check_data", "check_size", "estimated_bytes", "DataError", "MEMORY_BUDGET"]
+__all__ = ["check_data", "check_size", "estimated_bytes", "check_solution", "shown", "DataError", "MEMORY_BUDGET",
+           "positive_number", "positive_integer", "callback", "choice", "optional"]
 
 # bytes; the default of check_size's max_bytes (and of solve's and adapt's), which estimates the peak memory of
 # a solve as the sum over elements of n_T (1000 + 270 n_T) bytes, n_T = (p_T + 1)(p_T + 2) DOFs (fitted to the
@@ -121,6 +130,8 @@ def check_size(orders, max_ndof=None, elements=None, max_bytes=MEMORY_BUDGET):
     ``max_ndof=None``, if the estimated memory exceeds ``max_bytes`` (bytes; default ``MEMORY_BUDGET``, 8 GB;
     the memory model: ``estimated_bytes``).  With ``elements``, ``orders`` is one order p for that many
     elements (an estimate before meshing)."""
+    optional(positive_integer)(max_ndof, "max_ndof")
+    positive_number(max_bytes, "max_bytes")
     ndof, memory = _size(orders, elements)
     if max_ndof is None:
         if memory > max_bytes:
@@ -130,3 +141,57 @@ def check_size(orders, max_ndof=None, elements=None, max_bytes=MEMORY_BUDGET):
                              f"(CLI: --max-ndof) to allow it")
     elif ndof > max_ndof:
         raise ValueError(f"{ndof:.4g} DOFs (about {memory / 1e9:.3g} GB) is more than max_ndof = {max_ndof}")
+
+
+def check_solution(value, name, reference=False):
+    """ValueError naming argument ``name`` unless ``value`` is a :class:`~ngdgfric.Solution` (duck-typed: its
+    ``problem``, ``mesh``, ``u`` and ``discretization``), or with ``reference`` also a :class:`~ngdgfric.Reference`
+    (``problem``, ``mesh`` and ``u``); an :class:`~ngdgfric.Adaptation` is pointed to its ``solution``."""
+    needs = ("problem", "mesh", "u") if reference else ("problem", "mesh", "u", "discretization")
+    if all(hasattr(value, key) for key in needs):
+        return
+    what = "a Solution of ngdgfric.solve" + (" or a Reference" if reference else "")
+    hint = "; an Adaptation holds its last one as .solution" if hasattr(value, "solution") else ""
+    raise ValueError(f"{name} must be {what}, got {shown(value)}{hint}")
+
+
+def shown(value):
+    """A bad argument as a message shows it: numbers, strings, None and containers by their (shortened) repr, any
+    other object by its type."""
+    if value is None or isinstance(value, (Real, str, bytes, tuple, list, dict)):
+        return reprlib.repr(value)
+    return f"a {type(value).__name__}"
+
+
+def positive_number(value, name):
+    """A finite real number > 0."""
+    if not isinstance(value, Real) or isinstance(value, bool) or not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+
+
+def positive_integer(value, name):
+    """An integer >= 1."""
+    if not isinstance(value, Integral) or isinstance(value, bool) or value < 1:
+        raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+
+
+def callback(value, name):
+    """None or a callable."""
+    if value is not None and not callable(value):
+        raise ValueError(f"{name} must be callable or None, got {value!r}")
+
+
+def choice(*choices):
+    """A check accepting one of ``choices``."""
+    def check(value, name):
+        if value not in choices:
+            raise ValueError(f"{name} must be one of {list(choices)}, got {value!r}")
+    return check
+
+
+def optional(check):
+    """``check``, or None."""
+    def check_optional(value, name):
+        if value is not None:
+            check(value, name)
+    return check_optional

@@ -142,7 +142,7 @@ def test_adapt_stops_at_a_relative_tolerance(tmp_path):
     assert run.stopped == "tol"
     assert last["target"] == pytest.approx(0.02 * ndf.energy_norm(run.solution), rel=1e-12)
     assert last["eta_h"] <= last["target"] and all(r["eta_h"] > r["target"] for r in run.levels[:-1])
-    with pytest.raises(ValueError, match="rtol must be a positive number"):
+    with pytest.raises(ValueError, match="rtol must be a positive finite number"):
         ndf.adapt(problem, rtol=-1.0)
 
 

@@ -48,7 +48,7 @@ def test_size_limit_counts_dofs_and_memory():
     check_size(1, elements=10**5)
     with pytest.raises(ValueError, match="pass max_ndof=15000000"):
         check_size(1, elements=2.5e6)
-    check_size(1, max_ndof=2e7, elements=2.5e6)  # the user may raise the limit
+    check_size(1, max_ndof=20_000_000, elements=2.5e6)  # the user may raise the limit
     check_size(1, elements=2.5e6, max_bytes=1e12)  # or the memory budget (a parameter, default MEMORY_BUDGET)
     with pytest.raises(ValueError, match="more than the 1e-06 GB allowed by max_bytes = 1000"):
         check_size(1, elements=1, max_bytes=1e3)

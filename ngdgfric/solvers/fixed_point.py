@@ -27,13 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import callback, choice, optional, positive_integer, positive_number
 from ..contact.forms import frozen_bound
 from ..errors import SolverError, TimeLimitError, check_deadline, deadline
 from ..problem import exponents
 from ..transfer import starting_point
 from .newton import NewtonOptions, newton
 from .nonlinear import relative_change
-from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
+from .options import SolverOptions
 from .uzawa import UzawaOptions, uzawa
 
 __all__ = ["fixed_point", "FixedPointOptions", "INNER"]

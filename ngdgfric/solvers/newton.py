@@ -37,13 +37,14 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..checks import callback, choice, optional, positive_integer, positive_number
 from ..contact.traces import ContactTraces
 from ..errors import SolverError, SolverWarning, TimeLimitError, deadline, warn
 from ..transfer import starting_point
 from . import pardiso, semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
 from .fullspace import FULL_SPACE_POINTS, applicable, full_space_newton
-from .options import SolverOptions, callback, choice, optional, positive_integer, positive_number
+from .options import SolverOptions
 from .reduced import ReducedContact
 
 __all__ = ["newton", "NewtonOptions", "NewtonState"]

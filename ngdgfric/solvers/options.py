@@ -7,45 +7,8 @@ raises a ValueError naming it before anything is assembled.
 """
 
 import dataclasses
-from numbers import Integral, Real
 
-import numpy as np
-
-__all__ = ["SolverOptions", "positive_number", "positive_integer", "callback", "choice", "optional"]
-
-
-def positive_number(value, name):
-    """A finite real number > 0."""
-    if not isinstance(value, Real) or isinstance(value, bool) or not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-
-
-def positive_integer(value, name):
-    """An integer >= 1."""
-    if not isinstance(value, Integral) or isinstance(value, bool) or value < 1:
-        raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
-
-
-def callback(value, name):
-    """None or a callable."""
-    if value is not None and not callable(value):
-        raise ValueError(f"{name} must be callable or None, got {value!r}")
-
-
-def choice(*choices):
-    """A check accepting one of ``choices``."""
-    def check(value, name):
-        if value not in choices:
-            raise ValueError(f"{name} must be one of {list(choices)}, got {value!r}")
-    return check
-
-
-def optional(check):
-    """``check``, or None."""
-    def check_optional(value, name):
-        if value is not None:
-            check(value, name)
-    return check_optional
+__all__ = ["SolverOptions"]
 
 
 class SolverOptions:

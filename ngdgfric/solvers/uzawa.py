@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
+from ..checks import callback, optional, positive_integer, positive_number
 from ..contact.boundary import evaluate_on_contact, normal_tangent
 from ..contact.forms import friction_matrix
 from ..contact.laws import project_unit
@@ -42,7 +43,7 @@ from ..sparse import direct_inverse
 from ..threads import threads
 from ..transfer import starting_point
 from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
-from .options import SolverOptions, callback, optional, positive_integer, positive_number
+from .options import SolverOptions
 
 __all__ = ["uzawa", "UzawaOptions", "default_rho", "complementarity"]
 
