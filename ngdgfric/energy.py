@@ -16,6 +16,7 @@ on a DG space (:math:`v^T G v = \|v\|_h^2`), all from the same densities (``_str
 import ngsolve as ngs
 import numpy as np
 
+from .checks import check_solution, shown
 from .dg.forms import SYMMETRY_WEIGHT, edge_length, has_dirichlet_data, jump_inner, normal_part
 from .meshes import facet_indicator, nested, triangle_corners
 from .problem import coefficient, strain, strain_of, stress
@@ -35,8 +36,10 @@ def _strain_energy(problem, a, b):
 def _support_jumps(problem, mesh, a, b, n):
     """[a] : [b] on the supported boundary edges: the jumps a, b on Gamma_D, their normal parts on symmetry sides
     (weight :data:`~ngdgfric.dg.forms.SYMMETRY_WEIGHT`), zero elsewhere."""
-    return facet_indicator(mesh, problem.where("dirichlet")) * jump_inner(a, b, n) + SYMMETRY_WEIGHT * \
-        facet_indicator(mesh, problem.where("symmetry")) * jump_inner(normal_part(a, n), normal_part(b, n), n)
+    # IfPos, not indicator times jump: a NaN of a (x log x at x = 0) on an edge where it does not enter stays out
+    return ngs.IfPos(facet_indicator(mesh, problem.where("dirichlet")) - 0.5, jump_inner(a, b, n), 0) + \
+        SYMMETRY_WEIGHT * ngs.IfPos(facet_indicator(mesh, problem.where("symmetry")) - 0.5,
+                                    jump_inner(normal_part(a, n), normal_part(b, n), n), 0)
 
 
 def energy_matrix(problem, mesh, V):
@@ -197,7 +200,9 @@ def energy_norm(sol, w=None):
     ValueError
         For a CoefficientFunction ``w`` whose symbolic derivative is not the derivative of its values (one built
         from a GridFunction, ``0.5 * sol.u``: symbolic differentiation sees a GridFunction as a constant;
-        ``check_derivative``); pass the GridFunction itself.
+        ``check_derivative``); pass the GridFunction itself.  For ``sol`` not a Solution or Reference, ``w`` not a
+        displacement (a Solution: use :func:`ngdgfric.energy_error`; a number; a function with other than 2
+        components), and a ``w`` or strain that is not finite where it enters (named with a point).
 
     See Also
     --------
@@ -212,6 +217,8 @@ def energy_norm(sol, w=None):
     >>> print(f"{ndf.energy_norm(sol, sol.u):.2f}")
     0.00
     """
+    check_solution(sol, "sol", reference=True)
+    _check_w(w)
     problem = problem_of(sol)
     if w is None or isinstance(w, ngs.GridFunction):
         v = sol.u if w is None else difference(sol.u, w)
@@ -224,4 +231,46 @@ def energy_norm(sol, w=None):
     e = strain(u) - strain_of(w)
     order = max(2 * _order(u.space) + 4, EXACT_ORDER)
     volume = ngs.Integrate(ngs.InnerProduct(stress(problem, e), e), mesh, order=order)
-    return (volume + _jump_part(problem, mesh, u, dirichlet_value=w)) ** 0.5
+    squared = volume + _jump_part(problem, mesh, u, dirichlet_value=w)
+    if not np.isfinite(squared):
+        _name_non_finite(problem, mesh, w, order)
+    return squared**0.5
+
+
+def _check_w(w):
+    """ValueError naming ``w`` unless it is None, a 2-vector GridFunction or a 2-vector CoefficientFunction."""
+    if w is None:
+        return
+    if hasattr(w, "problem") and hasattr(w, "u"):
+        raise ValueError(f"w is a {type(w).__name__}, not a displacement: measure u_h against another Solution or a "
+                         f"Reference with ngdgfric.energy_error(sol, w), or pass its GridFunction w.u")
+    if not isinstance(w, ngs.CoefficientFunction):
+        raise ValueError(f"w must be None, a GridFunction or a CoefficientFunction of x, y with 2 components (an "
+                         f"exact displacement), got {shown(w)}")
+    if w.dim != 2:
+        kind = "GridFunction" if isinstance(w, ngs.GridFunction) else "CoefficientFunction"
+        raise ValueError(f"w must be a displacement with 2 components, got a {kind} with {w.dim}")
+
+
+def _name_non_finite(problem, mesh, w, order):
+    """ValueError naming a point where the exact solution ``w`` or its strain is not finite: at the Gauss points of
+    degree ``order`` of the elements (the volume integral) or of the Dirichlet and symmetry edges (the jumps there);
+    edges of other sides, where w does not enter, are not looked at."""
+    rules = [(ngs.VOL, {ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, order)}, "inside the domain")]
+    for part in ("dirichlet", "symmetry"):
+        if problem.sides(part):
+            rules.append((mesh.Boundaries(problem.where(part)), {ngs.SEGM: ngs.IntegrationRule(ngs.SEGM, order)},
+                          f"on the {part} sides"))
+    for where, rule, said in rules:
+        points = mesh.MapToAllElements(rule, where)
+        for what, cf in (("w", w), ("the strain of w", strain_of(w))):
+            values = np.asarray(cf(points)).reshape(len(points), -1)
+            bad = np.flatnonzero(~np.all(np.isfinite(values), axis=1))
+            if bad.size:
+                k = int(bad[0])
+                at = (float(ngs.x(points[k])), float(ngs.y(points[k])))
+                raise ValueError(f"{what} is not finite {said}: {tuple(map(float, values[k]))} at ({at[0]:.6g}, "
+                                 f"{at[1]:.6g}) ({bad.size} of {len(points)} quadrature points); give an exact "
+                                 f"solution with finite values there")
+    raise ValueError("the error of u_h against w is not finite, though w and its strain are finite at the quadrature "
+                     "points: the material or the mesh?")

@@ -431,6 +431,39 @@ class ContactProblem:
         r"""Lamé parameter :math:`\lambda = E \nu / ((1 + \nu)(1 - 2 \nu))` (Section 6)."""
         return self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
 
+    def roles(self):
+        """The boundary part of every side of the geometry.
+
+        Returns
+        -------
+        dict
+            ``{side label: part}``, the part one of ``"dirichlet"``, ``"traction"``, ``"contact"``, ``"symmetry"``
+            (names of a part that no side of the geometry carries are left out).
+        """
+        labels = self.geometry.side_names
+        return {name: part for part in PARTS for name in self.sides(part) if name in labels}
+
+    def value_on(self, name, part):
+        """The value of a datum on one region or side.
+
+        Parameters
+        ----------
+        name : str
+            A datum, e.g. ``"E"`` or ``"g"``.
+        part : str
+            A region name (``E``, ``nu``, ``f``) or a side name of the datum's boundary part.
+
+        Returns
+        -------
+        object
+            The datum's entry for ``part`` if it is a dict (zero for a traction or Dirichlet side it leaves out),
+            else the datum itself.
+        """
+        value = getattr(self, name)
+        if not isinstance(value, dict):
+            return value
+        return value[part] if part in value else _OPTIONAL[DATA[name].part]
+
     def boundary_names(self):
         """Every side name the problem gives a condition.
 

@@ -26,12 +26,13 @@ import ngsolve as ngs
 import numpy as np
 
 from .bounds import DATA as BOUNDED
-from .dg.discretization import dg_space
+from .checks import check_solution
+from .dg.discretization import MAX_DEGREE, dg_space
 from .dg.forms import has_dirichlet_data
 from .energy import EXACT_ORDER, difference, energy_matrix, energy_norm, energy_norm_squared_parts, problem_of
 from .files import atomic_path
 from .meshes import mesh_arrays, mesh_from_arrays
-from .problem import Polygon, coefficient, is_number, strain
+from .problem import Polygon, coefficient, is_number, pattern, strain
 from .transfer import discontinuous
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
@@ -263,9 +264,10 @@ def _check_arrays(path, data):
     if need("labels", 1, kind="U").shape[0] != len(data["segments"]):
         fail(f"{len(data['labels'])} labels for {len(data['segments'])} boundary segments")
     orders = need("orders", 1, kind="iu")
-    if orders.shape[0] != len(data["triangles"]) or (orders.size and not 1 <= orders.min() <= orders.max() <= 30):
+    if orders.shape[0] != len(data["triangles"]) or (orders.size and not 1 <= orders.min() <= orders.max()
+                                                      <= MAX_DEGREE):
         fail(f"orders: {orders.shape[0]} orders in {orders.min(initial=0)}..{orders.max(initial=0)} for "
-             f"{len(data['triangles'])} triangles (need one in 1..30 each)")
+             f"{len(data['triangles'])} triangles (need one in 1..{MAX_DEGREE} each)")
     need("u", 1)
     if need("eta_h", 0).item() < 0:
         fail(f"eta_h = {data['eta_h'].item()} is negative")
@@ -326,8 +328,9 @@ def energy_error(sol, reference):
     Raises
     ------
     ValueError
-        If ``reference`` is a Solution of another problem (geometry, numbers or data differ), or the meshes are
-        of different domains.
+        If ``sol`` or ``reference`` is not a Solution or Reference, ``reference`` is a Solution of another problem
+        (its geometry, the part of a side, the material or other data differ), or the meshes are of different
+        domains.
 
     See Also
     --------
@@ -350,6 +353,8 @@ def reference_errors(sol, reference):
     points that lie outside the reference's mesh (two meshes of a curved side differ by their chords or curved
     elements), where u_ref is evaluated a little inside (:func:`locate`).
     """
+    check_solution(sol, "sol", reference=True)
+    check_solution(reference, "reference", reference=True)
     mesh, problem = sol.mesh, problem_of(sol)
     if not isinstance(reference, Reference):
         check_same_problem(sol, reference)
@@ -408,31 +413,51 @@ def locate(mesh, xy, centres):
 
 
 def check_same_problem(sol, other):
-    """ValueError unless the solution ``other`` (anything with ``problem``) is of ``sol``'s problem: the same geometry
-    and side names, and every datum of :data:`ngdgfric.bounds.DATA` the same (per region or side: the same parts, each
-    with the same value) at the :func:`sample_points` (centroids) of ``sol``'s mesh, to 1e-10."""
+    """ValueError unless the solution ``other`` (anything with ``problem``) is of ``sol``'s problem: the same geometry,
+    every side of it in the same boundary part (Dirichlet, traction, contact, symmetry), and every datum of
+    :data:`ngdgfric.bounds.DATA` the same on every region and side where it enters (:meth:`ContactProblem.value_on`):
+    the material and body force at the centroids of ``sol``'s elements of the region, the boundary data at the Gauss
+    points of its edges of the side (:data:`SIDE_RULE`), to 1e-10; the exponents exactly."""
     mine, theirs = sol.problem, other.problem
     if mine is theirs:
         return
-    if mine.geometry != theirs.geometry or list(mine.boundary_names()) != list(theirs.boundary_names()):
-        raise ValueError(f"the reference solves another problem: its geometry or side names differ from u_h's "
-                         f"({theirs.name!r} against {mine.name!r})")
-    points, triangles, _, _ = mesh_arrays(sol.mesh)
-    where = sample_points(points, triangles)  # centroids: inside the mesh also next to curved sides
-    for name in BOUNDED:
-        values = [getattr(problem, name) for problem in (mine, theirs)]
-        parts = [sorted(value) if isinstance(value, dict) else [None] for value in values]
-        if parts[0] != parts[1]:
-            raise ValueError(f"the reference solves another problem: {name} is given on {parts[1]}, u_h's on "
-                             f"{parts[0]}")
-        for part in parts[0]:
-            a, b = (_values_at(value if part is None else value[part], sol.mesh, where) for value in values)
-            differ = np.abs(b - a) > 1e-10 * (np.abs(a) + np.abs(a).max())
-            if np.any(differ):
-                row = int(np.argwhere(differ)[0][0])
-                raise ValueError(f"the reference solves another problem: {name}{'' if part is None else f'[{part}]'} "
-                                 f"is {b.ravel()[row]:.10g} there, {a.ravel()[row]:.10g} for u_h at "
-                                 f"({where[row][0]:.6g}, {where[row][1]:.6g})")
+    if mine.geometry != theirs.geometry:
+        raise ValueError(f"the reference solves another problem: its geometry differs from u_h's ({theirs.name!r} "
+                         f"against {mine.name!r})")
+    roles, their_roles = mine.roles(), theirs.roles()
+    for side, part in roles.items():
+        if their_roles[side] != part:
+            raise ValueError(f"the reference solves another problem: side {side!r} is a {their_roles[side]} side "
+                             f"there, a {part} side for u_h")
+    for name, datum in BOUNDED.items():
+        parts = mine.geometry.region_names if datum.part == "region" else [side for side, part in roles.items()
+                                                                            if part == datum.part]
+        for part in parts:
+            a, b = (problem.value_on(name, part) for problem in (mine, theirs))
+            if datum.kind == "number":
+                if a != b:
+                    raise ValueError(f"the reference solves another problem: {name} is {b!r} there, {a!r} for u_h "
+                                     f"on {part!r}")
+                continue
+            _check_values(sol.mesh, name, part, datum.part == "region", a, b)
+
+
+SIDE_RULE = ngs.IntegrationRule(ngs.SEGM, 5)  # where check_same_problem compares the data of a side
+
+
+def _check_values(mesh, name, part, region, a, b):
+    """ValueError naming datum ``name`` and a point unless the data ``a`` (u_h's) and ``b`` (the reference's) agree
+    to 1e-10 on ``part`` of ``mesh`` (a ``region``, else a side)."""
+    where = mesh.Materials(pattern([part])) if region else mesh.Boundaries(pattern([part]))
+    rule = ngs.IntegrationRule([(1 / 3, 1 / 3)], [0.5]) if region else SIDE_RULE
+    points = mesh.MapToAllElements({ngs.TRIG if region else ngs.SEGM: rule}, where)
+    a, b = (np.asarray(coefficient(value)(points)).reshape(len(points), -1) for value in (a, b))
+    differ = np.abs(b - a) > 1e-10 * (np.abs(a) + np.abs(a).max())
+    if np.any(differ):
+        row, column = map(int, np.argwhere(differ)[0])
+        x, y = float(ngs.x(points[row])), float(ngs.y(points[row]))
+        raise ValueError(f"the reference solves another problem: {name} on {part!r} is {b[row, column]:.10g} there, "
+                         f"{a[row, column]:.10g} for u_h at ({x:.6g}, {y:.6g})")
 
 
 @dataclass(frozen=True)
