@@ -98,13 +98,16 @@ def _evaluation_points(mesh, order):
 
 def largest(value, mesh):
     """The largest value of a scalar datum: a number itself, a CoefficientFunction at the Gauss points of degree
-    2 + :data:`MATERIAL_BONUS` of every element of ``mesh`` (Poisson's ratio for
+    2 + :data:`MATERIAL_BONUS`, the vertices and the edge midpoints of every element of ``mesh`` (a datum
+    largest at a vertex, where a linear one is, is seen there; Poisson's ratio for
     :func:`ngdgfric.adaptivity.choose_method` and the locking check of :class:`~ngdgfric.Discretization`, a stress
     scale for the penalty check)."""
     if is_number(value):
         return float(value)
-    points, _ = _evaluation_points(mesh, 1)
-    return float(np.max(np.asarray(value(points))))
+    gauss = [tuple(point)[:2] for point in ngs.IntegrationRule(ngs.TRIG, 2 + MATERIAL_BONUS).points]
+    corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.5, 0.0), (0.5, 0.5), (0.0, 0.5)]
+    rule = ngs.IntegrationRule(gauss + corners, [0.0] * (len(gauss) + len(corners)))
+    return float(np.max(np.asarray(value(mesh.MapToAllElements({ngs.TRIG: rule}, ngs.VOL)))))
 
 
 def _projection(value, mesh, degree):
