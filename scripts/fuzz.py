@@ -53,7 +53,7 @@ REPO = Path(__file__).resolve().parent.parent
 RESULTS = REPO / "results"
 DATA = REPO / "tests" / "data" / "fuzz"
 FAMILIES = ("data", "functions", "expressions", "geometry", "mesh", "reference", "files", "arguments", "output",
-            "schema")
+            "schema", "surface")
 
 NAMED = "named error"
 UNNAMED = "unnamed error"
