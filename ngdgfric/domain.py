@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import RESOLUTION, crossings, distances_to_sides
-from .loops import Arc, Loop, end_tangents, inside, interior_point, length_of, overlap, side_key
+from .geometry import RESOLUTION, crossings
+from .loops import Arc, Loop, distance_to, end_tangents, inside, interior_point, length_of, overlap, side_key
 
 __all__ = ["Geometry", "Loop", "Domain", "Arc", "INTERFACE", "NAME", "check_name"]
 
@@ -194,9 +194,7 @@ class Geometry:
         distance = np.full(len(xy), np.inf)
         for side, name, _, _ in self.segments:
             if name == label:
-                d = side.distance(xy) if isinstance(side, Arc) else distances_to_sides(
-                    xy, np.asarray([side[0]]), np.asarray([side[1]]))[:, 0]
-                distance = np.minimum(distance, d)
+                distance = np.minimum(distance, distance_to(side, xy))
         return distance
 
     def side_length(self, label):

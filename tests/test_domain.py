@@ -9,6 +9,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.domain import INTERFACE, Arc, Domain, Loop
+from ngdgfric.loops import closest_approach, contains
 from ngdgfric.meshes import mesh_arrays, mesh_from_arrays, refine
 
 HALF_DISK = Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})
@@ -147,6 +148,22 @@ def test_domains_whose_loops_do_not_fit_together_are_refused(regions, holes, mes
     between two regions, nested or crossing holes reached Netgen."""
     with pytest.raises(ValueError, match=message):
         Domain(regions, holes=holes)
+
+
+def test_how_close_two_loops_come_is_exact_for_arcs():
+    """closest_approach against distances worked out by hand; contains exact between an arc and its chord."""
+    line = Loop([(0, 0), (1, 0), (1, 1), (0, 1)], list("abcd"))
+    distance, point = closest_approach(line, Loop.circle((0.5, 0.26), 0.25, "h"))
+    assert distance == pytest.approx(0.01) and point == pytest.approx((0.5, 0.01))
+    assert closest_approach(Loop.circle((0, 0), 1, "a"), Loop.circle((2.5, 0), 1, "b"))[0] == pytest.approx(0.5)
+    assert closest_approach(Loop.circle((0, 0), 1, "a"), Loop.circle((0.2, 0), 0.5, "b"))[0] == pytest.approx(0.3)
+    half = Loop([(1, 0), (-1, 0)], ["a", "b"], arcs={0: (0, 1)})  # the upper half disk: its arc ends at (+-1, 0)
+    assert closest_approach(half, Loop.circle((0, -2), 0.5, "c"))[0] == pytest.approx(1.5)  # from the chord
+    assert closest_approach(Loop([(1, 0), (-1, 0)], ["a", "b"], arcs={0: (0, 1), 1: (0, 0.5)}),
+                            Loop.circle((0, -2), 0.5, "c"))[0] == pytest.approx(math.hypot(1, 2) - 0.5)  # arc ends
+    distance, point = closest_approach(line, Loop.circle((0.5, 0.2), 0.25, "h"))  # crosses the bottom side
+    assert distance == 0 and point == pytest.approx((0.35, 0.0))
+    assert list(contains(HALF_DISK, [(0, 0.0005), (0, -0.0005), (0.5, 1.5)])) == [True, False, False]
 
 
 def test_a_circle_of_two_half_arcs_is_one_loop_of_two_sides():
