@@ -168,6 +168,9 @@ TOUCHES = r"holes\[0\] touches the boundary of region 'omega' at about \(0, 0\) 
     ({"omega": square(0, 0, 1)}, [Loop.circle((0.3, 0.5), 0.2, "h"), Loop.circle((0.7, 0.5), 0.2, "h")],
      r"holes\[1\] touches holes\[0\] at about \(0.5, 0.5\)"),  # 0.3 + 0.2 > 0.7 - 0.2 by round-off
     ({"omega": HALF_DISK}, [Loop.circle((0, 0.3), 0.3, "h")], TOUCHES),
+    ({"omega": HALF_DISK}, [Loop.circle((0.42, 0.44), 0.3, "h")], r"about \(0.6, 0.2\)"),  # inside both arcs
+    ({"omega": Loop([(0, 0), (2, 0), (0, 2)], list("abc"))}, [Loop.circle((0.6, 0.6), 0.8 / math.sqrt(2), "h")],
+     r"holes\[0\] touches the boundary of region 'omega' at about \(1, 1\)"),  # on the hypotenuse, not at a vertex
     ({"omega": HALF_DISK}, [Loop([(0.6, 0.2), (0.6, 0.6), (0.2, 0.6)], ["h"] * 3)], r"about \(0.6, 0.2\) \(distance 0"),
     ({"matrix": square(0, 0, 1), "fibre": Loop.circle((0.5, 0.25), 0.25, "i")}, [],
      r"region 'fibre' touches the boundary of region 'matrix' at about \(0.5, 0\)"),
@@ -207,6 +210,12 @@ def test_how_close_two_loops_come_is_exact_for_arcs():
     assert distance == pytest.approx(0.01) and point == pytest.approx((0.5, 0.01))
     assert closest_approach(Loop.circle((0, 0), 1, "a"), Loop.circle((2.5, 0), 1, "b"))[0] == pytest.approx(0.5)
     assert closest_approach(Loop.circle((0, 0), 1, "a"), Loop.circle((0.2, 0), 0.5, "b"))[0] == pytest.approx(0.3)
+    diagonal = Loop([(0, 0), (2, 0), (0, 2)], list("abc"))  # nearest to the hypotenuse inside its quarter arc
+    distance, point = closest_approach(diagonal, Loop.circle((0.6, 0.6), 0.5, "h"))
+    assert distance == pytest.approx(0.8 / math.sqrt(2) - 0.5)
+    assert point == pytest.approx([0.6 + 0.5 / math.sqrt(2)] * 2)
+    distance, point = closest_approach(Loop.circle((0, 0), 0.2, "a"), Loop.circle((0.3, 0.4), 0.2, "b"))
+    assert distance == pytest.approx(0.1) and point == pytest.approx((0.12, 0.16))
     half = Loop([(1, 0), (-1, 0)], ["a", "b"], arcs={0: (0, 1)})  # the upper half disk: its arc ends at (+-1, 0)
     assert closest_approach(half, Loop.circle((0, -2), 0.5, "c"))[0] == pytest.approx(1.5)  # from the chord
     assert closest_approach(Loop([(1, 0), (-1, 0)], ["a", "b"], arcs={0: (0, 1), 1: (0, 0.5)}),
