@@ -136,6 +136,9 @@ def square(x0, y0, size, labels="abcd"):
      "runs along part of a side"),
     ({"a": square(0, 0, 2)}, [Loop.circle((0.7, 0.7), 0.3, "h"), Loop.circle((1.1, 0.7), 0.3, "h")],
      "the sides of holes.0. and holes.1. cross"),
+    ({"a": square(0, 0, 1)}, [Loop([(0.3, 0.4), (0.7, 0.4), (0.5, 0.75)], list("hhh")),
+                               Loop([(0.5, 0.28), (0.7, 0.63), (0.3, 0.63)], list("hhh"))],
+     "the sides of holes.0. and holes.1. cross"),  # a star: no vertex of either inside the other
     ({"a": square(0, 0, 2)}, [Loop.circle((1, 1), 0.5, "h"), Loop.circle((1, 1), 0.2, "h")],
      r"holes\[1\] lies inside holes\[0\]"),
     ({"a": square(0, 0, 2), "b": Loop.circle((1, 1), 0.1, "i")}, [Loop.circle((1, 1), 0.5, "h")],
