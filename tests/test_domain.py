@@ -164,6 +164,8 @@ TOUCHES = r"holes\[0\] touches the boundary of region 'omega' at about \(0, 0\) 
      r"holes\[0\] touches the boundary of region 'omega' at about \(0.5, 0.05\) \(distance 0\)"),
     ({"omega": square(0, 0, 1)}, [Loop.circle((0.5, 0.25001), 0.25, "h")], r"about \(0.5, 1e-05\) \(distance 1e-05\)"),
     ({"omega": square(0, 0, 1)}, [Loop([(0.5, 0), (0.7, 0.3), (0.3, 0.3)], ["h"] * 3)], r"holes\[0\] .* \(0.5, 0\)"),
+    ({"omega": square(0, 0.05, 1)}, [Loop([(0.5, 0.15 - 0.1), (0.7, 0.3), (0.3, 0.3)], ["h"] * 3)],
+     r"holes\[0\] touches .* \(0.5, 0.05\)"),  # the vertex 0.05 - 7e-18: its sides cross the side by round-off
     ({"omega": square(0, 0, 1)}, [Loop([(0.3, 0), (0.7, 0), (0.5, 0.3)], ["h"] * 3)], r"holes\[0\] touches the bound"),
     ({"omega": square(0, 0, 1)}, [Loop([(0, 0), (0.3, 0.1), (0.1, 0.3)], ["h"] * 3)], TOUCHES),
     ({"omega": square(0, 0, 1)}, [Loop.circle((0.25, 0.5), 0.125, "h"), Loop.circle((0.5, 0.5), 0.125, "h")],
