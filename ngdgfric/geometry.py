@@ -73,12 +73,19 @@ def distances_to_sides(points, starts, ends):
     return np.linalg.norm(points - (starts + t[..., None] * d), axis=2)
 
 
-def crossings(p, q, starts, ends):
-    """Which segments (starts, ends) the segment p-q crosses at a point inside both (proper crossings)."""
-    def side(a, b, c):
+def crossings(p, q, starts, ends, margin=0.0):
+    """Which segments (starts, ends) the segment p-q crosses at a point inside both (proper crossings), with
+    the ends of each farther than ``margin`` from the other's line (default 0: any proper crossing)."""
+    def side(a, b, c):  # |b - a| times the signed distance of c from the line through a and b
         return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
 
-    return (side(p, q, starts) * side(p, q, ends) < 0) & (side(starts, ends, p) * side(starts, ends, q) < 0)
+    s, t = side(p, q, starts), side(p, q, ends)
+    u, v = side(starts, ends, p), side(starts, ends, q)
+    if margin:
+        pq, st = np.hypot(*(q - p)), np.hypot(ends[:, 0] - starts[:, 0], ends[:, 1] - starts[:, 1])
+        s, t = np.where(np.abs(s) > margin * pq, s, 0), np.where(np.abs(t) > margin * pq, t, 0)
+        u, v = np.where(np.abs(u) > margin * st, u, 0), np.where(np.abs(v) > margin * st, v, 0)
+    return (s * t < 0) & (u * v < 0)
 
 
 def _show(point):

@@ -5,7 +5,8 @@ A :class:`Loop` is a closed counter-clockwise chain of sides, side k from ``vert
 arc as spline segments of at most 90 degrees with the control point at the intersection of the end tangents
 (``Arc.pieces``): its rational quadratic segments are exact circles then.  The functions below answer what
 ``ngdgfric.domain.Geometry`` asks of single sides and loops (a side's key, length, end tangents, overlap
-with another side; whether a point lies inside a loop).
+with another side, distance to points; whether points lie inside a loop, how close two loops come and whether
+they cross), exactly for arcs: not on the polylines that draw them.
 """
 
 import math
@@ -13,10 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import check_polygon
+from .geometry import check_polygon, crossings, distances_to_sides
 
-__all__ = ["Arc", "Loop", "ARC_SAMPLES", "side_key", "end_tangents", "inside", "overlap", "length_of",
-           "interior_point", "signed_area"]
+__all__ = ["Arc", "Loop", "ARC_SAMPLES", "side_key", "end_tangents", "inside", "contains", "overlap", "length_of",
+           "interior_point", "signed_area", "distance_to", "closest_approach", "cross"]
 
 ARC_SAMPLES = 64  # points per full turn when an arc is drawn or checked as a polyline
 
@@ -252,15 +253,34 @@ def side_key(side):
     return tuple(sorted(side))
 
 
-def inside(point, loop):
-    """Whether ``point`` lies inside the loop (ray casting on its polyline)."""
-    v = loop.polyline()
-    x, y = point
-    a, b = v, np.roll(v, -1, axis=0)
-    crossing = (a[:, 1] > y) != (b[:, 1] > y)
+def contains(loop, xy):
+    """Which points xy (m, 2) lie inside the loop, exactly for arcs.
+
+    Ray casting on the polygon of the vertices (the chords of the arcs), then each arc's circular segment (the
+    points of its disk on its side of the chord) toggles: the loop's curve is the chords plus, per arc, the
+    closed curve arc + chord back, and crossing counts add modulo 2.
+    """
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    v = np.asarray(loop.vertices, dtype=float)
+    a, b = v[None, :, :], np.roll(v, -1, axis=0)[None, :, :]
+    x, y = xy[:, 0:1], xy[:, 1:2]
+    crossing = (a[..., 1] > y) != (b[..., 1] > y)
     with np.errstate(divide="ignore", invalid="ignore"):
-        at = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
-    return bool(np.count_nonzero(crossing & (x < at)) % 2)
+        at = a[..., 0] + (y - a[..., 1]) * (b[..., 0] - a[..., 0]) / (b[..., 1] - a[..., 1])
+    result = np.count_nonzero(crossing & (x < at), axis=1) % 2 == 1
+    for side in loop.sides():
+        if isinstance(side, Arc):
+            chord, middle = np.subtract(side.b, side.a), side.points(2)[1] - side.a
+            sign = chord[0] * middle[1] - chord[1] * middle[0]
+            offside = chord[0] * (xy[:, 1] - side.a[1]) - chord[1] * (xy[:, 0] - side.a[0])
+            in_disk = np.hypot(xy[:, 0] - side.centre[0], xy[:, 1] - side.centre[1]) < side.radius
+            result ^= in_disk & (offside * sign > 0)
+    return result
+
+
+def inside(point, loop):
+    """Whether ``point`` lies inside the loop (``contains``: exact for arcs)."""
+    return bool(contains(loop, [point])[0])
 
 
 def overlap(a, b):
@@ -301,3 +321,97 @@ def interior_point(loop):
     return centre
 
 
+def distance_to(side, xy):
+    """Distances of points xy (m, 2) to a side (a pair of points or an ``Arc``), exact for arcs."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if isinstance(side, Arc):
+        return side.distance(xy)
+    return distances_to_sides(xy, np.asarray([side[0]], dtype=float), np.asarray([side[1]], dtype=float))[:, 0]
+
+
+def _support(side):
+    """The line (point, unit direction, None) or circle (centre, None, radius) a side lies on."""
+    if isinstance(side, Arc):
+        return np.asarray(side.centre), None, side.radius
+    p, q = np.asarray(side, dtype=float)
+    return p, (q - p) / np.linalg.norm(q - p), None
+
+
+def _candidates(s, t):
+    """Points where sides s and t may come closest: their ends, where the lines or circles they lie on meet,
+    and on each circle the two points on the normal to the other side's line or on the line through both
+    centres (where a circle comes closest to a line or another circle)."""
+    points = [s[0], s[1]] if not isinstance(s, Arc) else [s.a, s.b]
+    points += [t[0], t[1]] if not isinstance(t, Arc) else [t.a, t.b]
+    (c, d, r), (e, f, rho) = _support(s), _support(t)
+    if d is not None and f is not None:  # two lines
+        det = d[0] * f[1] - d[1] * f[0]
+        if abs(det) > 1e-12:
+            lam = ((e[0] - c[0]) * f[1] - (e[1] - c[1]) * f[0]) / det
+            points.append(c + lam * d)
+    elif d is None and f is None:  # two circles
+        between = np.subtract(e, c)
+        distance = float(np.hypot(*between))
+        if distance > 0:
+            u = between / distance
+            points += [c + r * u, c - r * u, e + rho * u, e - rho * u]
+            along = (distance**2 + r * r - rho * rho) / (2 * distance)
+            if abs(along) <= r:
+                across = math.sqrt(r * r - along * along)
+                points += [c + along * u + across * np.array([-u[1], u[0]]),
+                           c + along * u - across * np.array([-u[1], u[0]])]
+    else:  # a circle (centre, radius) and a line (point, direction)
+        centre, radius, point, direction = (c, r, e, f) if d is None else (e, rho, c, d)
+        normal = np.array([-direction[1], direction[0]])
+        points += [centre + radius * normal, centre - radius * normal]
+        foot = point + np.dot(centre - point, direction) * direction
+        offset = float(np.dot(centre - foot, normal))
+        if abs(offset) <= radius:
+            half = math.sqrt(radius * radius - offset * offset)
+            points += [foot + half * direction, foot - half * direction]
+    return np.asarray(points, dtype=float)
+
+
+def closest_approach(a, b):
+    """How close loops a and b come, exactly for arcs: (distance, a point of one of them where it is least);
+    distance 0 if they meet or cross.
+
+    For each pair of sides the least of dist(p, s) + dist(p, t) over the points p of ``_candidates``: at
+    least the distance of the sides (triangle inequality), and equal to it at the candidate where they come
+    closest (an end of one side, a meeting point, or the foot of the common normal of a circle).
+    """
+    best = (math.inf, None)
+    for s in a.sides():
+        for t in b.sides():
+            points = _candidates(s, t)
+            total = distance_to(s, points) + distance_to(t, points)
+            k = int(np.argmin(total))
+            if total[k] < best[0]:
+                best = (float(total[k]), tuple(float(c) for c in points[k]))
+    return best
+
+
+def _distance_to_loop(loop, xy):
+    return np.min([distance_to(side, xy) for side in loop.sides()], axis=0)
+
+
+def cross(a, b, margin):
+    """Whether the curves of loops a and b cross by more than ``margin``: two straight sides cross with every
+    end farther than ``margin`` from the other side's line, or one loop has points (of its polyline, or where
+    it may come closest to the other) inside and outside the other, both farther than ``margin`` from it.
+    Curves that only touch (within ``margin``, round-off included) do not cross."""
+    straight_a = [side for side in a.sides() if not isinstance(side, Arc)]
+    straight_b = [side for side in b.sides() if not isinstance(side, Arc)]
+    if straight_a and straight_b:
+        starts, ends = np.asarray(straight_b, dtype=float)[:, 0], np.asarray(straight_b, dtype=float)[:, 1]
+        for p, q in straight_a:
+            if np.any(crossings(np.asarray(p, dtype=float), np.asarray(q, dtype=float), starts, ends, margin)):
+                return True
+    extra = np.concatenate([_candidates(s, t) for s in a.sides() for t in b.sides()])
+    for first, second in ((a, b), (b, a)):
+        points = np.concatenate([first.polyline(), extra[_distance_to_loop(first, extra) <= margin]])
+        clear = _distance_to_loop(second, points) > margin
+        within = contains(second, points)
+        if np.any(clear & within) and np.any(clear & ~within):
+            return True
+    return False

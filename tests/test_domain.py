@@ -9,6 +9,7 @@ import pytest
 
 import ngdgfric as ndf
 from ngdgfric.domain import INTERFACE, Arc, Domain, Loop
+from ngdgfric.loops import closest_approach, contains
 from ngdgfric.meshes import mesh_arrays, mesh_from_arrays, refine
 
 HALF_DISK = Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})
@@ -135,6 +136,9 @@ def square(x0, y0, size, labels="abcd"):
      "runs along part of a side"),
     ({"a": square(0, 0, 2)}, [Loop.circle((0.7, 0.7), 0.3, "h"), Loop.circle((1.1, 0.7), 0.3, "h")],
      "the sides of holes.0. and holes.1. cross"),
+    ({"a": square(0, 0, 1)}, [Loop([(0.3, 0.4), (0.7, 0.4), (0.5, 0.75)], list("hhh")),
+                               Loop([(0.5, 0.28), (0.7, 0.63), (0.3, 0.63)], list("hhh"))],
+     "the sides of holes.0. and holes.1. cross"),  # a star: no vertex of either inside the other
     ({"a": square(0, 0, 2)}, [Loop.circle((1, 1), 0.5, "h"), Loop.circle((1, 1), 0.2, "h")],
      r"holes\[1\] lies inside holes\[0\]"),
     ({"a": square(0, 0, 2), "b": Loop.circle((1, 1), 0.1, "i")}, [Loop.circle((1, 1), 0.5, "h")],
@@ -147,6 +151,83 @@ def test_domains_whose_loops_do_not_fit_together_are_refused(regions, holes, mes
     between two regions, nested or crossing holes reached Netgen."""
     with pytest.raises(ValueError, match=message):
         Domain(regions, holes=holes)
+
+
+TOUCHES = r"holes\[0\] touches the boundary of region 'omega' at about \(0, 0\) \(distance 0\)"
+
+
+@pytest.mark.parametrize("regions, holes, message", [
+    ({"omega": square(0, 0, 1)}, [Loop.circle((0.5, 0.25), 0.25, "h")],
+     r"holes\[0\] touches the boundary of region 'omega' at about \(0.5, 0\) \(distance 0\): a hole must keep a "
+     r"positive distance from the boundary and from the other holes, more than 0.0001 of the domain's size"),
+    ({"omega": square(0, 0.05, 1)}, [Loop.circle((0.5, 0.3), 0.25, "h")],  # its lowest point 0.05 - 1e-17
+     r"holes\[0\] touches the boundary of region 'omega' at about \(0.5, 0.05\) \(distance 0\)"),
+    ({"omega": square(0, 0, 1)}, [Loop.circle((0.5, 0.25001), 0.25, "h")], r"about \(0.5, 1e-05\) \(distance 1e-05\)"),
+    ({"omega": square(0, 0, 1)}, [Loop([(0.5, 0), (0.7, 0.3), (0.3, 0.3)], ["h"] * 3)], r"holes\[0\] .* \(0.5, 0\)"),
+    ({"omega": square(0, 0.05, 1)}, [Loop([(0.5, 0.15 - 0.1), (0.7, 0.3), (0.3, 0.3)], ["h"] * 3)],
+     r"holes\[0\] touches .* \(0.5, 0.05\)"),  # the vertex 0.05 - 7e-18: its sides cross the side by round-off
+    ({"omega": square(0, 0, 1)}, [Loop([(0.3, 0), (0.7, 0), (0.5, 0.3)], ["h"] * 3)], r"holes\[0\] touches the bound"),
+    ({"omega": square(0, 0, 1)}, [Loop([(0, 0), (0.3, 0.1), (0.1, 0.3)], ["h"] * 3)], TOUCHES),
+    ({"omega": square(0, 0, 1)}, [Loop.circle((0.25, 0.5), 0.125, "h"), Loop.circle((0.5, 0.5), 0.125, "h")],
+     r"holes\[1\] touches holes\[0\] at about \(0.375, 0.5\) \(distance 0\)"),
+    ({"omega": square(0, 0, 1)}, [Loop.circle((0.3, 0.5), 0.2, "h"), Loop.circle((0.7, 0.5), 0.2, "h")],
+     r"holes\[1\] touches holes\[0\] at about \(0.5, 0.5\)"),  # 0.3 + 0.2 > 0.7 - 0.2 by round-off
+    ({"omega": HALF_DISK}, [Loop.circle((0, 0.3), 0.3, "h")], TOUCHES),
+    ({"omega": HALF_DISK}, [Loop.circle((0.42, 0.44), 0.3, "h")], r"about \(0.6, 0.2\)"),  # inside both arcs
+    ({"omega": Loop([(0, 0), (2, 0), (0, 2)], list("abc"))}, [Loop.circle((0.6, 0.6), 0.8 / math.sqrt(2), "h")],
+     r"holes\[0\] touches the boundary of region 'omega' at about \(1, 1\)"),  # on the hypotenuse, not at a vertex
+    ({"omega": HALF_DISK}, [Loop([(0.6, 0.2), (0.6, 0.6), (0.2, 0.6)], ["h"] * 3)], r"about \(0.6, 0.2\) \(distance 0"),
+    ({"matrix": square(0, 0, 1), "fibre": Loop.circle((0.5, 0.25), 0.25, "i")}, [],
+     r"region 'fibre' touches the boundary of region 'matrix' at about \(0.5, 0\)"),
+])
+def test_a_hole_that_touches_the_boundary_or_another_hole_is_refused_naming_both_and_the_point(regions, holes, message):
+    """Tangent or touching within CLEARANCE of the size (a circle on a side or an arc, a polygon's vertex or side
+    on a side, two holes): Netgen failed ("meshing failed") or meshed a pinched domain; round-off that makes the
+    curves cross by 1e-17 still reads as touching."""
+    with pytest.raises(ValueError, match=message):
+        Domain(regions, holes=holes)
+
+
+@pytest.mark.parametrize("regions, holes", [
+    ({"omega": square(0, 0, 1, ["contact", "dirichlet", "traction", "traction"])},
+     [Loop.circle((0.5, 0.251), 0.25, "traction")]),
+    ({"omega": square(0, 0, 1, ["contact", "dirichlet", "traction", "traction"])},
+     [Loop([(0.5, 0.001), (0.7, 0.3), (0.3, 0.3)], ["traction"] * 3),
+      Loop.circle((0.5, 0.5), 0.199, "traction"), Loop.circle((0.8, 0.5), 0.1, "traction")]),
+    ({"omega": Loop([(-1, 1), (1, 1)], ["contact", "dirichlet"], arcs={0: (0.0, 0.0)})},
+     [Loop.circle((0.3 * 0.6, 1 - 0.8 * 0.698), 0.3, "traction")]),  # 2e-3 (1e-3 of the size) inside the arc
+])
+def test_a_hole_clearly_apart_meshes_and_solves(regions, holes):
+    """Holes 1e-3 of the size from a side, an arc (closer than the 1e-3 deviation of the arc's polyline) or
+    another hole are accepted, and Netgen meshes them at coarse and fine mesh sizes."""
+    domain = Domain(regions, holes=holes)
+    p = problem(domain, u_D=(0, -0.01), g_a=-0.01)
+    for maxh in (0.5, 0.1):
+        mesh = ndf.netgen_mesh(p, maxh * domain.diameter())  # check_mesh: the holes' area left out, to the chords
+    sol = ndf.solve(p, mesh, order=2)
+    assert ndf.kkt_residuals(sol)["equilibrium"] < 1e-10
+
+
+def test_how_close_two_loops_come_is_exact_for_arcs():
+    """closest_approach against distances worked out by hand; contains exact between an arc and its chord."""
+    line = Loop([(0, 0), (1, 0), (1, 1), (0, 1)], list("abcd"))
+    distance, point = closest_approach(line, Loop.circle((0.5, 0.26), 0.25, "h"))
+    assert distance == pytest.approx(0.01) and point == pytest.approx((0.5, 0.01))
+    assert closest_approach(Loop.circle((0, 0), 1, "a"), Loop.circle((2.5, 0), 1, "b"))[0] == pytest.approx(0.5)
+    assert closest_approach(Loop.circle((0, 0), 1, "a"), Loop.circle((0.2, 0), 0.5, "b"))[0] == pytest.approx(0.3)
+    diagonal = Loop([(0, 0), (2, 0), (0, 2)], list("abc"))  # nearest to the hypotenuse inside its quarter arc
+    distance, point = closest_approach(diagonal, Loop.circle((0.6, 0.6), 0.5, "h"))
+    assert distance == pytest.approx(0.8 / math.sqrt(2) - 0.5)
+    assert point == pytest.approx([0.6 + 0.5 / math.sqrt(2)] * 2)
+    distance, point = closest_approach(Loop.circle((0, 0), 0.2, "a"), Loop.circle((0.3, 0.4), 0.2, "b"))
+    assert distance == pytest.approx(0.1) and point == pytest.approx((0.12, 0.16))
+    half = Loop([(1, 0), (-1, 0)], ["a", "b"], arcs={0: (0, 1)})  # the upper half disk: its arc ends at (+-1, 0)
+    assert closest_approach(half, Loop.circle((0, -2), 0.5, "c"))[0] == pytest.approx(1.5)  # from the chord
+    assert closest_approach(Loop([(1, 0), (-1, 0)], ["a", "b"], arcs={0: (0, 1), 1: (0, 0.5)}),
+                            Loop.circle((0, -2), 0.5, "c"))[0] == pytest.approx(math.hypot(1, 2) - 0.5)  # arc ends
+    distance, point = closest_approach(line, Loop.circle((0.5, 0.2), 0.25, "h"))  # crosses the bottom side
+    assert distance == 0 and point == pytest.approx((0.35, 0.0))
+    assert list(contains(HALF_DISK, [(0, 0.0005), (0, -0.0005), (0.5, 1.5)])) == [True, False, False]
 
 
 def test_a_circle_of_two_half_arcs_is_one_loop_of_two_sides():
