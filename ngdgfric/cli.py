@@ -12,7 +12,7 @@ of the zones along each contact side, ``*_contact.png``.  Bad input ends with on
 stderr and exit code 2 before anything is computed where it can be known then (arguments, problem
 file and data, mesh size, output folder, outputs of an earlier run without ``--overwrite``); a
 solver failure with exit code 1.  Every file is written atomically, each as soon as it is
-finished, so an interrupted run keeps what it completed.
+finished, so an interrupted run (Ctrl-C, exit code 130, or SIGTERM, 143) keeps what it completed.
 
 This module parses the arguments and dispatches to the commands (:mod:`ngdgfric.commands`), printing the
 library's progress lines (the logger ``"ngdgfric"``, :mod:`ngdgfric.progress`) on stdout; the files and plots are
@@ -21,11 +21,14 @@ made by :mod:`ngdgfric.output` (shared with the notebooks).  ``--weights`` is th
 """
 
 import argparse
+import contextlib
 import importlib.metadata
 import inspect
 import math
 import os
+import signal
 import sys
+import threading
 import warnings
 from pathlib import Path
 
@@ -49,6 +52,67 @@ MAX_NDOF_HELP = f"refuse meshes with more DOFs (default: above an estimated {MEM
 class UsageError(Exception):
     """Bad command-line arguments (reported in one line instead of argparse's usage + message)."""
 
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM while :func:`main` runs.  A KeyboardInterrupt, so the run stops as on Ctrl-C (temporary files
+    removed, a meshing child killed, finished files kept); :func:`main` returns 128 + 15."""
+
+
+RESEND = 0.5
+"""Seconds between the SIGTERMs the process sends itself after the first, until :func:`main` has stopped."""
+
+
+@contextlib.contextmanager
+def _sigterm_interrupts():
+    """Inside the block SIGTERM raises :class:`Terminated`; the previous handler is restored after it.
+
+    Only in the main thread (the only one where Python sets handlers) and over a handler known to Python (``None``,
+    one set outside Python, could not be put back).  The handler's exception can be lost where it is raised:
+    pybind11 clears it while NGSolve converts arguments (``CF((a, b))`` tries its next overload) or turns it into
+    another error ("Unable to cast ... tuple"), and Python drops it in a ``__del__``.  So from the first SIGTERM on,
+    a thread started with the block sends the main thread one every ``RESEND`` seconds until the block is left, any
+    other error then leaves the block as :class:`Terminated`, and one dropped in a ``__del__`` is not printed.  The
+    handler raises nothing while a KeyboardInterrupt is handled, so the cleanups of the first (temporary files, a
+    meshing child) run to their end, and takes no lock (it can run inside any code, threading's included).
+    """
+    previous = signal.getsignal(signal.SIGTERM)
+    if previous is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received, left, main_thread, unraisable = False, threading.Event(), threading.get_ident(), sys.unraisablehook
+
+    def terminate(signum, frame):
+        nonlocal received
+        if left.is_set() or isinstance(sys.exc_info()[1], KeyboardInterrupt):
+            return
+        received = True
+        raise Terminated
+
+    def resend():
+        while not left.wait(RESEND):
+            if received:  # to the main thread: it wakes from a sleep or a wait
+                signal.pthread_kill(main_thread, signal.SIGTERM)
+
+    def unprinted(info):
+        if not isinstance(info.exc_value, Terminated):
+            unraisable(info)
+
+    resender = threading.Thread(target=resend, name="ngdgfric-sigterm", daemon=True)
+    resender.start()
+    signal.signal(signal.SIGTERM, terminate)
+    sys.unraisablehook = unprinted
+    try:
+        yield
+    except Exception as exc:
+        if received:
+            raise Terminated from exc
+        raise
+    finally:
+        left.set()
+        resender.join()
+        sys.unraisablehook = unraisable
+        signal.signal(signal.SIGTERM, previous)  # runs a SIGTERM still pending through terminate first
 
 
 class _Deprecated(argparse.Action):
@@ -255,10 +319,13 @@ def main(argv=None):
     0: success; 2: bad input (arguments, problem file, problem data, sizes, output files), or not
     enough memory, reported in one line ``ngdgfric: error: ...`` on stderr; 1: the nonlinear solver
     failed; 3: an internal error (one line; the traceback with NGDGFRIC_TRACEBACK=1); 4: ``adaptive``
-    stopped before its ``--tol`` (levels, DOFs, memory or time; its files are written); 130: interrupted.
+    stopped before its ``--tol`` (levels, DOFs, memory or time; its files are written); 130: interrupted
+    (Ctrl-C); 143: terminated by SIGTERM, handled like Ctrl-C while ``main`` runs (the previous handler is
+    restored when it returns).  Both keep the files finished before.
     """
     try:
-        run(argv)
+        with _sigterm_interrupts():
+            run(argv)
     except SystemExit as exc:  # --help, --version
         return exc.code if isinstance(exc.code, int) else 0
     except (UsageError, ValueError, OSError) as exc:  # tomllib.TOMLDecodeError is a ValueError
@@ -269,6 +336,8 @@ def main(argv=None):
         return _fail(exc, 1)
     except NotReached as exc:
         return _fail(exc, NOT_REACHED)
+    except Terminated:
+        return _fail("terminated (SIGTERM)", 128 + signal.SIGTERM)
     except KeyboardInterrupt:
         return _fail("interrupted", 130)
     except Exception as exc:  # a bug: one line, not a traceback, unless asked for

@@ -6,6 +6,7 @@ An interrupted or failed write leaves the previous file (or none) in place, neve
 import contextlib
 import csv
 import os
+import secrets
 import tempfile
 from pathlib import Path
 
@@ -21,14 +22,15 @@ def atomic_path(path):
     produced no file or the rename fails.
     """
     path = Path(path)
-    try:
-        handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
-    except OSError as exc:
-        raise OSError(f"cannot write {path}: {exc.strerror or exc}") from exc
-    os.close(handle)
-    temporary = Path(name)
-    temporary.unlink()  # the name is reserved; the writer must create the file (a writer failing silently is seen)
-    try:
+    temporary = path.with_name(f".{path.name}.{secrets.token_hex(8)}{path.suffix}")
+    try:  # made inside the try (not by tempfile.mkstemp): an interrupt right after it is made removes it too
+        try:
+            os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        except OSError as exc:
+            if isinstance(exc, FileExistsError):  # another writer's file (the same 64 random bits): left alone
+                temporary = None
+            raise OSError(f"cannot write {path}: {exc.strerror or exc}") from exc
+        temporary.unlink()  # the name is reserved; the writer must create the file (a writer failing silently is seen)
         yield temporary
         if not temporary.exists():
             raise OSError(f"could not write {path}: the writer produced no file")
@@ -39,7 +41,8 @@ def atomic_path(path):
         except OSError as exc:
             raise OSError(f"cannot write {path}: {exc.strerror or exc}") from exc
     finally:
-        temporary.unlink(missing_ok=True)
+        if temporary is not None:
+            temporary.unlink(missing_ok=True)
 
 
 def write_text(path, text):

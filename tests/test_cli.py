@@ -3,6 +3,10 @@
 import csv
 import dataclasses
 import inspect
+import signal
+import sys
+import threading
+import time
 from pathlib import Path
 
 import ngsolve as ngs
@@ -331,6 +335,98 @@ def test_interrupted_uniform_run_keeps_its_finished_studies(tmp_path, capsys, mo
         assert {r["method"] for r in csv.DictReader(handle)} == {"sipg"}
     assert "| sipg | 2^-1 |" in (tmp_path / "6_2_uniform.md").read_text()
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary files left
+
+
+@pytest.fixture
+def callers_sigterm_handler():
+    """A SIGTERM handler of the caller's, which main must not run and must restore (without one, SIGTERM ends
+    pytest)."""
+    def previous(signum, frame):
+        raise AssertionError("the caller's SIGTERM handler ran while main ran")
+
+    before = signal.signal(signal.SIGTERM, previous)
+    yield previous
+    signal.signal(signal.SIGTERM, before)
+
+
+def test_sigterm_while_main_runs_exits_143_and_main_restores_the_previous_handler(tmp_path, capsys, monkeypatch,
+                                                                                  callers_sigterm_handler):
+    from ngdgfric import cli
+
+    def terminated(args, problem, tag):
+        signal.raise_signal(signal.SIGTERM)
+        pytest.fail("SIGTERM did not stop the command")
+
+    monkeypatch.setitem(cli.COMMANDS, "solve", terminated)
+    assert main(["solve", "6.2", "--out", str(tmp_path)]) == 143
+    assert capsys.readouterr().err == "ngdgfric: error: terminated (SIGTERM)\n"
+    assert signal.getsignal(signal.SIGTERM) is callers_sigterm_handler
+    monkeypatch.setitem(cli.COMMANDS, "solve", lambda args, problem, tag: [])
+    assert main(["solve", "6.2", "--out", str(tmp_path)]) == 0  # a run that ends normally restores it too
+    assert signal.getsignal(signal.SIGTERM) is callers_sigterm_handler
+    assert "ngdgfric-sigterm" not in [thread.name for thread in threading.enumerate()]
+
+
+def lost_in_pybind11():
+    try:
+        signal.raise_signal(signal.SIGTERM)
+    except KeyboardInterrupt:  # cleared, as while ngs.CF((a, b)) tries its next overload
+        pass
+
+
+def made_another_error():
+    try:
+        signal.raise_signal(signal.SIGTERM)
+    except KeyboardInterrupt:
+        raise RuntimeError("Unable to cast Python instance of type <class 'tuple'> to C++ type '?'") from None
+
+
+class Finalized:
+    def __del__(self):
+        signal.raise_signal(signal.SIGTERM)
+
+
+def dropped_in_del():
+    Finalized()  # collected at once
+
+
+@pytest.mark.parametrize("lose", [lost_in_pybind11, made_another_error, dropped_in_del])
+def test_a_lost_sigterm_still_ends_the_run_with_143(lose, tmp_path, capsys, monkeypatch, callers_sigterm_handler):
+    from ngdgfric import cli
+
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+
+    def lost_then_busy(args, problem, tag):
+        lose()
+        time.sleep(10 * cli.RESEND)
+        pytest.fail("the SIGTERM was not sent again")
+
+    monkeypatch.setitem(cli.COMMANDS, "solve", lost_then_busy)
+    start = time.perf_counter()
+    assert main(["solve", "6.2", "--out", str(tmp_path)]) == 143
+    assert time.perf_counter() - start < 5 * cli.RESEND
+    assert capsys.readouterr().err == "ngdgfric: error: terminated (SIGTERM)\n"
+    assert unraisable == [] and sys.unraisablehook == unraisable.append  # nothing printed, the hook restored
+    assert signal.getsignal(signal.SIGTERM) is callers_sigterm_handler
+
+
+def test_sigterm_does_not_interrupt_the_cleanup_of_an_interrupt(tmp_path, capsys, monkeypatch,
+                                                                callers_sigterm_handler):
+    from ngdgfric import cli
+
+    cleaned = []
+
+    def interrupted(args, problem, tag):
+        try:
+            raise KeyboardInterrupt
+        finally:  # a cleanup, such as removing a temporary file
+            signal.raise_signal(signal.SIGTERM)
+            cleaned.append(True)
+
+    monkeypatch.setitem(cli.COMMANDS, "solve", interrupted)
+    assert main(["solve", "6.2", "--out", str(tmp_path)]) == 130
+    assert cleaned == [True]
 
 
 def test_problem_file_that_is_not_utf8_is_named(tmp_path, capsys):

@@ -1,5 +1,7 @@
 """Atomic output files (ngdgfric.files)."""
 
+import os
+
 import pytest
 
 from ngdgfric.files import atomic_path, check_writable, write_csv, write_text
@@ -14,6 +16,20 @@ def test_a_failed_write_leaves_the_earlier_file_and_no_temporary(tmp_path):
         raise KeyboardInterrupt
     assert path.read_text() == before == "a,b\n1,2\n"
     assert [p.name for p in tmp_path.iterdir()] == ["table.csv"]
+
+
+def test_an_interrupt_as_the_temporary_file_is_made_leaves_none(tmp_path, monkeypatch):
+    made = os.open
+
+    def made_then_interrupted(*args, **kwargs):  # Ctrl-C or SIGTERM before the name is known to atomic_path
+        os.close(made(*args, **kwargs))
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(os, "open", made_then_interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        write_text(tmp_path / "table.md", "text")
+    monkeypatch.undo()
+    assert not list(tmp_path.iterdir())
 
 
 def test_a_writer_that_writes_nothing_is_an_error(tmp_path):
