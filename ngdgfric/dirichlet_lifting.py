@@ -25,6 +25,8 @@ a one-dimensional integral along the edge.  :math:`d' = \partial_\tau d` is take
 :math:`d` of degree ``DEGREE`` along the edge (any CoefficientFunction :math:`u_D`, no symbolic derivative needed).
 """
 
+from typing import NamedTuple
+
 import ngsolve as ngs
 import numpy as np
 from numpy.polynomial import chebyshev
@@ -32,16 +34,33 @@ from numpy.polynomial import chebyshev
 from .bounds import coefficient
 from .contact.boundary import boundary_edges
 
-__all__ = ["dirichlet_vertex_values", "set_dirichlet_vertices", "lifting_energies", "DEGREE"]
+__all__ = ["dirichlet_vertex_values", "dirichlet_jumps", "Jump", "set_dirichlet_vertices", "lifting_energies",
+           "DEGREE", "SAMPLES", "BISECTIONS"]
 
 DEGREE = 24  # Chebyshev interpolant of u_D - s along a Dirichlet edge (u_D - s is smooth there by assumption)
+SAMPLES = 32  # intervals per Dirichlet edge on which dirichlet_jumps samples u_D
+BISECTIONS = 40  # halvings of each sampling interval: 2^-45 of the edge, some 100 ulps of a coordinate
 
 
-def _edge_points(problem, mesh, parameters):
-    """Mapped points at ``parameters`` in [0, 1] on every Dirichlet edge, in the order of
-    ``boundary_edges(problem, mesh, "dirichlet")``."""
-    rule = ngs.IntegrationRule([(float(t),) for t in parameters], [0.0] * len(parameters))
-    return mesh.MapToAllElements({ngs.SEGM: rule}, mesh.Boundaries(problem.where("dirichlet")))
+class Jump(NamedTuple):
+    """A jump of u_D on Gamma_D (:func:`dirichlet_jumps`)."""
+
+    size: float  #: the jump relative to the largest |u_D| sampled on Gamma_D (largest component)
+    point: tuple  #: (x, y) where it jumps
+    where: str  #: "inside the Dirichlet side 'a'" or "where the Dirichlet sides 'a' and 'b' meet"
+
+
+def _edge_points(problem, mesh, parameters, edge=None):
+    """Mapped points on the Dirichlet edges (numbered in the order of ``boundary_edges(problem, mesh, "dirichlet")``):
+    at ``parameters`` in [0, 1] on every edge, edge by edge, or, given ``edge``, point i at ``parameters[i]`` on
+    edge ``edge[i]``."""
+    one = mesh.MapToAllElements({ngs.SEGM: ngs.IntegrationRule([(0.0,)], [0.0])},
+                                mesh.Boundaries(problem.where("dirichlet")))
+    if edge is None:
+        edge, parameters = np.repeat(np.arange(len(one)), len(parameters)), np.tile(parameters, len(one))
+    points = one[np.asarray(edge, dtype=int)]
+    points["x"] = parameters
+    return points
 
 
 def _values(cf, points, count, volume=False):
@@ -50,29 +69,102 @@ def _values(cf, points, count, volume=False):
     return values.reshape(-1, count, cf.dim)
 
 
+def _coordinates(points, count):
+    """(x, y) of mapped points, shape (edges, count, 2)."""
+    return np.column_stack([np.asarray(ngs.x(points)).ravel(), np.asarray(ngs.y(points)).ravel()]).reshape(-1,
+                                                                                                          count, 2)
+
+
+def _ends(mesh, edges, xy):
+    """For every Dirichlet edge, its two vertex numbers in the order of the first and last of ``xy``."""
+    ends = []
+    for (element, _), at in zip(edges, xy, strict=True):
+        vertices = mesh[element].vertices
+        ends.append([min(vertices, key=lambda v, p=p: np.linalg.norm(p - np.array(mesh[v].point))).nr
+                     for p in (at[0], at[-1])])
+    return ends
+
+
 def dirichlet_vertex_values(problem, mesh):
-    """({vertex number: u_D there}, the largest disagreement of u_D between the Dirichlet edges that meet at a vertex
-    relative to the largest |u_D| at a vertex: 0 for data continuous along Gamma_D)."""
+    """{vertex number: u_D there} for the vertices of Gamma_D (where two Dirichlet edges disagree, the value of the
+    later one; :func:`dirichlet_jumps` reports the disagreement)."""
     edges = boundary_edges(problem, mesh, "dirichlet")
     if not edges:
-        return {}, 0.0
+        return {}
     points = _edge_points(problem, mesh, (0.0, 1.0))
-    ends = _values(coefficient(problem.u_D), points, 2)
-    xy = np.column_stack([np.asarray(ngs.x(points)).ravel(), np.asarray(ngs.y(points)).ravel()]).reshape(-1, 2, 2)
-    values, spread = {}, 0.0
-    for (element, _), at, value in zip(edges, xy, ends, strict=True):
-        for vertex in mesh[element].vertices:
-            here = value[np.argmin(np.linalg.norm(at - np.array(mesh[vertex].point), axis=1))]
-            if vertex.nr in values:
-                spread = max(spread, float(np.max(np.abs(values[vertex.nr] - here))))
-            values[vertex.nr] = here
-    scale = max(max(float(np.max(np.abs(v))) for v in values.values()), 1e-300)
-    return values, spread / scale
+    values = _values(coefficient(problem.u_D), points, 2)
+    ends = _ends(mesh, edges, _coordinates(points, 2))
+    return {vertex: value[j] for pair, value in zip(ends, values, strict=True) for j, vertex in enumerate(pair)}
+
+
+def dirichlet_jumps(problem, mesh, admissible):
+    """The jumps of u_D along Gamma_D larger than ``admissible`` (relative to the largest |u_D| sampled there), the
+    largest first: a list of :class:`Jump`, empty for u_D continuous along Gamma_D.
+
+    Where two Dirichlet edges meet, their own values of u_D at the common vertex are compared (u_D given per side
+    differs there).  Inside every edge u_D is sampled on ``SAMPLES`` equal intervals and every interval bisected
+    ``BISECTIONS`` times, keeping the half whose difference of u_D departs more from the slope of u_D next to it
+    (at first the mean difference over the neighbouring intervals, then the difference over the other half): a jump keeps its
+    size as the interval shrinks to 2^-45 of the edge, while what u_D continuous leaves there (a kink, a steep
+    layer: the slope's change over the interval) goes to zero with it.  Jumps that cancel within one sampling
+    interval are not seen.
+    """
+    edges = boundary_edges(problem, mesh, "dirichlet")
+    if not edges:
+        return []
+    u_D = coefficient(problem.u_D)
+    points = _edge_points(problem, mesh, np.linspace(0.0, 1.0, SAMPLES + 1))
+    samples, xy = _values(u_D, points, SAMPLES + 1), _coordinates(points, SAMPLES + 1)
+    scale = max(float(np.max(np.abs(samples))), 1e-300)
+    return sorted(_vertex_jumps(problem, mesh, edges, samples, xy, scale, admissible)
+                  + _inside_jumps(problem, mesh, edges, samples, scale, admissible), reverse=True)
+
+
+def _vertex_jumps(problem, mesh, edges, samples, xy, scale, admissible):
+    """The jumps of u_D between two Dirichlet edges at their common vertex (``dirichlet_jumps``)."""
+    seen, jumps = {}, []
+    for (element, _), pair, value in zip(edges, _ends(mesh, edges, xy), samples, strict=True):
+        for vertex, here in zip(pair, (value[0], value[-1]), strict=True):
+            if vertex in seen:
+                side, there = seen[vertex]
+                size = float(np.max(np.abs(here - there))) / scale
+                if size > admissible:
+                    where = (f"where the Dirichlet sides '{min(side, element.mat)}' and '{max(side, element.mat)}' "
+                             "meet" if side != element.mat else f"between two edges of the Dirichlet side '{side}'")
+                    jumps.append(Jump(size, tuple(mesh[ngs.NodeId(ngs.VERTEX, vertex)].point), where))
+            seen[vertex] = element.mat, here
+    return jumps
+
+
+def _inside_jumps(problem, mesh, edges, samples, scale, admissible):
+    """The jumps of u_D inside the Dirichlet edges, by bisection of the sampling intervals (``dirichlet_jumps``)."""
+    u_D = coefficient(problem.u_D)
+    steps = np.diff(samples, axis=1)  # (edges, SAMPLES, dim)
+    beside = np.concatenate([steps[:, 1:2], steps, steps[:, -2:-1]], axis=1)  # an edge's end: its one neighbour
+    slope = ((beside[:, :-2] + beside[:, 2:]) / 2).reshape(-1, samples.shape[2])  # u_D's difference next to each
+    edge = np.repeat(np.arange(len(edges)), SAMPLES)
+    a, b = np.tile(np.arange(SAMPLES), len(edges)) / SAMPLES, np.tile(np.arange(1, SAMPLES + 1), len(edges)) / SAMPLES
+    u_a, u_b = samples[:, :-1].reshape(slope.shape), samples[:, 1:].reshape(slope.shape)
+    for _ in range(BISECTIONS):
+        middle = (a + b) / 2
+        u_m = _values(u_D, _edge_points(problem, mesh, middle, edge), 1)[:, 0]
+        left, right = u_m - u_a, u_b - u_m
+        keep_left = np.max(np.abs(left - slope / 2), axis=1) >= np.max(np.abs(right - slope / 2), axis=1)
+        a, b = np.where(keep_left, a, middle), np.where(keep_left, middle, b)
+        u_a, u_b = np.where(keep_left[:, None], u_a, u_m), np.where(keep_left[:, None], u_m, u_b)
+        slope = np.where(keep_left[:, None], right, left)
+    size = np.max(np.abs(u_b - u_a - slope), axis=1) / scale
+    found = np.flatnonzero(size > admissible)
+    if not found.size:
+        return []
+    at = _coordinates(_edge_points(problem, mesh, (a[found] + b[found]) / 2, edge[found]), 1)[:, 0]
+    return [Jump(float(size[i]), tuple(map(float, point)), f"inside the Dirichlet side '{edges[edge[i]][0].mat}'")
+            for i, point in zip(found, at, strict=True)]
 
 
 def set_dirichlet_vertices(problem, mesh, s):
     """Set the vertex values of the continuous GridFunction ``s`` on Gamma_D to u_D there, exactly."""
-    for vertex, value in dirichlet_vertex_values(problem, mesh)[0].items():
+    for vertex, value in dirichlet_vertex_values(problem, mesh).items():
         s.vec.FV().NumPy()[list(s.space.GetDofNrs(ngs.NodeId(ngs.VERTEX, vertex)))] = value
 
 
@@ -88,10 +180,10 @@ def lifting_energies(problem, mesh, s, mu, lam):
     nodes = 0.5 - 0.5 * np.cos(np.pi * (np.arange(DEGREE + 1) + 0.5) / (DEGREE + 1))  # Chebyshev, on [0, 1]
     gauss, weights = np.polynomial.legendre.leggauss(DEGREE)
     gauss, weights = (gauss + 1) / 2, weights / 2
-    points = _edge_points(problem, mesh, np.concatenate([nodes, gauss]))
     count = len(nodes) + len(gauss)
+    points = _edge_points(problem, mesh, np.concatenate([nodes, gauss]))
     misses = _values(coefficient(problem.u_D), points, count) - _values(s, points, count, volume=True)
-    xy = np.column_stack([np.asarray(ngs.x(points)).ravel(), np.asarray(ngs.y(points)).ravel()]).reshape(-1, count, 2)
+    xy = _coordinates(points, count)
     for k, (element, volume) in enumerate(edges):
         A, B = (np.array(mesh[v].point) for v in mesh[element].vertices)
         a = next(np.array(mesh[v].point) for v in mesh[volume].vertices if v not in mesh[element].vertices)

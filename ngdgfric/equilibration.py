@@ -89,7 +89,7 @@ from .dg.discretization import (
     polynomial_degrees,
 )
 from .dg.forms import element_areas
-from .dirichlet_lifting import dirichlet_vertex_values, lifting_energies, set_dirichlet_vertices
+from .dirichlet_lifting import dirichlet_jumps, lifting_energies, set_dirichlet_vertices
 from .meshes import boundary_elements, element_diameters, facet_indicator, smallest_angles
 from .problem import coefficient, exponents, strain, stress
 from .reference import energy_norm_squared_parts
@@ -99,7 +99,7 @@ __all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "
            "stick_edges", "kinked_edges", "inf_sup_lower_bounds", "trace_constants", "edge_measure", "edge_integrals",
            "ADMISSIBLE"]
 
-ADMISSIBLE = 1e-10  # relative jump of u_D at a vertex of Gamma_D still called round-off
+ADMISSIBLE = 1e-10  # relative jump of u_D along Gamma_D still called round-off (dirichlet_jumps)
 DATA_BONUS = 6  # extra quadrature degree of the non-polynomial integrands (data, kinks of (.)_+)
 EDGE_BONUS = 24  # the same on the edges, for g and the contact traction (kinks where P(lam_tau) or (.)_+ cut off)
 
@@ -463,10 +463,12 @@ def _bound(sol):
         reasons.append("m_t > 0: the friction bound depends on u (estimate with the bound frozen at u_h)")
     if problem.geometry.curved:
         reasons.append("curved sides: the constants and the lifting of u_D hold for straight triangles")
-    jump = dirichlet_vertex_values(problem, mesh)[1]
-    if jump > ADMISSIBLE:
-        reasons.append(f"u_D jumps by {jump:.1e} (relative) where two sides of Gamma_D meet (not the trace of an "
-                       "H^1 displacement)")
+    jumps = dirichlet_jumps(problem, mesh, ADMISSIBLE)
+    if jumps:
+        size, (x, y), where = jumps[0]
+        more = f"; {len(jumps) - 1} more jumps" if len(jumps) > 1 else ""
+        reasons.append(f"u_D jumps by {size:.1e} (relative) at ({x:.6g}, {y:.6g}) {where} (not the trace of an H^1 "
+                       f"displacement{more})")
     element = sum(parts.values())
     return Equilibration(eta_h=eta_h, eta_T_squared=element, terms_squared={key: float(value.sum()) for key, value
                                                                            in parts.items()},

@@ -341,3 +341,51 @@ def test_the_smallest_modulus_of_c(nu):
     ratios = (2 * mu * np.sum(strains**2, axis=(1, 2)) + lam * np.trace(strains, axis1=1, axis2=2) ** 2) / np.sum(
         strains**2, axis=(1, 2))
     assert np.all(ratios >= smallest.min() * (1 - 1e-12)) and ratios.min() <= 1.01 * smallest.min()
+
+
+def _example_6_1_with(u_D, **changes):
+    """Example 6.1 (Gamma_D: the side x = 1, 0.05 < y < 1.05, named "dirichlet") with ``u_D``, solved on h = 0.25
+    (Dirichlet vertices at y = 0.05, 0.3, 0.55, 0.8, 1.05), and its equilibrated bound."""
+    problem = dataclasses.replace(example("6.1"), u_D=u_D, **changes)
+    return ndf.equilibrate(ndf.solve(problem, ndf.uniform_mesh(problem, 0.25), order=1))
+
+
+@pytest.mark.parametrize("c", [0.55, 0.4], ids=["at_a_vertex", "inside_an_edge"])
+def test_u_d_jumping_inside_a_dirichlet_side_voids_the_guarantee(c):
+    """u_D = (0.01 [y > c], 0) on Gamma_D: not the trace of an H^1 displacement, so not guaranteed; the reason
+    names the jump, relative to the largest |u_D| (0.01), and where it is."""
+    bound = _example_6_1_with(ngs.CF((ngs.IfPos(ngs.y - c, 0.01, 0.0), 0)))
+    assert not bound.guaranteed
+    assert (f"u_D jumps by 1.0e+00 (relative) at (1, {c:g}) inside the Dirichlet side 'dirichlet'"
+            in bound.reason), bound.reason
+
+
+def test_a_small_jump_against_the_slope_of_u_d_voids_the_guarantee():
+    """u_D = (y - 0.05 - 0.001 [y > 0.4], 0): the jump is smaller than what the slope adds over a sampling interval
+    and of the other sign, so the difference of u_D over the half with the jump is the smaller one; the bisection
+    follows the difference less the slope and still finds it."""
+    bound = _example_6_1_with(ngs.CF((ngs.y - 0.05 - ngs.IfPos(ngs.y - 0.4, 0.001, 0.0), 0)))
+    assert not bound.guaranteed
+    assert "u_D jumps by 1.0e-03 (relative) at (1, 0.4) inside the Dirichlet side 'dirichlet'" in bound.reason, \
+        bound.reason
+
+
+def test_u_d_jumping_where_two_dirichlet_sides_meet_voids_the_guarantee():
+    """The top side a second Dirichlet side "lid" with u_D = 0 there, (0.01, 0) on "dirichlet": a jump at the
+    corner (1, 1.05) where they meet."""
+    geometry = ndf.Polygon.rectangle(0, 0.05, 1, 1.05, "contact", "dirichlet", "lid", "traction")
+    bound = _example_6_1_with({"dirichlet": (0.01, 0)}, geometry=geometry, dirichlet=("dirichlet", "lid"))
+    assert not bound.guaranteed
+    assert ("u_D jumps by 1.0e+00 (relative) at (1, 1.05) where the Dirichlet sides 'dirichlet' and 'lid' meet"
+            in bound.reason), bound.reason
+
+
+@pytest.mark.parametrize("u_D", [
+    ngs.CF((0.01 - 0.02 / (ngs.exp(400 * (ngs.y - 0.4)) + 1), 0)),  # 0.01 tanh(200 (y - 0.4)): steep inside an edge
+    ngs.CF((0.01 * ngs.IfPos(ngs.y - 0.4, ngs.y - 0.4, 0.4 - ngs.y), 0.005)),  # a kink inside an edge
+    ngs.CF((0.01 * ngs.IfPos(ngs.y - 0.55, ngs.y - 0.55, 0.0), 0)),  # a kink at a vertex
+    ngs.CF((0.01 * ngs.sin(3 * ngs.y), -0.02 * ngs.y**2)),
+], ids=["steep", "kink_inside_an_edge", "kink_at_a_vertex", "smooth"])
+def test_continuous_u_d_keeps_the_guarantee(u_D):
+    bound = _example_6_1_with(u_D)
+    assert bound.guaranteed, bound.reason
