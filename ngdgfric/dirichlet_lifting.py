@@ -23,6 +23,12 @@ and :math:`|\det \partial x / \partial(\tau, r)| = (1 - r) |D|`, so
 
 a one-dimensional integral along the edge.  :math:`d' = \partial_\tau d` is taken from a Chebyshev interpolant of
 :math:`d` of degree ``DEGREE`` along the edge (any CoefficientFunction :math:`u_D`, no symbolic derivative needed).
+
+All this needs :math:`u_D` continuous along :math:`\Gamma_D`: a jump is not the trace of an :math:`H^1`
+displacement, and no lifting of finite energy exists.  ``dirichlet_jumps`` looks for jumps where two Dirichlet
+edges meet and inside every edge, by sampling and halving: a difference of :math:`u_D` that departs from the
+differences beside it by the same amount however short the interval is a jump; where :math:`u_D` is continuous (also
+at a kink, a steep layer or a cusp) the departure goes to zero with the interval.
 """
 
 from typing import NamedTuple
@@ -35,11 +41,13 @@ from .bounds import coefficient
 from .contact.boundary import boundary_edges
 
 __all__ = ["dirichlet_vertex_values", "dirichlet_jumps", "Jump", "set_dirichlet_vertices", "lifting_energies",
-           "DEGREE", "SAMPLES", "BISECTIONS"]
+           "DEGREE", "SAMPLES", "BISECTIONS", "SETTLE", "MAX_INTERVALS"]
 
 DEGREE = 24  # Chebyshev interpolant of u_D - s along a Dirichlet edge (u_D - s is smooth there by assumption)
 SAMPLES = 32  # intervals per Dirichlet edge on which dirichlet_jumps samples u_D
-BISECTIONS = 40  # halvings of each sampling interval: 2^-45 of the edge, some 100 ulps of a coordinate
+BISECTIONS = 40  # halvings of a sampling interval, down to 2^-45 of the edge (some 30-100 ulps of a coordinate)
+SETTLE = 20  # the last halvings over which a jump's departure stays within 10 %
+MAX_INTERVALS = 200_000  # intervals followed at once (those departing most), for u_D oscillating very fast
 
 
 class Jump(NamedTuple):
@@ -102,12 +110,14 @@ def dirichlet_jumps(problem, mesh, admissible):
     largest first: a list of :class:`Jump`, empty for u_D continuous along Gamma_D.
 
     Where two Dirichlet edges meet, their own values of u_D at the common vertex are compared (u_D given per side
-    differs there).  Inside every edge u_D is sampled on ``SAMPLES`` equal intervals and every interval bisected
-    ``BISECTIONS`` times, keeping the half whose difference of u_D departs more from the slope of u_D next to it
-    (at first the mean difference over the neighbouring intervals, then the difference over the other half): a jump keeps its
-    size as the interval shrinks to 2^-45 of the edge, while what u_D continuous leaves there (a kink, a steep
-    layer: the slope's change over the interval) goes to zero with it.  Jumps that cancel within one sampling
-    interval are not seen.
+    differs there).  Inside every edge u_D is sampled on ``SAMPLES`` equal intervals; an interval is kept while its
+    difference of u_D departs from the mean of the differences beside it (of the same width; at an end of the edge,
+    from the line through the two on its one side) by more than ``admissible``, and its halves are checked in turn,
+    ``BISECTIONS`` times, down to 2^-45 of the edge.  The departure is a third difference of u_D, O(w^3) on an
+    interval of width w where u_D is smooth, O(w) at a kink, O(w^a) at a cusp |y - c|^a, and the jump itself where
+    u_D jumps: a jump is a departure that still exceeds ``admissible`` at the end and changed by less than 10 % over
+    the last ``SETTLE`` halvings (a cusp's shrinks by 2^-10a).  Several jumps are told apart down to 1e-9 of the
+    edge; jumps that cancel within one sampling interval (1/``SAMPLES`` of the edge) are not seen.
     """
     edges = boundary_edges(problem, mesh, "dirichlet")
     if not edges:
@@ -136,30 +146,62 @@ def _vertex_jumps(problem, mesh, edges, samples, xy, scale, admissible):
     return jumps
 
 
+def _departures(before, here, after, far_before, far_after, has_before, has_after):
+    """How far the differences ``here`` of u_D over some intervals depart from the mean of the differences
+    ``before`` and ``after`` over their neighbours of the same width (arrays of shape (intervals, dim)), or, where a
+    neighbour is missing (``has_before``, ``has_after`` False: the end of an edge), from the line through the two
+    differences on the other side."""
+    beside = np.where(has_after[:, None], np.where(has_before[:, None], (before + after) / 2, 2 * after - far_after),
+                      2 * before - far_before)
+    return here - beside
+
+
 def _inside_jumps(problem, mesh, edges, samples, scale, admissible):
-    """The jumps of u_D inside the Dirichlet edges, by bisection of the sampling intervals (``dirichlet_jumps``)."""
-    u_D = coefficient(problem.u_D)
-    steps = np.diff(samples, axis=1)  # (edges, SAMPLES, dim)
-    beside = np.concatenate([steps[:, 1:2], steps, steps[:, -2:-1]], axis=1)  # an edge's end: its one neighbour
-    slope = ((beside[:, :-2] + beside[:, 2:]) / 2).reshape(-1, samples.shape[2])  # u_D's difference next to each
-    edge = np.repeat(np.arange(len(edges)), SAMPLES)
-    a, b = np.tile(np.arange(SAMPLES), len(edges)) / SAMPLES, np.tile(np.arange(1, SAMPLES + 1), len(edges)) / SAMPLES
-    u_a, u_b = samples[:, :-1].reshape(slope.shape), samples[:, 1:].reshape(slope.shape)
-    for _ in range(BISECTIONS):
-        middle = (a + b) / 2
-        u_m = _values(u_D, _edge_points(problem, mesh, middle, edge), 1)[:, 0]
-        left, right = u_m - u_a, u_b - u_m
-        keep_left = np.max(np.abs(left - slope / 2), axis=1) >= np.max(np.abs(right - slope / 2), axis=1)
-        a, b = np.where(keep_left, a, middle), np.where(keep_left, middle, b)
-        u_a, u_b = np.where(keep_left[:, None], u_a, u_m), np.where(keep_left[:, None], u_m, u_b)
-        slope = np.where(keep_left[:, None], right, left)
-    size = np.max(np.abs(u_b - u_a - slope), axis=1) / scale
-    found = np.flatnonzero(size > admissible)
-    if not found.size:
+    """The jumps of u_D inside the Dirichlet edges, by halving the sampling intervals (``dirichlet_jumps``)."""
+    u_D, limit, dim = coefficient(problem.u_D), admissible * scale, samples.shape[2]
+    steps, k = np.diff(samples, axis=1), np.arange(SAMPLES)  # steps[e, k]: over interval k of edge e
+    near = [steps[:, np.clip(k + shift, 0, SAMPLES - 1)].reshape(-1, dim) for shift in (-2, -1, 1, 2)]
+    first, last = np.tile(k == 0, len(edges)), np.tile(k == SAMPLES - 1, len(edges))
+    departure = _departures(near[1], steps.reshape(-1, dim), near[2], near[0], near[3], ~first, ~last)
+    edge, a, width = np.repeat(np.arange(len(edges)), SAMPLES), np.tile(k / SAMPLES, len(edges)), np.full(
+        len(first), 1 / SAMPLES)
+    u_a, u_b = samples[:, :-1].reshape(-1, dim), samples[:, 1:].reshape(-1, dim)
+    low, high = np.full(len(a), np.inf), np.zeros(len(a))  # the departure's range over the last SETTLE levels
+    for level in range(BISECTIONS + 1):
+        size = np.max(np.abs(departure), axis=1)
+        keep = np.flatnonzero(size > limit)
+        keep = keep[np.argsort(size[keep])[-MAX_INTERVALS:]]
+        edge, a, width, u_a, u_b, departure, size, low, high = (
+            v[keep] for v in (edge, a, width, u_a, u_b, departure, size, low, high))
+        if level >= BISECTIONS - SETTLE:
+            low, high = np.minimum(low, size), np.maximum(high, size)
+        if level == BISECTIONS or not len(a):
+            break
+        half = width / 2
+        t = np.clip(a[:, None] + half[:, None] * np.array([-1, 1, 3]), 0.0, 1.0)
+        u_0, u_m, u_4 = _values(u_D, _edge_points(problem, mesh, t.ravel(), np.repeat(edge, 3)), 3).transpose(1, 0, 2)
+        d = u_a - u_0, u_m - u_a, u_b - u_m, u_4 - u_b
+        has_before, has_after, present = a - half >= 0, a + 3 * half <= 1, np.ones(len(a), dtype=bool)
+        departure = np.concatenate([_departures(d[0], d[1], d[2], d[0], d[3], has_before, present),
+                                    _departures(d[1], d[2], d[3], d[0], d[3], present, has_after)])
+        edge, a, width = np.tile(edge, 2), np.concatenate([a, a + half]), np.tile(half, 2)
+        u_a, u_b, low, high = np.concatenate([u_a, u_m]), np.concatenate([u_m, u_b]), np.tile(low, 2), np.tile(high, 2)
+    jump = high <= 1.1 * low  # a jump keeps its size; what a kink or a cusp leaves shrinks
+    return _apart(problem, mesh, edges, edge[jump], a[jump] + width[jump] / 2, size[jump] / scale)
+
+
+def _apart(problem, mesh, edges, edge, at, size):
+    """One :class:`Jump` for each group of jumps found within 1e-9 of an edge of each other (the largest of the
+    group: a jump makes its neighbours depart by half its size), at the parameters ``at`` of the edges ``edge``."""
+    if not len(at):
         return []
-    at = _coordinates(_edge_points(problem, mesh, (a[found] + b[found]) / 2, edge[found]), 1)[:, 0]
+    order = np.lexsort((at, edge))
+    edge, at, size = edge[order], at[order], size[order]
+    starts = np.flatnonzero(np.concatenate([[True], (np.diff(edge) != 0) | (np.diff(at) > 1e-9)]))
+    chosen = [start + int(np.argmax(group)) for start, group in zip(starts, np.split(size, starts[1:]), strict=True)]
+    xy = _coordinates(_edge_points(problem, mesh, at[chosen], edge[chosen]), 1)[:, 0]
     return [Jump(float(size[i]), tuple(map(float, point)), f"inside the Dirichlet side '{edges[edge[i]][0].mat}'")
-            for i, point in zip(found, at, strict=True)]
+            for i, point in zip(chosen, xy, strict=True)]
 
 
 def set_dirichlet_vertices(problem, mesh, s):

@@ -66,11 +66,13 @@ incentre, half its smallest angle (Horgan & Payne, ARMA 1983; Costabel & Dauge, 
 fail for some star-shaped domains: for triangles it is the one assumption of the bound we did not prove here).
 
 Guaranteed (``Equilibration.guaranteed``, else ``reason`` says why): :math:`m_t = 0`, straight sides,
-:math:`u_D` continuous along :math:`\Gamma_D`; any data :math:`f`, :math:`g`, :math:`u_D`, :math:`g_a`,
-:math:`c_n`, :math:`c_\tau` otherwise, their integrals taken by Gauss rules (exact for polynomials, of degree
-:math:`2 (p + 2) + 24` on the edges, where the traction has kinks).  For :math:`m_t > 0` the friction bound depends
-on :math:`u` itself (a quasi-variational inequality, no minimisation): the same number is computed with the
-friction bound frozen at :math:`u_h`, an estimate without guarantee.  Symmetry sides are refused (ValueError).
+:math:`u_D` continuous along :math:`\Gamma_D` (no jump where two sides meet nor inside a side, to ``ADMISSIBLE``
+relative to :math:`\max |u_D|`: ``dirichlet_jumps`` of :mod:`ngdgfric.dirichlet_lifting`); any data :math:`f`,
+:math:`g`, :math:`u_D`, :math:`g_a`, :math:`c_n`, :math:`c_\tau` otherwise, their integrals taken by Gauss rules
+(exact for polynomials, of degree :math:`2 (p + 2) + 24` on the edges, where the traction has kinks).  For
+:math:`m_t > 0` the friction bound depends on :math:`u` itself (a quasi-variational inequality, no minimisation): the
+same number is computed with the friction bound frozen at :math:`u_h`, an estimate without guarantee.  Symmetry sides
+are refused (ValueError).
 """
 
 from dataclasses import dataclass
@@ -404,10 +406,11 @@ def equilibrate(sol):
 
     Notes
     -----
-    Guaranteed for :math:`m_t = 0`, straight sides and :math:`u_D` continuous along :math:`\Gamma_D`, whatever the
-    data otherwise (what the spaces miss of them is paid by explicit terms; the integrals of data that are not
-    polynomials are taken by Gauss rules); for :math:`m_t > 0` the same number, with the friction bound frozen at
-    :math:`u_h`, is an estimate without guarantee (``guaranteed`` is False and ``reason`` says why).
+    Guaranteed for :math:`m_t = 0`, straight sides and :math:`u_D` continuous along :math:`\Gamma_D` (a jump where
+    two Dirichlet sides meet or inside one is named in ``reason``), whatever the data otherwise (what the spaces miss
+    of them is paid by explicit terms; the integrals of data that are not polynomials are taken by Gauss rules); for
+    :math:`m_t > 0` the same number, with the friction bound frozen at :math:`u_h`, is an estimate without guarantee
+    (``guaranteed`` is False and ``reason`` says why).
 
     Examples
     --------
