@@ -469,7 +469,7 @@ def _bound(sol):
     jumps = dirichlet_jumps(problem, mesh, ADMISSIBLE)
     if jumps:
         size, (x, y), where = jumps[0]
-        more = f"; {len(jumps) - 1} more jumps" if len(jumps) > 1 else ""
+        more = {1: "", 2: "; 1 more jump"}.get(len(jumps), f"; {len(jumps) - 1} more jumps")
         reasons.append(f"u_D jumps by {size:.1e} (relative) at ({x:.6g}, {y:.6g}) {where} (not the trace of an H^1 "
                        f"displacement{more})")
     element = sum(parts.values())
