@@ -66,11 +66,13 @@ incentre, half its smallest angle (Horgan & Payne, ARMA 1983; Costabel & Dauge, 
 fail for some star-shaped domains: for triangles it is the one assumption of the bound we did not prove here).
 
 Guaranteed (``Equilibration.guaranteed``, else ``reason`` says why): :math:`m_t = 0`, straight sides,
-:math:`u_D` continuous along :math:`\Gamma_D`; any data :math:`f`, :math:`g`, :math:`u_D`, :math:`g_a`,
-:math:`c_n`, :math:`c_\tau` otherwise, their integrals taken by Gauss rules (exact for polynomials, of degree
-:math:`2 (p + 2) + 24` on the edges, where the traction has kinks).  For :math:`m_t > 0` the friction bound depends
-on :math:`u` itself (a quasi-variational inequality, no minimisation): the same number is computed with the
-friction bound frozen at :math:`u_h`, an estimate without guarantee.  Symmetry sides are refused (ValueError).
+:math:`u_D` continuous along :math:`\Gamma_D` (no jump where two sides meet nor inside a side, to ``ADMISSIBLE``
+relative to :math:`\max |u_D|`: ``dirichlet_jumps`` of :mod:`ngdgfric.dirichlet_lifting`); any data :math:`f`,
+:math:`g`, :math:`u_D`, :math:`g_a`, :math:`c_n`, :math:`c_\tau` otherwise, their integrals taken by Gauss rules
+(exact for polynomials, of degree :math:`2 (p + 2) + 24` on the edges, where the traction has kinks).  For
+:math:`m_t > 0` the friction bound depends on :math:`u` itself (a quasi-variational inequality, no minimisation): the
+same number is computed with the friction bound frozen at :math:`u_h`, an estimate without guarantee.  Symmetry sides
+are refused (ValueError).
 """
 
 from dataclasses import dataclass
@@ -90,7 +92,7 @@ from .dg.discretization import (
     polynomial_degrees,
 )
 from .dg.forms import element_areas
-from .dirichlet_lifting import dirichlet_vertex_values, lifting_energies, set_dirichlet_vertices
+from .dirichlet_lifting import dirichlet_jumps, lifting_energies, set_dirichlet_vertices
 from .meshes import boundary_elements, element_diameters, facet_indicator, smallest_angles
 from .problem import coefficient, exponents, strain, stress
 from .reference import energy_norm_squared_parts
@@ -100,7 +102,7 @@ __all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "
            "stick_edges", "kinked_edges", "inf_sup_lower_bounds", "trace_constants", "edge_measure", "edge_integrals",
            "ADMISSIBLE"]
 
-ADMISSIBLE = 1e-10  # relative jump of u_D at a vertex of Gamma_D still called round-off
+ADMISSIBLE = 1e-10  # relative jump of u_D along Gamma_D still called round-off (dirichlet_jumps)
 DATA_BONUS = 6  # extra quadrature degree of the non-polynomial integrands (data, kinks of (.)_+)
 EDGE_BONUS = 24  # the same on the edges, for g and the contact traction (kinks where P(lam_tau) or (.)_+ cut off)
 
@@ -405,10 +407,11 @@ def equilibrate(sol):
 
     Notes
     -----
-    Guaranteed for :math:`m_t = 0`, straight sides and :math:`u_D` continuous along :math:`\Gamma_D`, whatever the
-    data otherwise (what the spaces miss of them is paid by explicit terms; the integrals of data that are not
-    polynomials are taken by Gauss rules); for :math:`m_t > 0` the same number, with the friction bound frozen at
-    :math:`u_h`, is an estimate without guarantee (``guaranteed`` is False and ``reason`` says why).
+    Guaranteed for :math:`m_t = 0`, straight sides and :math:`u_D` continuous along :math:`\Gamma_D` (a jump where
+    two Dirichlet sides meet or inside one is named in ``reason``), whatever the data otherwise (what the spaces miss
+    of them is paid by explicit terms; the integrals of data that are not polynomials are taken by Gauss rules); for
+    :math:`m_t > 0` the same number, with the friction bound frozen at :math:`u_h`, is an estimate without guarantee
+    (``guaranteed`` is False and ``reason`` says why).
 
     Examples
     --------
@@ -465,10 +468,12 @@ def _bound(sol):
         reasons.append("m_t > 0: the friction bound depends on u (estimate with the bound frozen at u_h)")
     if problem.geometry.curved:
         reasons.append("curved sides: the constants and the lifting of u_D hold for straight triangles")
-    jump = dirichlet_vertex_values(problem, mesh)[1]
-    if jump > ADMISSIBLE:
-        reasons.append(f"u_D jumps by {jump:.1e} (relative) where two sides of Gamma_D meet (not the trace of an "
-                       "H^1 displacement)")
+    jumps = dirichlet_jumps(problem, mesh, ADMISSIBLE)
+    if jumps:
+        size, (x, y), where = jumps[0]
+        more = {1: "", 2: "; 1 more jump"}.get(len(jumps), f"; {len(jumps) - 1} more jumps")
+        reasons.append(f"u_D jumps by {size:.1e} (relative) at ({x:.6g}, {y:.6g}) {where} (not the trace of an H^1 "
+                       f"displacement{more})")
     element = sum(parts.values())
     return Equilibration(eta_h=eta_h, eta_T_squared=element, terms_squared={key: float(value.sum()) for key, value
                                                                            in parts.items()},

@@ -341,3 +341,80 @@ def test_the_smallest_modulus_of_c(nu):
     ratios = (2 * mu * np.sum(strains**2, axis=(1, 2)) + lam * np.trace(strains, axis1=1, axis2=2) ** 2) / np.sum(
         strains**2, axis=(1, 2))
     assert np.all(ratios >= smallest.min() * (1 - 1e-12)) and ratios.min() <= 1.01 * smallest.min()
+
+
+def _rise(width):
+    """0.01 tanh((y - 0.4) / width), a continuous layer of that width at y = 0.4."""
+    return 0.01 - 0.02 / (ngs.exp(2 * (ngs.y - 0.4) / width) + 1)
+
+
+def _example_6_1_with(u_D, **changes):
+    """Example 6.1 (Gamma_D: the side x = 1, 0.05 < y < 1.05, named "dirichlet") with ``u_D``, solved on h = 0.25
+    (Dirichlet vertices at y = 0.05, 0.3, 0.55, 0.8, 1.05), and its equilibrated bound."""
+    problem = dataclasses.replace(example("6.1"), u_D=u_D, **changes)
+    return ndf.equilibrate(ndf.solve(problem, ndf.uniform_mesh(problem, 0.25), order=1))
+
+
+@pytest.mark.parametrize(("c", "smooth", "jump", "relative"), [
+    (0.55, 0, 0.01, "1.0e+00"),
+    (0.4, 0, 0.01, "1.0e+00"),
+    (0.4, 0.01 * ngs.sin(3 * ngs.y), 1e-9, "1.0e-07"),  # max |u_D| = 0.01 (at y = pi / 6)
+], ids=["at_a_vertex", "inside_an_edge", "small_on_smooth_data"])
+def test_u_d_jumping_inside_a_dirichlet_side_voids_the_guarantee(c, smooth, jump, relative):
+    """u_D = (smooth + jump [y > c], 0) on Gamma_D: not the trace of an H^1 displacement, so not guaranteed; the
+    reason names the jump, relative to the largest |u_D|, and where it is."""
+    bound = _example_6_1_with(ngs.CF((smooth + ngs.IfPos(ngs.y - c, jump, 0.0), 0)))
+    assert not bound.guaranteed
+    assert (f"u_D jumps by {relative} (relative) at (1, {c:g}) inside the Dirichlet side 'dirichlet'"
+            in bound.reason), bound.reason
+
+
+def test_u_d_jumping_where_two_dirichlet_sides_meet_voids_the_guarantee():
+    """The top side a second Dirichlet side "lid" with u_D = 0 there, (0.01, 0) on "dirichlet": a jump at the
+    corner (1, 1.05) where they meet."""
+    geometry = ndf.Polygon.rectangle(0, 0.05, 1, 1.05, "contact", "dirichlet", "lid", "traction")
+    bound = _example_6_1_with({"dirichlet": (0.01, 0)}, geometry=geometry, dirichlet=("dirichlet", "lid"))
+    assert not bound.guaranteed
+    assert ("u_D jumps by 1.0e+00 (relative) at (1, 1.05) where the Dirichlet sides 'dirichlet' and 'lid' meet"
+            in bound.reason), bound.reason
+
+
+@pytest.mark.parametrize("u_D", [
+    ngs.CF((_rise(0.005), 0)),  # steep inside an edge
+    ngs.CF((0.01 * ngs.IfPos(ngs.y - 0.4, ngs.y - 0.4, 0.4 - ngs.y), 0.005)),  # a kink inside an edge
+    ngs.CF((0.01 * ngs.IfPos(ngs.y - 0.55, ngs.y - 0.55, 0.0), 0)),  # a kink at a vertex
+    ngs.CF((0.01 * ngs.sin(3 * ngs.y), -0.02 * ngs.y**2)),
+], ids=["steep", "kink_inside_an_edge", "kink_at_a_vertex", "smooth"])
+def test_continuous_u_d_keeps_the_guarantee(u_D):
+    bound = _example_6_1_with(u_D)
+    assert bound.guaranteed, bound.reason
+
+
+@pytest.mark.parametrize(("u_D", "jumps"), [
+    # jumps against the slope, smaller than what the slope adds over a sampling interval (h / 32): the half with
+    # the jump has the smaller difference of u_D
+    ((ngs.y - 0.05 - ngs.IfPos(ngs.y - 0.4, 1e-3, 0.0), 0), [(1e-3 / (1 - 1e-3), 0.4)]),  # max |u_D| = 1 - 1e-3
+    ((ngs.y - 0.05 - ngs.IfPos(ngs.y - 0.4, 1e-7, 0.0), 0), [(1e-7 / (1 - 1e-7), 0.4)]),
+    ((0, ngs.IfPos(ngs.y - 0.4, 0.01, 0.0) + ngs.IfPos(ngs.y - 0.9, 0.02, 0.0)), [(2 / 3, 0.9), (1 / 3, 0.4)]),
+    # two that cancel, 0.02 apart: in two sampling intervals (h / 32 = 0.0078)
+    ((ngs.IfPos(ngs.y - 0.4, 0.01, 0.0) - ngs.IfPos(ngs.y - 0.42, 0.01, 0.0), 0), [(1.0, 0.4), (1.0, 0.42)]),
+    # at a sampling point (the second of the edge 0.3 < y < 0.55): its neighbour departs by half the jump
+    ((ngs.IfPos(ngs.y - 0.3078125, 0.01, 0.0), 0), [(1.0, 0.3078125)]),
+    ((_rise(5e-5), 0), []),  # continuous, rising by 1.4e-10 of max |u_D| over the last interval (2^-45 h)
+    ((ngs.IfPos(ngs.y - 0.4, ngs.y - 0.4, 0.4 - ngs.y) ** 0.1, 0), []),  # continuous, not Lipschitz
+    ((ngs.IfPos(ngs.y - 0.4, ngs.y - 0.4, 0.0) ** 0.1, 0), []),
+], ids=["against_the_slope", "small_against_the_slope", "two", "cancelling", "at_a_sampling_point",
+        "layer_of_width_5e-5", "cusp", "one_sided_cusp"])
+def test_dirichlet_jumps(u_D, jumps):
+    """The jumps ngdgfric.dirichlet_lifting.dirichlet_jumps finds on Example 6.1's Gamma_D (h = 0.25), largest
+    first, their sizes relative to max |u_D| and their points; none for continuous data however steep."""
+    from ngdgfric.dirichlet_lifting import dirichlet_jumps
+    from ngdgfric.equilibration import ADMISSIBLE
+
+    problem = dataclasses.replace(example("6.1"), u_D=ngs.CF(u_D))
+    found = dirichlet_jumps(problem, ndf.uniform_mesh(problem, 0.25), ADMISSIBLE)
+    assert [size for size, _, _ in found] == sorted((size for size, _, _ in found), reverse=True)
+    found, jumps = sorted(found, key=lambda jump: jump.point[1]), sorted(jumps, key=lambda jump: jump[1])
+    assert [size for size, _, _ in found] == pytest.approx([size for size, _ in jumps], rel=1e-6)
+    assert [point for _, point, _ in found] == [pytest.approx((1, y), abs=1e-12) for _, y in jumps]
+    assert {where for _, _, where in found} <= {"inside the Dirichlet side 'dirichlet'"}
