@@ -120,8 +120,8 @@ class AdaptOptions:
         ``True`` (default): hp-refinement (:func:`ngdgfric.hp_refine`: a marked element is bisected or its degree
         raised); ``False``: bisection only, the degree stays ``order``.
     max_order : int or None, optional
-        The largest degree of hp-refinement, at least ``order``.  Default ``None``: 8 (measured: lower caps are
-        no faster to the same accuracy).  Refused with ``hp=False``.
+        The largest degree of hp-refinement, at least ``order`` and at most 30.  Default ``None``: 8 (measured:
+        lower caps are no faster to the same accuracy).  Refused with ``hp=False``.
     layers : int or None, optional
         Geometric layers per hp step: a bisected element containing a singular point (a corner, an end of the
         contact or stick zone) is bisected twice more towards it, ``layers`` times.  Default ``None``: 1.
@@ -134,7 +134,8 @@ class AdaptOptions:
     max_levels : int, optional
         Solve at most this many levels.  Default ``100``.
     max_ndof : int, optional
-        Stop before a mesh with more DOFs.  Default ``10**6``.
+        Stop before a mesh with more DOFs (a first mesh with more is refused by :func:`adapt` before it is
+        solved).  Default ``10**6``.
     max_bytes : float, optional
         Stop before a mesh whose solve is estimated to need more memory, in bytes.  Default ``8e9``.
     max_seconds : float or None, optional
@@ -264,7 +265,7 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
         :math:`\nu < 0.49`, else the first of ``"bassi"``, ``"brezzi"`` that does not lock at ``order``; the
         choice and its reason are reported (``Adaptation.method``, ``Adaptation.method_reason``).
     order : int, optional
-        The polynomial degree :math:`p \ge 1` of the first level (of every level with ``hp=False``).
+        The polynomial degree :math:`1 \le p \le 30` of the first level (of every level with ``hp=False``).
         Default ``4``.
     settings : AdaptOptions or None, optional
         The refinement and stopping settings as one object.  Default ``None``: :class:`AdaptOptions`'

@@ -146,7 +146,7 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
         One of :data:`ngdgfric.METHODS` (Section 3): ``"sipg"``, ``"nipg"``, ``"bassi"``, ``"brezzi"``, ``"ldg"``
         or ``"cg"`` (the conforming baseline).  Default ``"sipg"``.
     order : int, optional
-        The polynomial degree :math:`p \ge 1`.  Default ``1``.
+        The polynomial degree :math:`1 \le p \le 30` (NGSolve's assembly overflows from 33).  Default ``1``.
     eta : float or None, optional
         The penalty parameter.  Default ``None``: the method's default (:math:`30\mu`, Section 6).
     solver : str, optional

@@ -163,8 +163,8 @@ class Discretization:
     method : str, optional
         A name of :data:`ngdgfric.METHODS` (case-insensitive).  Default ``"sipg"``.
     order : int or array_like of int, optional
-        The polynomial degree :math:`p \ge 1`, or an integer array with the degree :math:`p_T` of every element
-        (hp).  Default ``1``.
+        The polynomial degree :math:`1 \le p \le 30` (``MAX_DEGREE``), or an integer array with the degree
+        :math:`p_T` of every element (hp).  Default ``1``.
     eta : float, CoefficientFunction or None, optional
         The penalty parameter.  Default ``None``: the method's default (:meth:`ngdgfric.Method.default`;
         :math:`30 \mu`, Section 6), for a varying material the harmonic mean of the two neighbours' defaults on
