@@ -160,7 +160,8 @@ def shown(value):
     other object by its type."""
     if value is None or isinstance(value, (Real, str, bytes, tuple, list, dict)):
         return reprlib.repr(value)
-    return f"a {type(value).__name__}"
+    name = type(value).__name__
+    return f"{'an' if name[0].lower() in 'aeiou' else 'a'} {name}"
 
 
 def positive_number(value, name):
