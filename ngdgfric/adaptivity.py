@@ -191,16 +191,16 @@ class AdaptOptions:
             if not isinstance(value, (bool, np.bool_)):
                 raise ValueError(f"{name} must be True or False, got {value!r}")
 
-        checks = dict(theta=fraction, hp=flag, max_order=optional(hp_order), layers=optional(layer_count),
-                      tol=optional(positive_number), rtol=optional(positive_number), max_levels=positive_integer,
-                      max_ndof=positive_integer, max_bytes=positive_number, max_seconds=optional(positive_number))
-        kinds = dict(theta=float, hp=bool, max_order=int, layers=int, tol=float, rtol=float, max_levels=int,
-                     max_ndof=int, max_bytes=float, max_seconds=float)
-        for name, check in checks.items():
+        checks = dict(theta=(fraction, float), hp=(flag, bool), max_order=(optional(hp_order), int),
+                      layers=(optional(layer_count), int), tol=(optional(positive_number), float),
+                      rtol=(optional(positive_number), float), max_levels=(positive_integer, int),
+                      max_ndof=(positive_integer, int), max_bytes=(positive_number, float),
+                      max_seconds=(optional(positive_number), float))
+        for name, (check, kind) in checks.items():
             value = getattr(self, name)
             check(value, name)
             if value is not None:  # numpy's numbers as Python's: in the records, the CSV and repr
-                object.__setattr__(self, name, kinds[name](value))
+                object.__setattr__(self, name, kind(value))
         for name in ("max_order", "layers"):
             if getattr(self, name) is not None and not self.hp:
                 raise ValueError(f"{name}={getattr(self, name)!r} acts in hp refinement only; hp=False would ignore it")

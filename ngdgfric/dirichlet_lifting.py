@@ -222,8 +222,8 @@ def lifting_energies(problem, mesh, s, mu, lam):
     nodes = 0.5 - 0.5 * np.cos(np.pi * (np.arange(DEGREE + 1) + 0.5) / (DEGREE + 1))  # Chebyshev, on [0, 1]
     gauss, weights = np.polynomial.legendre.leggauss(DEGREE)
     gauss, weights = (gauss + 1) / 2, weights / 2
-    count = len(nodes) + len(gauss)
     points = _edge_points(problem, mesh, np.concatenate([nodes, gauss]))
+    count = len(nodes) + len(gauss)
     misses = _values(coefficient(problem.u_D), points, count) - _values(s, points, count, volume=True)
     xy = _coordinates(points, count)
     for k, (element, volume) in enumerate(edges):

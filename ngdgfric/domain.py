@@ -349,16 +349,15 @@ class Domain(Geometry):
                                 raise ValueError(f"a side of {name} runs along part of a side of {other_name}: "
                                                  f"shared sides must have the same end points (split the longer)")
                 if apart:
-                    raise ValueError(self._touching(i, j, point, distance, size))
+                    raise ValueError(self._touching(name, other_name, i, j, point, distance, size))
         for k, hole in enumerate(self.holes):
             for name, loop in loops:
                 if loop is not hole and all(inside(point, hole) for point in loop.polyline()):
                     raise ValueError(f"{name} lies inside holes[{k}]")
 
-    def _touching(self, i, j, point, distance, size):
-        """The message for loop j (of ``_named_loops``, a hole or a region) touching loop i < j at ``point``
-        (round-off of the domain's ``size`` shown as 0)."""
-        (name, _), (other_name, _) = self._named_loops()[i], self._named_loops()[j]
+    def _touching(self, name, other_name, i, j, point, distance, size):
+        """The message for loop j (of ``_named_loops``, a hole or a region) named ``other_name`` touching loop
+        i < j named ``name`` at ``point`` (round-off of the domain's ``size`` shown as 0)."""
         x, y, distance = np.round(np.array([*point, distance]) / size, 12) * size + 0.0
         where = f"the boundary of {name}" if i < len(self.regions) else name
         if j >= len(self.regions):
