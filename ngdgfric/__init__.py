@@ -33,7 +33,7 @@ from .examples import example, example_6_1, example_6_2
 from .forces import ForceBalance, force_balance
 from .hp import hp_refine
 from .meshes import check_mesh, netgen_mesh, refined, uniform_mesh
-from .problem import ContactProblem, Polygon
+from .problem import ContactPair, ContactProblem, Polygon
 from .problem_file import example_file, load_problem
 from .reference import Reference, energy_error, energy_norm, load_reference, save_reference
 from .solution import Solution, finish, solve
@@ -53,7 +53,7 @@ except PackageNotFoundError:  # pragma: no cover - run from a source tree that w
 __all__ = [
     "__version__",
     # scenes
-    "ContactProblem", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2", "load_problem",
+    "ContactProblem", "ContactPair", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2", "load_problem",
     "example_file", "DataError",
     # meshes
     "uniform_mesh", "netgen_mesh", "check_mesh", "refined",

@@ -89,7 +89,7 @@ class Geometry:
                 users = owner[side_key(side)]
                 if len(users) > 2:
                     raise ValueError(f"a side of region {self.region_loops[i][0]!r} is shared by more than two regions")
-                if len(users) == 2:
+                if len(users) == 2 and not self._touching_side(users):
                     j = users[1][0] if users[0][0] == i else users[0][0]
                     if i < j:
                         segments.append((side, INTERFACE, i + 1, j + 1))
@@ -106,6 +106,50 @@ class Geometry:
             for k, side in enumerate(hole.sides()):
                 segments.append((side, hole.labels[k], 0, region + 1))  # the hole on the left of its loop
         return segments
+
+    def _touching_side(self, users):
+        """Whether a side that two regions share (``users``: (region, side index) twice) is a *touching* side: both
+        regions label it, with different names (not ``INTERFACE``), so that each keeps it as a boundary side of its
+        own (the two sides of a contact pair) instead of an interface that glues them."""
+        labels = [self.region_loops[i][1].labels[k] for i, k in users]
+        return INTERFACE not in labels and labels[0] != labels[1]
+
+    @functools.cached_property
+    def bodies(self):
+        """The bodies: tuples of region numbers (0-based, in the order of ``region_loops``) joined by interfaces or
+        inclusions, ordered by their first region.  Two bodies may touch (along sides with names of their own, or
+        at points); each is meshed on its own (``meshing_geometry``), so their meshes need not match where they
+        touch."""
+        root = list(range(len(self.region_loops)))
+
+        def find(i):
+            while root[i] != i:
+                root[i] = root[root[i]]
+                i = root[i]
+            return i
+
+        for _, label, left, right in self.segments:
+            if label == INTERFACE and left and right:
+                a, b = find(left - 1), find(right - 1)
+                root[max(a, b)] = min(a, b)
+        groups = {}
+        for i in range(len(self.region_loops)):
+            groups.setdefault(find(i), []).append(i)
+        return tuple(tuple(group) for group in groups.values())
+
+    def body_of_side(self, label):
+        """The number of the body (in ``bodies``) whose boundary has the side ``label``."""
+        region = next(left or right for _, name, left, right in self.segments if name == label)
+        return next(k for k, body in enumerate(self.bodies) if region - 1 in body)
+
+    def body_regions(self, number):
+        """The region names of body ``number``."""
+        return tuple(self.region_names[i] for i in self.bodies[number])
+
+    def body_of(self, region):
+        """The number of the body (in ``bodies``) of a region given by its name."""
+        number = self.region_names.index(region)
+        return next(k for k, body in enumerate(self.bodies) if number in body)
 
     def _parent(self, loop, own):
         """The innermost region whose loop contains ``loop`` (not sharing sides with it), or None."""
@@ -184,29 +228,67 @@ class Geometry:
         """The boundary and interface curves as a list of (k, 2) polylines (for plots)."""
         return [np.vstack([loop.polyline(), loop.polyline()[:1]]) for loop in self._loops()]
 
-    def spline_geometry(self):
+    def spline_geometry(self, shifts=None):
         """Netgen's ``SplineGeometry`` of the domain, with the side names as boundary conditions and the
-        region names as materials."""
+        region names as materials; ``shifts``: one (dx, dy) per body that moves it (``meshing_geometry``)."""
         from netgen.geom2d import SplineGeometry
 
         spline, points = SplineGeometry(), {}
+        region_shift = np.zeros((len(self.region_loops) + 1, 2))
+        for body, shift in zip(self.bodies, shifts if shifts is not None else [(0.0, 0.0)] * len(self.bodies),
+                               strict=True):
+            region_shift[[k + 1 for k in body]] = shift
 
-        def point(xy):
-            key = (float(xy[0]), float(xy[1]))
+        def point(xy, region):
+            key = (float(xy[0] + region_shift[region][0]), float(xy[1] + region_shift[region][1]))
             if key not in points:
                 points[key] = spline.AppendPoint(*key)
             return points[key]
 
         for side, label, left, right in self.segments:
+            region = left or right
             if isinstance(side, Arc):
                 for a, c, b in side.pieces():
-                    spline.Append(["spline3", point(a), point(c), point(b)], bc=label, leftdomain=left,
-                                  rightdomain=right)
+                    spline.Append(["spline3", point(a, region), point(c, region), point(b, region)], bc=label,
+                                  leftdomain=left, rightdomain=right)
             else:
-                spline.Append(["line", point(side[0]), point(side[1])], bc=label, leftdomain=left, rightdomain=right)
+                spline.Append(["line", point(side[0], region), point(side[1], region)], bc=label, leftdomain=left,
+                              rightdomain=right)
         for number, name in enumerate(self.region_names, start=1):
             spline.SetMaterial(number, name)
         return spline
+
+    def body_shifts(self):
+        """The shift of every body that ``meshing_geometry`` applies: none for one body, else the bodies side by
+        side along x, three diameters apart, so that Netgen meshes each on its own (it would merge the points of
+        two bodies that touch, and glue them)."""
+        step = 3.0 * max(self.diameter(), 1.0)
+        return [(k * step if len(self.bodies) > 1 else 0.0, 0.0) for k in range(len(self.bodies))]
+
+    def meshing_geometry(self, region_maxh=None):
+        """The ``SplineGeometry`` Netgen meshes: the bodies moved apart (``body_shifts``), with the mesh sizes
+        ``region_maxh`` ({region name: size}) in some regions.  A mesh of it is moved
+        back point by point (``unshift``) and gets the true ``spline_geometry()``: the curves and their parameters
+        are the same, so curving and refinement put new points on the true sides."""
+        spline = self.spline_geometry(self.body_shifts())
+        for name, size in (region_maxh or {}).items():
+            spline.SetDomainMaxH(self.region_names.index(name) + 1, float(size))
+        return spline
+
+    def unshift(self, coordinates, element_points, element_regions):
+        """The coordinates (n, 2 or 3) of a mesh of ``meshing_geometry`` moved back to the domain: each point by the
+        shift of the body of the elements it belongs to (``element_points``: (m, 3) 0-based vertices,
+        ``element_regions``: 1-based region of each element)."""
+        shifts = np.asarray(self.body_shifts())
+        body_of_region = np.zeros(len(self.region_loops) + 1, dtype=np.int64)
+        for k, body in enumerate(self.bodies):
+            body_of_region[[i + 1 for i in body]] = k
+        moved = np.array(coordinates, dtype=float)
+        point_body = np.zeros(len(moved), dtype=np.int64)
+        point_body[np.asarray(element_points).ravel()] = np.repeat(body_of_region[element_regions],
+                                                                   np.shape(element_points)[1])
+        moved[:, :2] -= shifts[point_body]
+        return moved
 
     def side_distances(self, label, xy):
         """Distances of points xy (m, 2) to the sides named ``label`` (interfaces: INTERFACE)."""
@@ -325,23 +407,30 @@ class Domain(Geometry):
         loops = self._named_loops()
         size = max(np.ptp(np.concatenate([loop.polyline() for _, loop in loops]), axis=0))
         gap, clearance = RESOLUTION * size, CLEARANCE * size
+        body = {i: k for k, regions in enumerate(self.bodies) for i in regions}
         for i, (name, loop) in enumerate(loops):
             line = loop.polyline()
             starts, ends = line, np.roll(line, -1, axis=0)
             for j, (other_name, other) in enumerate(loops[i + 1:], start=i + 1):
                 apart = j >= len(self.regions) or not set(loop.vertices) & set(other.vertices)
+                two_bodies = j < len(self.regions) and body[i] != body[j]  # may touch: each is meshed on its own
                 if apart:  # must keep a distance: only crossings farther than round-off count as crossings
                     distance, point = closest_approach(loop, other)
                     if distance > clearance:
                         continue
                     crossing = cross(loop, other, clearance)
+                elif two_bodies:
+                    crossing = cross(loop, other, gap)
                 else:
                     other_line = other.polyline()
                     other_starts, other_ends = other_line, np.roll(other_line, -1, axis=0)
                     crossing = any(np.any(crossings(p, q, other_starts, other_ends))
                                    for p, q in zip(starts, ends, strict=True))
                 if crossing:
-                    raise ValueError(f"the sides of {name} and {other_name} cross")
+                    raise ValueError(f"the sides of {name} and {other_name} cross" + (
+                        " (two bodies may touch, not overlap)" if two_bodies else ""))
+                if two_bodies:
+                    continue
                 for a, b in ((loop, other), (other, loop)) if j < len(self.regions) else ():  # two regions
                     for side in a.sides():
                         for other_side in b.sides():

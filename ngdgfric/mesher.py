@@ -158,17 +158,20 @@ def _load(geometry, path, coordinates):
     """The mesh saved at ``path`` with the exact ``coordinates`` (the .vol file keeps 16 digits) and its geometry."""
     ngmesh = nm.Mesh(dim=2)
     ngmesh.Load(str(path))
-    ngmesh.Coordinates()[:] = coordinates  # a writable view of the mesh's points
+    elements = ngmesh.Elements2D().NumPy()
+    ngmesh.Coordinates()[:] = geometry.unshift(  # a writable view of the mesh's points; the bodies moved back
+        coordinates, elements["nodes"][:, :3].astype(np.int64) - 1, elements["index"])
     ngmesh.SetGeometry(geometry.spline_geometry())
     return ngmesh
 
 
-def generate(geometry, maxh, timeout):
-    """The Netgen mesh (netgen.meshing.Mesh, with its geometry) of a :class:`ngdgfric.domain.Geometry`;
-    RuntimeError with Netgen's message if it fails, TimeoutError after ``timeout`` seconds."""
+def generate(geometry, maxh, timeout, region_maxh=None):
+    """The Netgen mesh (netgen.meshing.Mesh, with its geometry) of a :class:`ngdgfric.domain.Geometry`, mesh size
+    ``maxh`` and ``region_maxh`` ({region name: size}) in some regions; RuntimeError with Netgen's message if it
+    fails, TimeoutError after ``timeout`` seconds."""
     with tempfile.TemporaryDirectory(prefix="ngdgfric-") as folder:
         folder = Path(folder)
-        (folder / "request.pickle").write_bytes(pickle.dumps((geometry.spline_geometry(), maxh)))
+        (folder / "request.pickle").write_bytes(pickle.dumps((geometry.meshing_geometry(region_maxh), maxh)))
         fresh = _submit(folder)
         try:
             _wait(folder, fresh, timeout)

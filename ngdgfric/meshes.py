@@ -213,8 +213,9 @@ def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
     ----------
     problem : ContactProblem
         The problem whose domain is meshed.
-    maxh : float
-        The largest element size.
+    maxh : float or dict
+        The largest element size, or a dict ``{region name: size}`` (regions left out: the largest size given):
+        regions of different sizes, e.g. two bodies whose meshes do not match where they touch.
     max_elements : int or None, optional
         The most triangles allowed, by an estimate before meshing (``estimated_elements``); None: no limit.
         Default ``MAX_ELEMENTS`` (:math:`10^6`).
@@ -240,14 +241,23 @@ def netgen_mesh(problem, maxh, max_elements=MAX_ELEMENTS, timeout=None):
     >>> mesh.ne > 0
     True
     """
-    if not _is_size(maxh):
-        raise ValueError(f"maxh must be a positive number, got {maxh!r}")
-    _check_elements(problem, max_elements, maxh=maxh)
     geometry = problem.geometry
+    sizes = dict(maxh) if isinstance(maxh, dict) else {}
+    for region, size in sizes.items():
+        if region not in geometry.region_names:
+            raise ValueError(f"maxh: {region!r} is not a region; known: {list(geometry.region_names)}")
+        if not _is_size(size):
+            raise ValueError(f"maxh[{region!r}] must be a positive number, got {size!r}")
+    if sizes:
+        maxh = max(sizes.values())
+    if not _is_size(maxh):
+        raise ValueError(f"maxh must be a positive number or a dict of them per region, got {maxh!r}")
+    smallest = min(sizes.values(), default=maxh)
+    _check_elements(problem, max_elements, maxh=smallest)
     if timeout is None:
-        timeout = default_timeout(estimated_elements(problem, maxh=maxh))
+        timeout = default_timeout(estimated_elements(problem, maxh=smallest))
     try:
-        ngmesh = generate(geometry, maxh, timeout)
+        ngmesh = generate(geometry, maxh, timeout, sizes)
     except (RuntimeError, TimeoutError) as exc:
         raise ValueError(f"Netgen could not mesh the {geometry.kind} {_shown(geometry)} with maxh = {maxh:g}: "
                          f"{exc}") from None

@@ -17,11 +17,11 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
-from .bounds import DATA, check_datum, coefficient, is_number
+from .bounds import DATA, Datum, check_datum, coefficient, is_number
 from .domain import Geometry, Loop
 from .geometry import check_polygon
 
-__all__ = ["ContactProblem", "Polygon", "PerSide", "exponents", "pattern", "PARTS", "strain", "strain_of", "stress",
+__all__ = ["ContactProblem", "ContactPair", "Polygon", "PerSide", "exponents", "pattern", "PARTS", "strain", "strain_of", "stress",
            "von_mises", "coefficient", "is_number"]
 
 
@@ -135,8 +135,9 @@ class Polygon(Geometry):
         return min(xs), min(ys), max(xs), max(ys)
 
 
-# boundary parts: where a dict may leave a side out, its value there (zero traction, zero displacement)
-PARTS = ("dirichlet", "traction", "contact", "symmetry")
+# boundary parts: where a dict may leave a side out, its value there (zero traction, zero displacement);
+# "pair": the sides of the contact pairs (two bodies in contact, ContactPair)
+PARTS = ("dirichlet", "traction", "contact", "symmetry", "pair")
 _OPTIONAL = {"traction": (0.0, 0.0), "dirichlet": (0.0, 0.0)}
 
 
@@ -187,6 +188,73 @@ def exponents(value):
     if isinstance(value, PerSide):
         return value.values()
     return list(value.values()) if isinstance(value, dict) else [value]
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    r"""Two bodies in contact: side ``side`` of one body meets side ``other`` of another.
+
+    The relative displacement :math:`[u] = u^1 - u^2 \circ \pi` at the points of ``side`` (:math:`\pi`: the
+    closest point of ``other``) takes the place of :math:`u` in the laws (1.8)-(1.9), with the outward normal
+    :math:`n` and the tangent :math:`t = (-n_y, n_x)` of ``side`` and the gap :math:`g = |x - \pi(x)|` measured
+    along :math:`n` from the geometry, plus the offset ``g_a``: :math:`[u] \cdot n - (g + g_a)` is the
+    penetration (:mod:`ngdgfric.contact.pairing`).  The forces act on both bodies, opposite (action and reaction).
+
+    Parameters
+    ----------
+    side : str
+        The side whose points carry the law (the "slave" side of the contact literature).
+    other : str
+        The side of the other body that it meets.
+    c_n : float
+        Normal compliance coefficient of the pair, :math:`c_n \ge 0` (1.8).
+    m_n : float, optional
+        Exponent of the normal compliance, :math:`m_n \ge 1`.  Default 1.
+    c_tau : float, optional
+        Friction coefficient, :math:`c_\tau \ge 0` (1.9).  Default 0: no friction.
+    m_t : float, optional
+        Exponent of the friction bound, :math:`m_t \ge 0`.  Default 0: the reduced law (1.10).
+    g_a : float, optional
+        An offset added to the geometric gap (negative: an initial overlap, a press fit).  Default 0.
+    reach : float or None, optional
+        The largest distance at which a point of ``side`` finds ``other``: farther points never touch it.  Default
+        None: a tenth of the domain's diameter.
+
+    Examples
+    --------
+    >>> pair = ndf.ContactPair("punch_bottom", "plate_top", c_n=1e4, c_tau=0.3)
+    >>> pair.m_n, pair.g_a
+    (1.0, 0.0)
+    """
+
+    side: str
+    other: str
+    c_n: float
+    m_n: float = 1.0
+    c_tau: float = 0.0
+    m_t: float = 0.0
+    g_a: float = 0.0
+    reach: float = None
+
+    def __post_init__(self):
+        for name in ("side", "other"):
+            if not isinstance(getattr(self, name), str) or not getattr(self, name):
+                raise ValueError(f"ContactPair.{name} must be a side name, got {getattr(self, name)!r}")
+        if self.side == self.other:
+            raise ValueError(f"a contact pair needs two sides, got {self.side!r} twice")
+        for name in ("c_n", "m_n", "g_a", "c_tau", "m_t"):
+            check_datum(f"ContactPair.{name}", _PAIR_DATA[name], getattr(self, name))
+            object.__setattr__(self, name, float(getattr(self, name)))
+        if self.reach is not None:
+            check_datum("ContactPair.reach", Datum("number", "pair", 0, True), self.reach)
+            object.__setattr__(self, "reach", float(self.reach))
+
+    def swapped(self):
+        """The same pair with the roles of the two sides exchanged."""
+        return dataclasses.replace(self, side=self.other, other=self.side)
+
+
+_PAIR_DATA = {name: dataclasses.replace(DATA[name], kind="number") for name in ("c_n", "m_n", "g_a", "c_tau", "m_t")}
 
 
 @dataclass(frozen=True)
@@ -243,6 +311,11 @@ class ContactProblem:
         Default ``()``: none.  Every side of the geometry has one of the four conditions.
     u_D : pair, CoefficientFunction or dict, optional
         The prescribed displacement on :math:`\Gamma_D`.  Default ``(0.0, 0.0)`` (the paper's).
+    pairs : sequence of ContactPair, optional
+        Contact between two bodies of the geometry (regions joined by interfaces are a body,
+        :attr:`ngdgfric.Domain.bodies`): each :class:`~ngdgfric.ContactPair` names a side of one body and a side of
+        another.  With pairs, ``dirichlet`` and ``contact`` may be empty: a body held by contact and symmetry
+        sides only is solved wherever the contact holds it.  Default ``()``: one body against the foundation.
 
     Raises
     ------
@@ -283,11 +356,13 @@ class ContactProblem:
     name: str = field(default="contact problem", compare=False)
     symmetry: object = ()
     u_D: object = (0.0, 0.0)
+    pairs: tuple = ()
 
     def __post_init__(self):
         if not isinstance(self.geometry, Geometry):
             raise ValueError(f"geometry must be a Polygon or a Domain, got {self.geometry!r}")
-        for part in PARTS:
+        self._check_pairs()
+        for part in PARTS[:-1]:
             object.__setattr__(self, part, _names(part, getattr(self, part)) if part == "symmetry"
                                else self._group(part))
         seen = {}
@@ -303,7 +378,7 @@ class ContactProblem:
                                  f"{tuple(seen)}: give it a condition (dirichlet, traction, contact or symmetry)")
         for part in ("dirichlet", "contact"):
             present = [name for name in self.sides(part) if name in self.geometry.side_names]
-            if not present:
+            if not present and self.sides(part):
                 raise ValueError(f"geometry has no side labelled {' or '.join(map(repr, self.sides(part)))} "
                                  f"({part} boundary)")
         for name, datum in DATA.items():  # the bounds of the data: ngdgfric.bounds
@@ -319,9 +394,36 @@ class ContactProblem:
         """The names of a boundary part as given: one name stays a str (the paper's problems), a list a tuple."""
         value = getattr(self, part)
         names = _names(part, value)
-        if not names and part != "traction":
-            raise ValueError(f"{part} needs at least one side name")
+        if not names and part != "traction" and not self.pairs:
+            raise ValueError(f"{part} needs at least one side name" + (
+                " (a body held by contact pairs only needs pairs: ContactPair)" if part == "dirichlet" else ""))
         return value if isinstance(value, str) else names
+
+    def _check_pairs(self):
+        """``pairs`` as a tuple of ContactPair; ValueError for an unknown side, a side in two pairs, or a pair whose
+        two sides belong to one body."""
+        try:
+            pairs = tuple(self.pairs)
+        except TypeError:
+            raise ValueError(f"pairs must be a sequence of ContactPair, got {self.pairs!r}") from None
+        object.__setattr__(self, "pairs", pairs)
+        seen = {}
+        for k, pair in enumerate(pairs):
+            if not isinstance(pair, ContactPair):
+                raise ValueError(f"pairs[{k}] must be a ContactPair, got {pair!r}")
+            for name in (pair.side, pair.other):
+                if name not in self.geometry.side_names:
+                    raise ValueError(f"pairs[{k}]: the geometry has no side {name!r}; its sides: "
+                                     f"{list(self.geometry.side_names)}")
+                if name in seen:
+                    raise ValueError(f"side {name!r} is in pairs[{seen[name]}] and pairs[{k}]: a side may be in one "
+                                     f"contact pair only")
+                seen[name] = k
+            bodies = [self.geometry.body_of_side(name) for name in (pair.side, pair.other)]
+            if bodies[0] == bodies[1]:
+                raise ValueError(f"pairs[{k}]: sides {pair.side!r} and {pair.other!r} belong to one body (regions "
+                                 f"{', '.join(map(repr, self.geometry.body_regions(bodies[0])))}): a pair joins two "
+                                 f"bodies")
 
     def _check_parts(self, name, part, values):
         """ValueError unless the dict ``values`` of datum ``name`` is keyed by the names of ``part``."""
@@ -342,13 +444,16 @@ class ContactProblem:
         Parameters
         ----------
         part : str
-            ``"dirichlet"``, ``"traction"``, ``"contact"`` or ``"symmetry"``.
+            ``"dirichlet"``, ``"traction"``, ``"contact"``, ``"symmetry"`` or ``"pair"`` (both sides of every
+            contact pair).
 
         Returns
         -------
         tuple of str
             The side names of that part (one name given as a str becomes a 1-tuple).
         """
+        if part == "pair":
+            return tuple(name for pair in self.pairs for name in (pair.side, pair.other))
         return _names(part, getattr(self, part))
 
     def where(self, part):

@@ -10,9 +10,12 @@ discretisation, to the solvers; a :class:`~ngdgfric.Solution` keeps it as ``cont
 import functools
 
 import ngsolve as ngs
+import numpy as np
 
 from ..threads import threads
 from .boundary import ContactGauss, boundary_edges, contact_measure, contact_points, multiplier_space
+from .pair_traces import SideTraces
+from .pairing import pair_points
 from .traces import ContactTraces
 
 __all__ = ["Contact"]
@@ -63,6 +66,7 @@ class Contact:
         self.problem, self.mesh = disc.problem, disc.mesh
         self.V, self.V_plain, self.orders = disc.V, disc.V_plain, disc.orders
         self.conforming = disc.method.conforming
+        self.degree = disc.order
         self.order = disc.order - 1 if self.conforming else disc.order
         self.Q = multiplier_space(self.problem, self.mesh, self.order)
         self.dS = contact_measure(self.problem, self.mesh, self.order)
@@ -86,9 +90,37 @@ class Contact:
         return ContactGauss(self.problem, self.mesh, self.order, self.Q)
 
     @functools.cached_property
+    def pairs(self):
+        r"""The contact pairs of the problem on this mesh: a list of ``(pair, PairPoints, SideTraces of its side,
+        SideTraces of the other side)`` (:mod:`ngdgfric.contact.pairing`, :mod:`ngdgfric.contact.pair_traces`), with
+        ``degree + 1`` points per piece of the common refinement (built on first use)."""
+        q = self.degree + 1
+        reach_default = 0.1 * self.problem.geometry.diameter()
+        found = []
+        for pair in self.problem.pairs:
+            reach = reach_default if pair.reach is None else pair.reach
+            points = pair_points(self.mesh, pair, q, reach)
+            found.append((pair, points, SideTraces(self.V, self.V_plain, self.mesh, pair.side, q),
+                          SideTraces(self.V, self.V_plain, self.mesh, pair.other, q)))
+        return found
+
+    @functools.cached_property
     def traces(self):
         """The ``ContactTraces`` of :mod:`ngdgfric.contact.traces` of this mesh and its problem (built on first use)."""
         return ContactTraces(self, self.problem)
+
+    def multiplier_values(self, lam_tau):
+        """The multiplier at every contact point (``traces`` order): lam_tau's values at the foundation's Gauss
+        points, then 0 at the pairs' points (a warm start carries the foundation's multiplier only)."""
+        extra = sum(points.M for _, points, _, _ in self.pairs)
+        return np.concatenate([self.gauss.values(lam_tau).ravel(), np.zeros(extra)])
+
+    def set_multiplier(self, lam_tau, values):
+        """Set the GridFunction lam_tau on ``Q`` from the multiplier at every contact point (``traces`` order);
+        returns the values at the pairs' points (which lam_tau, living on the foundation's sides, does not hold)."""
+        foundation = self.gauss.dofs.size
+        self.gauss.set_values(lam_tau, np.asarray(values)[:foundation].reshape(-1, self.gauss.q))
+        return np.asarray(values)[foundation:].copy()
 
     def points(self):
         r"""Mapped Gauss points on :math:`\Gamma_C` (``contact_points`` of :mod:`ngdgfric.contact.boundary`)."""

@@ -25,6 +25,7 @@ import numpy as np
 from ..problem import PerSide
 from ..threads import threads
 from .boundary import boundary_edges, contact_rule, edge_jacobians, evaluate_on_contact, normal_tangent
+from .pair_traces import pair_rows
 
 __all__ = ["ContactTraces"]
 
@@ -85,6 +86,36 @@ class ContactTraces:
         keep = np.abs(summed) > 1e-13 * np.max(np.abs(summed), initial=0.0)
         self.rows, self.cols, self.values = keys[keep] // self.ndof, keys[keep] % self.ndof, summed[keep]
         self.redundant = self._redundant(contact)
+        self.foundation = self.M
+        if contact.pairs:
+            self._add_pairs(contact.pairs)
+
+    def _add_pairs(self, pairs):
+        """Append the points of the contact pairs (:mod:`ngdgfric.contact.pair_traces`) after the foundation's:
+        normal rows ``foundation .. M - 1``, tangential rows ``M + foundation .. 2 M - 1``; the law's data there are
+        the pairs' (``g_a``: the geometric gap plus the pair's offset)."""
+        extra = sum(points.M for _, points, _, _ in pairs)
+        total = self.M + extra
+        rows = np.where(self.rows >= self.M, self.rows + extra, self.rows)
+        parts, offset = [(rows, self.cols, self.values)], self.M
+        data = {name: [np.broadcast_to(getattr(self, name), (self.M,))] for name in
+                ("omega", "g_a", "c_n", "c_tau", "m_n", "m_t")}
+        for pair, points, side, other in pairs:
+            parts.append(pair_rows(points, side, other, offset, total))
+            offset += points.M
+            data["omega"].append(points.weight)
+            data["g_a"].append(points.gap)
+            for name in ("c_n", "c_tau", "m_n", "m_t"):
+                data[name].append(np.full(points.M, getattr(pair, name)))
+        rows, cols, values = (np.concatenate(arrays) for arrays in zip(*parts, strict=True))
+        keys, where = np.unique(rows * self.ndof + cols, return_inverse=True)
+        summed = np.bincount(where, weights=values)
+        keep = summed != 0
+        self.rows, self.cols, self.values = keys[keep] // self.ndof, keys[keep] % self.ndof, summed[keep]
+        for name, arrays in data.items():
+            setattr(self, name, np.concatenate(arrays).astype(float))
+        self.M = total
+        self.redundant = True  # more points than trace values on an edge cut into pieces
 
     @staticmethod
     def _mass_matrix(contact, direction):
@@ -112,7 +143,7 @@ class ContactTraces:
         vertices = {v.nr for el, _ in edges for v in el.vertices}
         if contact.conforming:
             return len(vertices) <= len(element_of_edge)
-        element_of_edge = np.asarray(element_of_edge)
+        element_of_edge = np.asarray(element_of_edge, dtype=np.int64)
         if len(np.unique(element_of_edge)) < len(element_of_edge):
             return True  # an element with two edges on Gamma_C
         orders = contact.orders[element_of_edge]

@@ -83,13 +83,13 @@ def liftings(problem, material, mesh, V, orders):
     facet_space = ngs.FacetFESpace(mesh, order=order)
     cells = ngs.L2(mesh, order=order)  # the scalar space of Sigma_h (one component)
     parts = {part: facet_indicator(mesh, problem.where(part)) for part in ("dirichlet", "symmetry", "traction",
-                                                                          "contact")}
+                                                                          "contact", "pair")}
     boundary = sum(parts.values())
     with threads(V.ndof):
         moments = _moment_matrix(mesh, V, facet_space, parts["symmetry"] if problem.sides("symmetry") else None)
         weighted, facets = _element_facets(material, cells, facet_space, boundary, q)
         gram = _facet_blocks(facet_space, boundary, q)
-        unused = parts["traction"].vec.FV().NumPy() + parts["contact"].vec.FV().NumPy() > 0.5
+        unused = sum(parts[part].vec.FV().NumPy() for part in ("traction", "contact", "pair")) > 0.5
         mu_kernel, lam_kernel = _kernels(material, cells, weighted, gram, facets, unused, q)
         data = _dirichlet_moments(problem, mesh, facet_space, parts["dirichlet"], q)
     return Liftings(moments, facets, mu_kernel, lam_kernel, data, ElementBlocks.of(orders, V.ndof), q)

@@ -56,7 +56,7 @@ from ..threads import threads
 from ..transfer import starting_point
 from .condensation import augmented_matrix
 from .pardiso import Factorization
-from .reduced import law_forces, multiplier_of, point_state, trace_scale
+from .reduced import law_forces, multiplier_of, pair_forces, point_state, trace_scale
 
 __all__ = ["FullSpace", "applicable", "kkt_residual", "full_space_newton", "FULL_SPACE_POINTS"]
 
@@ -270,14 +270,14 @@ def full_space_newton(disc, contact, traces, options, initial=None):
         u, f = np.zeros(disc.V.ndof), np.zeros(2 * traces.M)
     else:
         u = initial[0].vec.FV().NumPy().copy()
-        f = law_forces(traces, traces.apply(u), contact.gauss.values(initial[1]).ravel())
+        f = law_forces(traces, traces.apply(u), contact.multiplier_values(initial[1]))
     setup = time.perf_counter() - start
     left = None if options.max_seconds is None else max(options.max_seconds - setup, 1e-9)
     u_vec, f, info = solver.run(u, f, options.solver_tol, options.maxit, options.progress, left)
     multiplier, linearization = solver.finish(u_vec, f)
     u, lam_tau = starting_point(contact)
     u.vec.FV().NumPy()[:] = u_vec
-    contact.gauss.set_values(lam_tau, multiplier.reshape(-1, contact.gauss.q))
+    info.update(pair_multiplier=contact.set_multiplier(lam_tau, multiplier), pair_forces=pair_forces(traces, f))
     info["factor_bytes"] = solver.factorization.memory_bytes
     solver.factorization.release()
     info.update(initial_residual=info["history"][0], steps=["full space"] * info["iterations"],

@@ -45,7 +45,7 @@ from . import pardiso, semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
 from .fullspace import FULL_SPACE_POINTS, applicable, full_space_newton
 from .options import SolverOptions
-from .reduced import ReducedContact
+from .reduced import ReducedContact, pair_forces
 
 __all__ = ["newton", "NewtonOptions", "NewtonState"]
 
@@ -138,7 +138,7 @@ class NewtonState:
         """f from GridFunctions u on ``disc.V`` and lam_tau on ``contact.Q``: the forces of the laws at u, with
         lam_tau."""
         w = self.traces.apply(u.vec.FV().NumPy())
-        self.f = self.reduced.forces(w, self.contact.gauss.values(lam_tau).ravel())
+        self.f = self.reduced.forces(w, self.contact.multiplier_values(lam_tau))
 
     def run(self, options):
         """Newton from the current f (zero if none) with the ``NewtonOptions`` ``options``, then recover
@@ -173,15 +173,15 @@ class NewtonState:
     def _grid_functions(self, u_vec, f):
         """Step 3: u and lam_tau = f_t / beta (``multiplier``) as
         GridFunctions on ``disc.V``, ``contact.Q``."""
-        gauss = self.contact.gauss
         u, lam_tau = starting_point(self.contact)
         u.vec.FV().NumPy()[:] = u_vec
-        gauss.set_values(lam_tau, self.reduced.multiplier(f).reshape(-1, gauss.q))
+        self.pair_multiplier = self.contact.set_multiplier(lam_tau, self.reduced.multiplier(f))
         return u, lam_tau
 
     def _diagnose(self, info, seconds, consistency, least_squares):
         """Step 4: the solve's diagnostics into ``info`` (see ``newton``); a
         ``SolverWarning`` if ``least_squares`` Newton systems of this run were singular."""
+        info.update(pair_forces=pair_forces(self.traces, self.f), pair_multiplier=self.pair_multiplier)
         info.update(contact_points=self.traces.M, linear_solver=self.condensation.linear_solver, factorizations=1,
                     refinements=self.condensation.refinements, consistency_steps=consistency,
                     least_squares_solves=least_squares, clamped_points=self.reduced.diagnostics["clamped_points"],

@@ -47,7 +47,7 @@ from ..contact.laws import bound_rate, pressure_rate_values, pressure_values, pr
 from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
 
-__all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multiplier_of", "trace_scale", "dense_solve",
+__all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multiplier_of", "trace_scale", "pair_forces", "dense_solve",
            "EPS"]
 
 EPS = np.finfo(float).eps
@@ -335,3 +335,11 @@ class ReducedContact:
     def multiplier(self, f):
         """lam_tau at the points (:func:`multiplier_of` at f)."""
         return multiplier_of(self.evaluate(f), self.r)
+
+
+def pair_forces(traces, f):
+    """The forces (normal, tangential) at the contact pairs' points (those after the foundation's, ``traces.foundation``)
+    of the forces ``f`` at every point: an array (2, points of the pairs), on the pair's side (the other side takes
+    them with the opposite sign)."""
+    M, start = traces.M, traces.foundation
+    return np.stack([np.asarray(f)[start:M], np.asarray(f)[M + start:]])
