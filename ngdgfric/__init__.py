@@ -53,8 +53,8 @@ except PackageNotFoundError:  # pragma: no cover - run from a source tree that w
 __all__ = [
     "__version__",
     # scenes
-    "ContactProblem", "ContactPair", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2", "load_problem",
-    "example_file", "DataError",
+    "ContactProblem", "ContactPair", "Polygon", "Domain", "Loop", "example", "example_6_1", "example_6_2",
+    "load_problem", "example_file", "DataError",
     # meshes
     "uniform_mesh", "netgen_mesh", "check_mesh", "refined",
     # methods and discretisation

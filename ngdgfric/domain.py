@@ -128,14 +128,39 @@ class Geometry:
                 i = root[i]
             return i
 
-        for _, label, left, right in self.segments:
-            if label == INTERFACE and left and right:
-                a, b = find(left - 1), find(right - 1)
-                root[max(a, b)] = min(a, b)
+        loops = [loop for _, loop in self.region_loops]
+        owner = {}
+        for i, loop in enumerate(loops):
+            for k, side in enumerate(loop.sides()):
+                owner.setdefault(side_key(side), []).append((i, k))
+        joined = [tuple(user[0] for user in users) for users in owner.values()
+                  if len(users) == 2 and not self._touching_side(users)]
+        joined += [(i, parent) for i, loop in enumerate(loops) if (parent := self._parent(loop, i)) is not None]
+        for i, j in joined:  # an interface or an inclusion
+            a, b = find(i), find(j)
+            root[max(a, b)] = min(a, b)
         groups = {}
         for i in range(len(self.region_loops)):
             groups.setdefault(find(i), []).append(i)
         return tuple(tuple(group) for group in groups.values())
+
+    @functools.cached_property
+    def touching(self):
+        """The pairs of side labels of two bodies that run together (along a line or a circle): a set of sorted
+        label pairs.  :class:`~ngdgfric.ContactProblem` requires each to be a contact pair."""
+        body = {i: k for k, regions in enumerate(self.bodies) for i in regions}
+        loops = [loop for _, loop in self.region_loops]
+        gap = RESOLUTION * self.diameter()
+        found = set()
+        for i, loop in enumerate(loops):
+            for j in range(i + 1, len(loops)):
+                if body[i] == body[j]:
+                    continue
+                for a, label_a in zip(loop.sides(), loop.labels, strict=True):
+                    for b, label_b in zip(loops[j].sides(), loops[j].labels, strict=True):
+                        if overlap(a, b) > gap:
+                            found.add(tuple(sorted((label_a, label_b))))
+        return found
 
     def body_of_side(self, label):
         """The number of the body (in ``bodies``) whose boundary has the side ``label``."""

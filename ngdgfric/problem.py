@@ -21,8 +21,8 @@ from .bounds import DATA, Datum, check_datum, coefficient, is_number
 from .domain import Geometry, Loop
 from .geometry import check_polygon
 
-__all__ = ["ContactProblem", "ContactPair", "Polygon", "PerSide", "exponents", "pattern", "PARTS", "strain", "strain_of", "stress",
-           "von_mises", "coefficient", "is_number"]
+__all__ = ["ContactProblem", "ContactPair", "Polygon", "PerSide", "exponents", "pattern", "PARTS", "strain",
+           "strain_of", "stress", "von_mises", "coefficient", "is_number"]
 
 
 def _point(k, vertex):
@@ -424,6 +424,11 @@ class ContactProblem:
                 raise ValueError(f"pairs[{k}]: sides {pair.side!r} and {pair.other!r} belong to one body (regions "
                                  f"{', '.join(map(repr, self.geometry.body_regions(bodies[0])))}): a pair joins two "
                                  f"bodies")
+        paired = {tuple(sorted((pair.side, pair.other))) for pair in pairs}
+        for a, b in sorted(self.geometry.touching - paired):
+            raise ValueError(f"sides {a!r} and {b!r} of two bodies touch but are not a contact pair: make them a "
+                             f"ContactPair, or glue the two regions (one shared side with the same end points, "
+                             f"labelled alike)")
 
     def _check_parts(self, name, part, values):
         """ValueError unless the dict ``values`` of datum ``name`` is keyed by the names of ``part``."""

@@ -132,8 +132,6 @@ def square(x0, y0, size, labels="abcd"):
 
 @pytest.mark.parametrize("regions, holes, message", [
     ({"a": square(0, 0, 1), "b": square(0.5, 0.5, 1)}, [], "the sides of region 'a' and region 'b' cross"),
-    ({"a": square(0, 0, 1), "b": Loop([(0, 1), (0.5, 1), (0.5, 2), (0, 2)], list("abcd"))}, [],
-     "runs along part of a side"),
     ({"a": square(0, 0, 2)}, [Loop.circle((0.7, 0.7), 0.3, "h"), Loop.circle((1.1, 0.7), 0.3, "h")],
      "the sides of holes.0. and holes.1. cross"),
     ({"a": square(0, 0, 1)}, [Loop([(0.3, 0.4), (0.7, 0.4), (0.5, 0.75)], list("hhh")),

@@ -154,6 +154,15 @@ class Condensation:
                 W[:, k] = traces.apply(out[k - start].FV().NumPy())
         return W
 
+    def reload(self, F):
+        """Take the load vector ``F`` (an array) from now on; returns its w0 = B A^-1 F."""
+        self._F = np.asarray(F, dtype=float).copy()
+        if self.linear_solver == "pardiso":
+            self.w0 = -self._factorization.solve_eliminated(self._F, np.zeros(2 * self.traces.M))[1]
+        else:
+            self.w0 = self.traces.apply(self._solve(self._F))
+        return self.w0
+
     def displacement(self, f):
         """u = A^-1 (F - B^T f) as a numpy array, improved by iterative refinement while its residual
         F - A u - B^T f is above 1e-13 ||F|| (at most two steps)."""

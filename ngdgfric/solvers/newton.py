@@ -37,12 +37,15 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..checks import callback, choice, optional, positive_integer, positive_number
 from ..contact.traces import ContactTraces
 from ..errors import SolverError, SolverWarning, TimeLimitError, deadline, warn
 from ..transfer import starting_point
 from . import pardiso, semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
+from .floating import FloatingSolve, free_motions
 from .fullspace import FULL_SPACE_POINTS, applicable, full_space_newton
 from .options import SolverOptions
 from .reduced import ReducedContact, pair_forces
@@ -126,13 +129,19 @@ class NewtonState:
     ``contact``: the :class:`~ngdgfric.Contact` of ``disc``; ``traces``: the ``ContactTraces`` of the
     problem solved (``contact.traces``, or those of a fixed-point step's problem)."""
 
-    def __init__(self, disc, contact, traces, linear_solver="auto"):
+    def __init__(self, disc, contact, traces, linear_solver="auto", A=None):
         start = time.perf_counter()
         self.disc, self.contact, self.traces = disc, contact, traces
-        self.condensation = Condensation(disc.A, disc.F, traces, disc.symmetric, linear_solver)
+        self.condensation = Condensation(disc.A if A is None else A, disc.F, traces, disc.symmetric, linear_solver)
         self.reduced = ReducedContact.condensed(self.condensation, traces, disc.symmetric)
         self.f = None
         self.condense_seconds = time.perf_counter() - start
+
+    def reload(self, F):
+        """Take the load vector F (an array) instead of disc.F: w0 for it (one substitution), f kept as the start
+        (the proximal steps of :mod:`ngdgfric.solvers.floating`)."""
+        w0 = self.condensation.reload(F)
+        self.reduced.shift(w0 - self.reduced.w0)
 
     def start_from(self, u, lam_tau):
         """f from GridFunctions u on ``disc.V`` and lam_tau on ``contact.Q``: the forces of the laws at u, with
@@ -237,7 +246,8 @@ def newton(disc, contact, options=None, initial=None, problem=None):
     options = NewtonOptions() if options is None else options
     traces = contact.traces if problem is None else ContactTraces(contact, problem)
     fallback = None
-    if _full_space(disc, traces, options):
+    motions = free_motions(disc) if disc.problem.pairs else []
+    if _full_space(disc, traces, options, bool(motions)):
         try:
             return full_space_newton(disc, contact, traces, options, initial)
         except TimeLimitError:
@@ -246,25 +256,31 @@ def newton(disc, contact, options=None, initial=None, problem=None):
             if options.formulation == "full-space" or 32.0 * traces.M**2 > FALLBACK_BYTES:
                 raise
             fallback = f"the full space failed ({error}); solved condensed"
-    state = NewtonState(disc, contact, traces, options.linear_solver)
+    floating = FloatingSolve(disc, motions) if motions else None
+    state = NewtonState(disc, contact, traces, options.linear_solver, A=None if floating is None else floating.A)
     if initial is not None:
         state.start_from(*initial)
-    u, lam_tau, info = state.run(options)
+    if floating is None:
+        u, lam_tau, info = state.run(options)
+    else:
+        u_start = np.zeros(disc.V.ndof) if initial is None else initial[0].vec.FV().NumPy().copy()
+        u, lam_tau, info = floating.run(state, options, u_start)
     if fallback is not None:
         info["fallback"] = fallback
     return u, lam_tau, info
 
 
-def _full_space(disc, traces, options):
+def _full_space(disc, traces, options, floating=False):
     """Whether ``newton`` takes the full-space iteration (``options.formulation``); ValueError for "full-space"
-    where it does not apply."""
+    where it does not apply (``floating``: a body has rigid motions that only contact holds)."""
     if options.formulation == "condensed":
         return False
     reasons = [reason for reason, missing in (
         ("B_h is not symmetric (NIPG)" if applicable(True, traces) else "it needs a symmetric B_h and m_t = 0",
          not applicable(disc.symmetric, traces)),
         ("energy_tol needs the resumable condensed solve", options.energy_tol is not None),
-        ("it needs MKL PARDISO (pip install mkl)", not pardiso.available() or options.linear_solver == "ngsolve"))
+        ("it needs MKL PARDISO (pip install mkl)", not pardiso.available() or options.linear_solver == "ngsolve"),
+        ("a body held by contact only needs the condensed solver's proximal steps", floating))
         if missing]
     if options.formulation == "full-space":
         if reasons:

@@ -47,8 +47,8 @@ from ..contact.laws import bound_rate, pressure_rate_values, pressure_values, pr
 from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
 
-__all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multiplier_of", "trace_scale", "pair_forces", "dense_solve",
-           "EPS"]
+__all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multiplier_of", "trace_scale", "pair_forces",
+           "dense_solve", "EPS"]
 
 EPS = np.finfo(float).eps
 DIAGONAL_FLOOR = 1e-14  # W_qq below this times the largest: raised to it (r_q = 1 / W_tt stays finite)
@@ -338,8 +338,8 @@ class ReducedContact:
 
 
 def pair_forces(traces, f):
-    """The forces (normal, tangential) at the contact pairs' points (those after the foundation's, ``traces.foundation``)
-    of the forces ``f`` at every point: an array (2, points of the pairs), on the pair's side (the other side takes
-    them with the opposite sign)."""
+    """The forces (normal, tangential) at the contact pairs' points (those after the foundation's,
+    ``traces.foundation``) of the forces ``f`` at every point: an array (2, points of the pairs), on the pair's side
+    (the other side takes them with the opposite sign)."""
     M, start = traces.M, traces.foundation
     return np.stack([np.asarray(f)[start:M], np.asarray(f)[M + start:]])

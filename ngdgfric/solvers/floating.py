@@ -1,0 +1,166 @@
+r"""Bodies held by contact only (load control): the rigid motions that :math:`B_h` does not hold, and the proximal
+iteration that solves the contact problem with them.
+
+A body without a Dirichlet side (:class:`~ngdgfric.ContactPair`: a punch pressed by a force, the upper cylinder of
+a Hertz test) has rigid motions :math:`r` with :math:`B_h(r, r) = 0` unless its symmetry sides hold them:
+:math:`A` is singular and cannot be factorised, though the contact problem has a solution wherever the contact
+forces hold the body.  ``free_motions`` finds those motions: the generalised eigenvectors of
+:math:`(R^T A R, R^T M R)` (:math:`R`: the translations and the rotation of each body, :math:`M` the mass matrix)
+with eigenvalues below ``FREE`` times the typical :math:`A_{ii} / M_{ii}`.
+
+The contact problem is then solved by the proximal point iteration
+
+.. math::
+
+    A u_{k+1} + \varepsilon M_f (u_{k+1} - u_k) + B^T f(B u_{k+1}) = F,
+
+:math:`M_f` the mass matrix of the bodies with free motions, :math:`\varepsilon = ` ``EPSILON`` times the typical
+:math:`A_{ii} / M_{ii}`: each step is the condensed contact solve (:mod:`ngdgfric.solvers.newton`) with
+:math:`A + \varepsilon M_f` (factorised once) and the load :math:`F + \varepsilon M_f u_k`.  Its fixed point solves
+the problem itself (the regularisation leaves no trace in the answer); a motion the contact holds with stiffness
+:math:`k` contracts by :math:`\varepsilon / (\varepsilon + k)` per step, so a few steps reach round-off.  A motion
+that nothing holds (the load pulls the body off, or it slides without friction) drifts by
+:math:`F / \varepsilon` per step: after ``MAX_STEPS`` steps, or as soon as no pair point of the body is in contact,
+a :class:`~ngdgfric.SolverError` names the body and the motion.
+"""
+
+import ngsolve as ngs
+import numpy as np
+
+from ..errors import SolverError
+from ..threads import threads
+
+__all__ = ["free_motions", "FloatingSolve", "EPSILON", "FREE", "MAX_STEPS"]
+
+EPSILON = 1e-6
+"""The proximal weight relative to the typical diagonal ratio A_ii / M_ii."""
+FREE = 1e-9
+"""A rigid motion is free when its energy ratio r^T A r / r^T M r is below FREE times the typical A_ii / M_ii."""
+MAX_STEPS = 20
+"""The most proximal steps before a motion that keeps drifting is reported free."""
+CONVERGED = 1e-10
+"""The proximal iteration stops when a step changes u by at most CONVERGED relative to u."""
+_NAMES = ("translation in x", "translation in y", "rotation")
+
+
+def _mass(disc, indicator):
+    """The mass matrix of V_h weighted by ``indicator`` (a CoefficientFunction), in A's sparsity pattern."""
+    u, v = disc.V.TnT()
+    form = ngs.BilinearForm(disc.V)
+    form += indicator * u * v * ngs.dx
+    with threads(disc.V.ndof):
+        form.Assemble()
+    return form.mat
+
+
+def _coo(mat, scale):
+    """(rows, cols, scale * values) of an NGSolve sparse matrix."""
+    values, cols, rowptr = mat.CSR()
+    rowptr = np.array(rowptr, dtype=np.int64)
+    return (np.repeat(np.arange(mat.height, dtype=np.int64), np.diff(rowptr)), np.array(cols, dtype=np.int64),
+            scale * np.array(values))
+
+
+def _diagonal(mat):
+    """The diagonal of an NGSolve sparse matrix as an array."""
+    values, cols, rowptr = mat.CSR()
+    values, cols, rowptr = np.array(values), np.array(cols, dtype=np.int64), np.array(rowptr, dtype=np.int64)
+    rows = np.repeat(np.arange(mat.height), np.diff(rowptr))
+    diagonal = np.zeros(mat.height)
+    on = rows == cols
+    diagonal[rows[on]] = values[on]
+    return diagonal
+
+
+def _apply(mat, vector):
+    x = mat.CreateColVector()
+    y = mat.CreateColVector()
+    x.FV().NumPy()[:] = vector
+    y.data = mat * x
+    return y.FV().NumPy().copy()
+
+
+def free_motions(disc):
+    """The rigid motions of the bodies of ``disc.problem`` that B_h does not hold: a list of (body number, region
+    names, name of the motion (its largest part: a translation or the rotation), coefficient vector on V_h)."""
+    problem, mesh = disc.problem, disc.mesh
+    geometry = problem.geometry
+    everywhere = _mass(disc, ngs.CF(1.0))
+    ratio = float(np.median(np.abs(_diagonal(disc.A)) / np.maximum(_diagonal(everywhere), 1e-300)))
+    found = []
+    for number in range(len(geometry.bodies)):
+        regions = geometry.body_regions(number)
+        indicator = mesh.MaterialCF({name: 1.0 for name in regions}, default=0.0)
+        area = ngs.Integrate(indicator, mesh)
+        cx, cy = (ngs.Integrate(indicator * c, mesh) / area for c in (ngs.x, ngs.y))
+        size = max(geometry.diameter(), 1e-300)
+        modes = (ngs.CF((1.0, 0.0)), ngs.CF((0.0, 1.0)), ngs.CF((-(ngs.y - cy) / size, (ngs.x - cx) / size)))
+        vectors = []
+        for mode in modes:
+            r = ngs.GridFunction(disc.V)
+            r.Set(indicator * mode)
+            vectors.append(r.vec.FV().NumPy().copy())
+        R = np.column_stack(vectors)
+        energy = R.T @ np.column_stack([_apply(disc.A, r) for r in vectors])
+        mass = R.T @ np.column_stack([_apply(everywhere, r) for r in vectors])
+        energy = 0.5 * (energy + energy.T)
+        values, vectors_ = np.linalg.eig(np.linalg.solve(mass, energy))
+        for value, coefficients in zip(values.real, vectors_.real.T, strict=True):
+            if value < FREE * ratio:
+                weights = np.abs(coefficients) * np.sqrt(np.diag(mass))
+                found.append((number, regions, _NAMES[int(np.argmax(weights))], R @ coefficients))
+    return found
+
+
+class FloatingSolve:
+    """The proximal iteration of the module docstring around a ``NewtonState`` (:mod:`ngdgfric.solvers.newton`)
+    made with ``A + eps M_f``; ``motions``: ``free_motions(disc)`` (not empty)."""
+
+    def __init__(self, disc, motions):
+        self.disc, self.motions = disc, motions
+        mesh = disc.mesh
+        regions = {name for _, names, _, _ in motions for name in names}
+        indicator = mesh.MaterialCF({name: 1.0 for name in regions}, default=0.0)
+        self.mass = _mass(disc, indicator)
+        everywhere = _diagonal(_mass(disc, ngs.CF(1.0)))
+        ratio = float(np.median(np.abs(_diagonal(disc.A)) / np.maximum(everywhere, 1e-300)))
+        self.epsilon = EPSILON * ratio
+        rows, cols, values = zip(*(_coo(mat, scale) for mat, scale in ((disc.A, 1.0), (self.mass, self.epsilon))),
+                                 strict=True)
+        self.A = ngs.la.SparseMatrixd.CreateFromCOO(np.concatenate(rows), np.concatenate(cols),
+                                                    np.concatenate(values), disc.A.height, disc.A.width)
+
+    def load(self, u_vec):
+        """F + eps M_f u_k as a numpy array."""
+        return self.disc.F.FV().NumPy() + self.epsilon * _apply(self.mass, u_vec)
+
+    def drift(self, change):
+        """The motion that moved most in ``change`` (a step of u): (its description, its amplitude)."""
+        amplitudes = [abs(float(r @ _apply(self.mass, change)) / float(r @ _apply(self.mass, r)))
+                      for _, _, _, r in self.motions]
+        k = int(np.argmax(amplitudes))
+        number, regions, name, _ = self.motions[k]
+        return f"the {name} of body {number} (regions {', '.join(map(repr, regions))})", amplitudes[k]
+
+    def run(self, state, options, u_start):
+        """Proximal steps with ``state`` (a NewtonState of ``self.A``) from u_start (array); returns
+        (u, lam_tau, info) of the last step, ``info["proximal_steps"]`` its number of steps."""
+        u_k, total_iterations, history = u_start, 0, []
+        for step in range(1, MAX_STEPS + 1):
+            state.reload(self.load(u_k))
+            u, lam_tau, info = state.run(options)
+            total_iterations += info["iterations"]
+            history += info["history"]
+            u_new = u.vec.FV().NumPy().copy()
+            change = u_new - u_k
+            if np.linalg.norm(change) <= CONVERGED * max(np.linalg.norm(u_new), 1e-300):
+                info.update(proximal_steps=step, iterations=total_iterations, history=history)
+                return u, lam_tau, info
+            gap = state.reduced.traces(state.f)[:state.traces.M] - state.traces.g_a
+            if step > 1 and not np.any(gap > 0):
+                break  # no point pushes: nothing holds the body
+            u_k = u_new
+        what, amplitude = self.drift(change)
+        raise SolverError(f"nothing holds {what}: it moved by {amplitude:.3g} in the last of {step} proximal steps "
+                          f"(the load pulls the body off or along its contact); hold it by a Dirichlet or symmetry "
+                          f"side, or press it onto the other body", history=history, solver="newton")
