@@ -23,7 +23,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .checks import MEMORY_BUDGET, callback, optional, positive_integer, positive_number
+from .checks import MEMORY_BUDGET, callback, optional, positive_integer, positive_number, refuse_pairs
 from .dg.discretization import MAX_DEGREE, check_order, space
 from .dg.material import largest
 from .dg.methods import get_method
@@ -347,6 +347,7 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     _check_arguments(order, settings, gamma_lin)
     _check_applicable(solver, estimator, variant, gamma_lin)
     callback(keep, "keep")
+    refuse_pairs(problem, "adapt")
     start, say = time.perf_counter(), reporter(progress)
     settings = _with_hp_defaults(settings)
     mesh = initial_mesh(problem, INITIAL_LAYERS if settings.layers else 0) if mesh is None else mesh

@@ -80,7 +80,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .checks import check_solution
+from .checks import check_solution, refuse_pairs
 from .contact.boundary import boundary_edges, contact_elements, contact_points, normal_tangent
 from .contact.forms import compliance, friction_bound
 from .contact.laws import compliance_energy, friction_energy, pressure_conjugate, project_unit, smooth_unit
@@ -424,6 +424,7 @@ def equilibrate(sol):
     ['asymmetry', 'conformity', 'contact', 'dirichlet', 'jumps', 'oscillation', 'stress', 'traction']
     """
     check_solution(sol, "sol")
+    refuse_pairs(sol.problem, "the equilibrated bound")
     with threads(sol.ndof):
         return _bound(sol)
 

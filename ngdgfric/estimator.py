@@ -92,7 +92,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .checks import check_solution
+from .checks import check_solution, refuse_pairs
 from .contact.boundary import contact_elements, normal_tangent
 from .contact.forms import contact_residuals
 from .dg.forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
@@ -275,6 +275,7 @@ def estimate(sol, variant=None, kind="residual", weights=None):
     22.3 True
     """
     check_solution(sol, "sol")
+    refuse_pairs(sol.problem, "estimate")
     variant = deprecated_weights(variant, weights, "estimate")
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
+from .checks import refuse_pairs
 from .contact.forces import LAM_TOL, SLIP_TOL, constant_vectors, contact_sides
 from .dg.forms import dirichlet_load_terms, has_dirichlet_data, support_terms
 from .dg.liftings import liftings
@@ -206,6 +207,7 @@ def force_balance(sol, lam_tol=LAM_TOL, slip_tol=SLIP_TOL):
     >>> balance.relative_residual < 1e-10
     True
     """
+    refuse_pairs(sol.problem, "force_balance")
     disc = sol.discretization
     constants = constant_vectors(disc.V)
     with threads(disc.V.ndof):

@@ -5,6 +5,7 @@ Gauss points, the ends of the contact and stick zones, and the violations of the
 import ngsolve as ngs
 import numpy as np
 
+from ..checks import refuse_pairs
 from ..problem import coefficient, strain, stress
 from .boundary import evaluate_on_contact, normal_tangent
 from .forms import compliance, friction_bound, penetration, residual_terms
@@ -46,6 +47,7 @@ def contact_state(sol):
     >>> len(state["x"]), bool(abs(state["lam_tau"]).max() <= 1 + 1e-12)
     (4, True)
     """
+    refuse_pairs(sol.problem, "contact_state")
     points = sol.contact.points()
     n, t = normal_tangent()
     u, problem = sol.u, sol.discretization.problem
@@ -117,6 +119,7 @@ def kkt_residuals(sol):
     >>> all(value < 1e-10 for value in residuals.values())
     True
     """
+    refuse_pairs(sol.problem, "kkt_residuals")
     state = contact_state(sol)
     scale = max(np.max(np.abs(sol.u.vec.FV().NumPy())), 1e-300)
     lam_tau, u_tau = state["lam_tau"], state["u_tau"]
