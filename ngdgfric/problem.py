@@ -313,7 +313,7 @@ class ContactProblem:
         The prescribed displacement on :math:`\Gamma_D`.  Default ``(0.0, 0.0)`` (the paper's).
     pairs : sequence of ContactPair, optional
         Contact between two bodies of the geometry (regions joined by interfaces are a body,
-        :attr:`ngdgfric.Domain.bodies`): each :class:`~ngdgfric.ContactPair` names a side of one body and a side of
+        ``Domain.bodies``): each :class:`~ngdgfric.ContactPair` names a side of one body and a side of
         another.  With pairs, ``dirichlet`` and ``contact`` may be empty: a body held by contact and symmetry
         sides only is solved wherever the contact holds it.  Default ``()``: one body against the foundation.
 

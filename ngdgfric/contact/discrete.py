@@ -91,9 +91,11 @@ class Contact:
 
     @functools.cached_property
     def pairs(self):
-        r"""The contact pairs of the problem on this mesh: a list of ``(pair, PairPoints, SideTraces of its side,
-        SideTraces of the other side)`` (:mod:`ngdgfric.contact.pairing`, :mod:`ngdgfric.contact.pair_traces`), with
-        ``degree + 1`` points per piece of the common refinement (built on first use)."""
+        r"""The contact pairs of the problem on this mesh, built on first use.
+
+        A list of ``(pair, PairPoints, SideTraces of its side, SideTraces of the other side)``
+        (:mod:`ngdgfric.contact.pairing`, :mod:`ngdgfric.contact.pair_traces`), with ``degree + 1`` points per piece
+        of the common refinement."""
         q = self.degree + 1
         reach_default = 0.1 * self.problem.geometry.diameter()
         found = []
