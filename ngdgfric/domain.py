@@ -79,10 +79,7 @@ class Geometry:
         a region's loop inside another region (an inclusion) bounds that region on its outside."""
         loops = [loop for _, loop in self.region_loops]
         parent = [self._parent(loop, i) for i, loop in enumerate(loops)]
-        owner = {}
-        for i, loop in enumerate(loops):
-            for k, side in enumerate(loop.sides()):
-                owner.setdefault(side_key(side), []).append((i, k))
+        owner = self._owners
         segments = []
         for i, loop in enumerate(loops):
             for k, side in enumerate(loop.sides()):
@@ -107,6 +104,15 @@ class Geometry:
                 segments.append((side, hole.labels[k], 0, region + 1))  # the hole on the left of its loop
         return segments
 
+    @functools.cached_property
+    def _owners(self):
+        """{``side_key`` of a side: [(region number, side index), ...]}: which regions' loops have each side."""
+        owner = {}
+        for i, (_, loop) in enumerate(self.region_loops):
+            for k, side in enumerate(loop.sides()):
+                owner.setdefault(side_key(side), []).append((i, k))
+        return owner
+
     def _touching_side(self, users):
         """Whether a side that two regions share (``users``: (region, side index) twice) is a *touching* side: both
         regions label it, with different names (not ``INTERFACE``), so that each keeps it as a boundary side of its
@@ -128,14 +134,10 @@ class Geometry:
                 i = root[i]
             return i
 
-        loops = [loop for _, loop in self.region_loops]
-        owner = {}
-        for i, loop in enumerate(loops):
-            for k, side in enumerate(loop.sides()):
-                owner.setdefault(side_key(side), []).append((i, k))
-        joined = [tuple(user[0] for user in users) for users in owner.values()
+        joined = [tuple(user[0] for user in users) for users in self._owners.values()
                   if len(users) == 2 and not self._touching_side(users)]
-        joined += [(i, parent) for i, loop in enumerate(loops) if (parent := self._parent(loop, i)) is not None]
+        joined += [(i, parent) for i, (_, loop) in enumerate(self.region_loops)
+                   if (parent := self._parent(loop, i)) is not None]
         for i, j in joined:  # an interface or an inclusion
             a, b = find(i), find(j)
             root[max(a, b)] = min(a, b)
@@ -145,11 +147,19 @@ class Geometry:
         return tuple(tuple(group) for group in groups.values())
 
     @functools.cached_property
+    def region_body(self):
+        """The body (its number in ``bodies``) of every region, in the order of ``region_loops``: a tuple."""
+        body = [0] * len(self.region_loops)
+        for k, regions in enumerate(self.bodies):
+            for i in regions:
+                body[i] = k
+        return tuple(body)
+
+    @functools.cached_property
     def touching(self):
         """The pairs of side labels of two bodies that run together (along a line or a circle): a set of sorted
         label pairs.  :class:`~ngdgfric.ContactProblem` requires each to be a contact pair."""
-        body = {i: k for k, regions in enumerate(self.bodies) for i in regions}
-        loops = [loop for _, loop in self.region_loops]
+        body, loops = self.region_body, [loop for _, loop in self.region_loops]
         gap = RESOLUTION * self.diameter()
         found = set()
         for i, loop in enumerate(loops):
@@ -165,16 +175,11 @@ class Geometry:
     def body_of_side(self, label):
         """The number of the body (in ``bodies``) whose boundary has the side ``label``."""
         region = next(left or right for _, name, left, right in self.segments if name == label)
-        return next(k for k, body in enumerate(self.bodies) if region - 1 in body)
+        return self.region_body[region - 1]
 
     def body_regions(self, number):
         """The region names of body ``number``."""
         return tuple(self.region_names[i] for i in self.bodies[number])
-
-    def body_of(self, region):
-        """The number of the body (in ``bodies``) of a region given by its name."""
-        number = self.region_names.index(region)
-        return next(k for k, body in enumerate(self.bodies) if number in body)
 
     def _parent(self, loop, own):
         """The innermost region whose loop contains ``loop`` (not sharing sides with it), or None."""
@@ -259,10 +264,8 @@ class Geometry:
         from netgen.geom2d import SplineGeometry
 
         spline, points = SplineGeometry(), {}
-        region_shift = np.zeros((len(self.region_loops) + 1, 2))
-        for body, shift in zip(self.bodies, shifts if shifts is not None else [(0.0, 0.0)] * len(self.bodies),
-                               strict=True):
-            region_shift[[k + 1 for k in body]] = shift
+        shifts = np.zeros((len(self.bodies), 2)) if shifts is None else np.asarray(shifts, dtype=float)
+        region_shift = np.vstack([[0.0, 0.0], shifts[list(self.region_body)]])  # region numbers from 1
 
         def point(xy, region):
             key = (float(xy[0] + region_shift[region][0]), float(xy[1] + region_shift[region][1]))
@@ -305,9 +308,7 @@ class Geometry:
         shift of the body of the elements it belongs to (``element_points``: (m, 3) 0-based vertices,
         ``element_regions``: 1-based region of each element)."""
         shifts = np.asarray(self.body_shifts())
-        body_of_region = np.zeros(len(self.region_loops) + 1, dtype=np.int64)
-        for k, body in enumerate(self.bodies):
-            body_of_region[[i + 1 for i in body]] = k
+        body_of_region = np.array([0, *self.region_body], dtype=np.int64)  # region numbers from 1
         moved = np.array(coordinates, dtype=float)
         point_body = np.zeros(len(moved), dtype=np.int64)
         point_body[np.asarray(element_points).ravel()] = np.repeat(body_of_region[element_regions],
@@ -432,7 +433,7 @@ class Domain(Geometry):
         loops = self._named_loops()
         size = max(np.ptp(np.concatenate([loop.polyline() for _, loop in loops]), axis=0))
         gap, clearance = RESOLUTION * size, CLEARANCE * size
-        body = {i: k for k, regions in enumerate(self.bodies) for i in regions}
+        body = self.region_body
         for i, (name, loop) in enumerate(loops):
             line = loop.polyline()
             starts, ends = line, np.roll(line, -1, axis=0)

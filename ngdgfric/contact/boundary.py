@@ -13,9 +13,11 @@ every pointwise relation (:math:`|\lambda_\tau| \le 1`, :math:`\lambda_\tau u_\t
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["contact_rule", "contact_measure", "normal_tangent", "boundary_edges", "contact_edges",
-           "contact_elements", "contact_points", "edge_jacobians", "evaluate_on_contact", "multiplier_space",
-           "ContactGauss", "GaussValues"]
+from ..problem import pattern
+
+__all__ = ["contact_rule", "contact_measure", "side_measure", "facet_space", "normal_tangent", "boundary_edges",
+           "contact_edges", "contact_elements", "contact_points", "edge_jacobians", "evaluate_on_contact",
+           "multiplier_space", "ContactGauss", "GaussValues"]
 
 
 def contact_rule(order):
@@ -25,7 +27,12 @@ def contact_rule(order):
 
 def contact_measure(problem, mesh, order):
     """ds on Gamma_C (skeleton form, as L2 spaces need) with the contact Gauss rule."""
-    return ngs.ds(skeleton=True, definedon=mesh.Boundaries(problem.where("contact")), intrules=contact_rule(order))
+    return side_measure(mesh, problem.where("contact"), order)
+
+
+def side_measure(mesh, where, order):
+    """ds on the sides selected by the region pattern ``where`` (skeleton form) with the contact Gauss rule."""
+    return ngs.ds(skeleton=True, definedon=mesh.Boundaries(where), intrules=contact_rule(order))
 
 
 def normal_tangent():
@@ -71,24 +78,34 @@ def evaluate_on_contact(cf, points, volume=True):
 
 def multiplier_space(problem, mesh, order):
     """Degree-p facet space on Gamma_C for the scalar multiplier lam_tau (the vector multiplier is lam_tau t)."""
+    return facet_space(mesh, problem.where("contact"), order)
+
+
+def facet_space(mesh, where, order):
+    """Degree-p facet space on the sides selected by the region pattern ``where``."""
     full = ngs.FacetFESpace(mesh, order=order)
-    return ngs.Compress(full, active_dofs=full.GetDofs(mesh.Boundaries(problem.where("contact"))))
+    return ngs.Compress(full, active_dofs=full.GetDofs(mesh.Boundaries(where)))
 
 
 class ContactGauss:
-    """The Gauss points of Gamma_C edge by edge, and multiplier values <-> coefficients.
+    """The Gauss points of Gamma_C (or of the sides ``sides``) edge by edge, and multiplier values <-> coefficients.
 
     points: mapped points (for evaluation); xy: (edges, q, 2) coordinates; ends: (edges, 2, 2)
-    edge end points; dofs: (edges, q) multiplier dofs of each edge; sides: the name of each edge's contact side;
-    q = p + 1.
+    edge end points; dofs: (edges, q) dofs of each edge in the facet space ``Q`` on those sides; sides: the name of
+    each edge's side; omega: the Gauss weights times |dx/ds| (``edge_jacobians``), edge by edge; dS: the measure
+    of those sides with the rule; q = p + 1.
     """
 
-    def __init__(self, problem, mesh, order, Q):
-        self.points = contact_points(problem, mesh, order)
+    def __init__(self, mesh, sides, order, Q):
+        where = pattern(sides)
+        self.points = mesh.MapToAllElements(contact_rule(order), mesh.Boundaries(where))
         self.q = order + 1
+        self.dS = side_measure(mesh, where, order)
         self.xy = np.column_stack([np.asarray(ngs.x(self.points)).ravel(),
                                    np.asarray(ngs.y(self.points)).ravel()]).reshape(-1, self.q, 2)
-        edges = [el for el, _ in boundary_edges(problem, mesh)]
+        edges = [el for el in mesh.Elements(ngs.BND) if el.mat in set(sides)]
+        weights = np.asarray(contact_rule(order)[ngs.SEGM].weights)
+        self.omega = np.tile(weights, len(edges)) * edge_jacobians(self.points)
         ends = [[mesh[v].point for v in el.vertices] for el in edges]
         dofs = [list(Q.GetDofNrs(el)) for el in edges]
         self.sides = [el.mat for el in edges]

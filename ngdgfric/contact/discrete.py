@@ -14,7 +14,7 @@ import numpy as np
 
 from ..threads import threads
 from .boundary import ContactGauss, boundary_edges, contact_measure, contact_points, multiplier_space
-from .pair_traces import SideTraces
+from .pair_traces import SideTraces, pair_rows
 from .pairing import pair_points
 from .traces import ContactTraces
 
@@ -87,23 +87,22 @@ class Contact:
     @functools.cached_property
     def gauss(self):
         """The ``ContactGauss`` of :mod:`ngdgfric.contact.boundary` of this mesh (built on first use)."""
-        return ContactGauss(self.problem, self.mesh, self.order, self.Q)
+        return ContactGauss(self.mesh, self.problem.sides("contact"), self.order, self.Q)
 
     @functools.cached_property
     def pairs(self):
         r"""The contact pairs of the problem on this mesh, built on first use.
 
-        A list of ``(pair, PairPoints, SideTraces of its side, SideTraces of the other side)``
-        (:mod:`ngdgfric.contact.pairing`, :mod:`ngdgfric.contact.pair_traces`), with ``degree + 1`` points per piece
-        of the common refinement."""
+        A list of ``(pair, PairPoints, rows of B)`` (:mod:`ngdgfric.contact.pairing`,
+        :mod:`ngdgfric.contact.pair_traces`: ``pair_rows``, normal rows ``0 .. m - 1`` and tangential rows
+        ``m .. 2 m - 1`` for the pair's m points), with ``degree + 1`` points per piece of the common refinement."""
         q = self.degree + 1
         reach_default = 0.1 * self.problem.geometry.diameter()
         found = []
         for pair in self.problem.pairs:
-            reach = reach_default if pair.reach is None else pair.reach
-            points = pair_points(self.mesh, pair, q, reach)
-            found.append((pair, points, SideTraces(self.V, self.V_plain, self.mesh, pair.side, q),
-                          SideTraces(self.V, self.V_plain, self.mesh, pair.other, q)))
+            points = pair_points(self.mesh, pair, q, reach_default if pair.reach is None else pair.reach)
+            side, other = (SideTraces(self.V_plain, self.mesh, name, q) for name in (pair.side, pair.other))
+            found.append((pair, points, pair_rows(points, side, other)))
         return found
 
     @functools.cached_property
@@ -114,7 +113,7 @@ class Contact:
     def multiplier_values(self, lam_tau):
         """The multiplier at every contact point (``traces`` order): lam_tau's values at the foundation's Gauss
         points, then 0 at the pairs' points (a warm start carries the foundation's multiplier only)."""
-        extra = sum(points.M for _, points, _, _ in self.pairs)
+        extra = sum(points.M for _, points, _ in self.pairs)
         return np.concatenate([self.gauss.values(lam_tau).ravel(), np.zeros(extra)])
 
     def set_multiplier(self, lam_tau, values):

@@ -22,10 +22,12 @@ import ngsolve as ngs
 import numpy as np
 
 from ..problem import pattern
-from ..threads import threads
-from .boundary import contact_rule, edge_jacobians
+from .boundary import ContactGauss, contact_rule, facet_space
+from .traces import trace_rows
 
 __all__ = ["SideTraces", "pair_rows", "lagrange"]
+
+CARTESIAN = (ngs.CF((1.0, 0.0)), ngs.CF((0.0, 1.0)))
 
 
 def lagrange(nodes, s):
@@ -41,54 +43,16 @@ def lagrange(nodes, s):
 
 class SideTraces:
     """u_x and u_y of V_h at the q Gauss nodes of every edge of side ``side`` (in the order of the side's boundary
-    elements): a sparse matrix as ``indptr``, ``cols``, ``values`` (CSR), row (component * edges + edge) * q + i;
-    ``nodes``: the q parameters s_i."""
+    elements; ``trace_rows`` of :mod:`ngdgfric.contact.traces` with a facet space of degree q - 1 on the side): a
+    sparse matrix as ``indptr``, ``cols``, ``values`` (CSR), row (component * edges + edge) * q + i; ``nodes``: the
+    q parameters s_i; ``ndof``: the dimension of V_h."""
 
-    def __init__(self, V, V_plain, mesh, side, q):
-        region = mesh.Boundaries(pattern([side]))
+    def __init__(self, V_plain, mesh, side, q):
         rule = contact_rule(q - 1)
         self.nodes = np.array([point.point[0] for point in rule[ngs.SEGM]])
-        weights = np.array([point.weight for point in rule[ngs.SEGM]])
-        full = ngs.FacetFESpace(mesh, order=q - 1)
-        Q = ngs.Compress(full, active_dofs=full.GetDofs(region))
-        edges = [el for el in mesh.Elements(ngs.BND) if el.mat == side]
-        self.edges, self.q = len(edges), q
-        points = mesh.MapToAllElements(rule, region)
-        omega = np.tile(weights, self.edges) * edge_jacobians(points)
-        dofs = np.array([list(Q.GetDofNrs(el)) for el in edges], dtype=np.int64).reshape(-1, q)
-        probe = ngs.GridFunction(Q)
-        vandermonde = np.empty((self.edges, q, q))
-        for k in range(q):
-            probe.vec[:] = 0.0
-            probe.vec.FV().NumPy()[dofs[:, k]] = 1.0
-            vandermonde[:, :, k] = np.asarray(probe(points)).reshape(-1, q)
-        inverse_t = np.linalg.inv(vandermonde).transpose(0, 2, 1)
-        edge_of = np.empty(Q.ndof, dtype=np.int64)
-        index_of = np.empty(Q.ndof, dtype=np.int64)
-        edge_of[dofs.ravel()] = np.repeat(np.arange(self.edges), q)
-        index_of[dofs.ravel()] = np.tile(np.arange(q), self.edges)
-        dS = ngs.ds(skeleton=True, definedon=region, intrules=rule)
-        rows, cols, values = [], [], []
-        for component, direction in enumerate((ngs.CF((1.0, 0.0)), ngs.CF((0.0, 1.0)))):
-            mu, v = Q.TrialFunction(), V_plain.TestFunction()
-            form = ngs.BilinearForm(trialspace=Q, testspace=V_plain)
-            form += mu * (v * direction) * dS
-            with threads(V.ndof):
-                form.Assemble()
-            data, col, rowptr = form.mat.CSR()
-            rowptr = np.array(rowptr, dtype=np.int64)
-            v_dof = np.repeat(np.arange(form.mat.height, dtype=np.int64), np.diff(rowptr))
-            q_dof, entry = np.array(col, dtype=np.int64), np.array(data)
-            e, k = edge_of[q_dof], index_of[q_dof]
-            for i in range(q):
-                rows.append((component * self.edges + e) * q + i)
-                cols.append(v_dof)
-                values.append(inverse_t[e, i, k] * entry / omega[e * q + i])
-        rows, cols, values = np.concatenate(rows), np.concatenate(cols), np.concatenate(values)
-        keys, where = np.unique(rows * V.ndof + cols, return_inverse=True)
-        summed = np.bincount(where, weights=values)
-        keep = np.abs(summed) > 1e-13 * np.max(np.abs(summed), initial=0.0)
-        rows, self.cols, self.values = keys[keep] // V.ndof, keys[keep] % V.ndof, summed[keep]
+        gauss = ContactGauss(mesh, (side,), q - 1, facet_space(mesh, pattern([side]), q - 1))
+        self.edges, self.q, self.ndof = len(gauss.dofs), q, V_plain.ndof
+        rows, self.cols, self.values = trace_rows(gauss, V_plain, self.ndof, CARTESIAN)
         self.indptr = np.searchsorted(rows, np.arange(2 * self.edges * q + 1))
 
     def combine(self, out_rows, edge, component, coefficients):
@@ -102,16 +66,21 @@ class SideTraces:
                 np.repeat(coefficients.ravel(), counts) * self.values[picked])
 
 
-def pair_rows(points, side, other, offset, M):
+def pair_rows(points, side, other):
     """COO triplets of the rows of B of one pair's ``points`` (``PairPoints``) with the ``SideTraces`` of its two
-    sides; normal rows from ``offset``, tangential rows from ``M + offset`` (M: all points of the mesh)."""
+    sides, duplicates summed: normal rows 0 .. m - 1, tangential rows m .. 2 m - 1 (m = ``points.M``)."""
     parts = []
-    rows = offset + np.arange(points.M)
-    for row_shift, direction in ((0, points.normal), (M, points.tangent)):
+    rows = np.arange(points.M)
+    for row_shift, direction in ((0, points.normal), (points.M, points.tangent)):
         for traces, edge, s, sign in ((side, points.edge, points.s, 1.0),
                                       (other, points.other_edge, points.other_s, -1.0)):
             basis = lagrange(traces.nodes, s)
             for component in (0, 1):
                 parts.append(traces.combine(rows + row_shift, edge, np.full(points.M, component),
                                             sign * direction[:, component][:, None] * basis))
-    return tuple(np.concatenate(arrays) for arrays in zip(*parts, strict=True))
+    rows, cols, values = (np.concatenate(arrays) for arrays in zip(*parts, strict=True))
+    ndof = side.ndof
+    keys, where = np.unique(rows * ndof + cols, return_inverse=True)
+    summed = np.bincount(where, weights=values)
+    keep = summed != 0
+    return keys[keep] // ndof, keys[keep] % ndof, summed[keep]

@@ -48,17 +48,14 @@ class SideCurves:
     order), ``normal_sign`` per edge (+1 if the outward normal is (y', -x'))."""
 
     def __init__(self, mesh, side):
-        self.side = side
-        region = mesh.Boundaries(pattern([side]))
-        self.elements = [el for el in mesh.Elements(ngs.BND) if el.mat == side]
         nodes = _chebyshev(CURVE_SAMPLES)
         rule = ngs.IntegrationRule(points=[(s,) for s in nodes], weights=[1.0] * len(nodes))
-        points = mesh.MapToAllElements({ngs.SEGM: rule}, region)
+        points = mesh.MapToAllElements({ngs.SEGM: rule}, mesh.Boundaries(pattern([side])))
         xy = np.column_stack([np.asarray(ngs.x(points)).ravel(), np.asarray(ngs.y(points)).ravel()])
-        xy = xy.reshape(len(self.elements), len(nodes), 2)
+        xy = xy.reshape(-1, len(nodes), 2)
+        count = len(xy)
         basis = np.polynomial.chebyshev.chebvander(2 * nodes - 1, CURVE_SAMPLES - 1)
         self.coefficients = np.linalg.solve(basis, xy).transpose(0, 2, 1)  # (edges, 2, samples), Chebyshev in 2s - 1
-        count = len(self.elements)
         normal = np.asarray(ngs.specialcf.normal(2)(points)).reshape(count, len(nodes), 2)[:, len(nodes) // 2]
         tangent = self._derivative(np.arange(count), nodes[len(nodes) // 2] * np.ones(count))
         self.normal_sign = np.sign(tangent[:, 1] * normal[:, 0] - tangent[:, 0] * normal[:, 1])
@@ -89,7 +86,7 @@ class SideCurves:
         """For points xy (n, 2): (edge, s, distance) of the closest point of this side (of ``edges`` only, if
         given): the nearest of 4 * CURVE_SAMPLES samples per edge, then Newton's method on that edge, s in [0, 1]."""
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-        candidates = np.arange(len(self.elements)) if edges is None else np.asarray(edges)
+        candidates = np.arange(len(self.coefficients)) if edges is None else np.asarray(edges)
         grid = np.linspace(0.0, 1.0, 4 * CURVE_SAMPLES)
         samples = self.at(np.repeat(candidates, len(grid)), np.tile(grid, len(candidates)))
         nearest = np.argmin(np.linalg.norm(xy[:, None, :] - samples[None], axis=2), axis=1)
@@ -131,11 +128,10 @@ def _breakpoints(curves, other, reach):
     """For every edge of ``curves``: the sorted parameters in (0, 1) of the closest points of the vertices of
     ``other`` that lie within ``reach`` of the edge."""
     vertices = np.unique(np.round(other.ends.reshape(-1, 2), 14), axis=0)
-    cuts = [[] for _ in curves.elements]
-    for e in range(len(curves.elements)):
-        edge, s, distance = curves.closest(vertices, edges=[e])
-        inner = (distance <= reach) & (s > 1e-12) & (s < 1 - 1e-12)
-        cuts[e] = np.unique(s[inner])
+    cuts = []
+    for e in range(len(curves.coefficients)):
+        _, s, distance = curves.closest(vertices, edges=[e])
+        cuts.append(np.unique(s[(distance <= reach) & (s > 1e-12) & (s < 1 - 1e-12)]))
     return cuts
 
 

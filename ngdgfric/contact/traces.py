@@ -24,10 +24,9 @@ import numpy as np
 
 from ..problem import PerSide
 from ..threads import threads
-from .boundary import boundary_edges, contact_rule, edge_jacobians, evaluate_on_contact, normal_tangent
-from .pair_traces import pair_rows
+from .boundary import boundary_edges, evaluate_on_contact, normal_tangent
 
-__all__ = ["ContactTraces"]
+__all__ = ["ContactTraces", "trace_rows"]
 
 
 def _point_values(value, points):
@@ -57,80 +56,39 @@ class ContactTraces:
         gauss = contact.gauss
         self.ndof = contact.V.ndof
         self.M = gauss.dofs.size
-        q = gauss.q
-        weights = np.asarray(contact_rule(contact.order)[ngs.SEGM].weights)
-        self.omega = np.tile(weights, len(gauss.dofs)) * edge_jacobians(gauss.points)
+        self.omega = gauss.omega
         self.g_a = _point_values(problem.g_a, gauss.points)
         self.c_n = _point_values(problem.c_n, gauss.points)
         self.c_tau = _point_values(problem.c_tau, gauss.points)
-        self.m_n, self.m_t = (np.repeat(m.at(gauss.sides), q) if isinstance(m, PerSide) else float(m)
+        self.m_n, self.m_t = (np.repeat(m.at(gauss.sides), gauss.q) if isinstance(m, PerSide) else float(m)
                               for m in (problem.m_n, problem.m_t))
-        # Q dof -> (edge, basis index) and V_e^-T
-        edge_of = np.empty(contact.Q.ndof, dtype=np.int64)
-        index_of = np.empty(contact.Q.ndof, dtype=np.int64)
-        edge_of[gauss.dofs.ravel()] = np.repeat(np.arange(len(gauss.dofs)), q)
-        index_of[gauss.dofs.ravel()] = np.tile(np.arange(q), len(gauss.dofs))
-        inverse_t = np.linalg.inv(gauss.vandermonde).transpose(0, 2, 1)
-        rows, cols, values = [], [], []
-        for component, direction in enumerate(normal_tangent()):
-            mass = self._mass_matrix(contact, direction)
-            v_dof, q_dof, entry = mass
-            e, k = edge_of[q_dof], index_of[q_dof]
-            for i in range(q):
-                rows.append(component * self.M + e * q + i)
-                cols.append(v_dof)
-                values.append(inverse_t[e, i, k] * entry / self.omega[e * q + i])
-        rows, cols, values = np.concatenate(rows), np.concatenate(cols), np.concatenate(values)
-        keys, where = np.unique(rows * self.ndof + cols, return_inverse=True)
-        summed = np.bincount(where, weights=values)
-        keep = np.abs(summed) > 1e-13 * np.max(np.abs(summed), initial=0.0)
-        self.rows, self.cols, self.values = keys[keep] // self.ndof, keys[keep] % self.ndof, summed[keep]
+        self.rows, self.cols, self.values = trace_rows(gauss, contact.V_plain, self.ndof, normal_tangent())
         self.redundant = self._redundant(contact)
         self.foundation = self.M
         if contact.pairs:
             self._add_pairs(contact.pairs)
 
     def _add_pairs(self, pairs):
-        """Append the points of the contact pairs (:mod:`ngdgfric.contact.pair_traces`) after the foundation's:
-        normal rows ``foundation .. M - 1``, tangential rows ``M + foundation .. 2 M - 1``; the law's data there are
-        the pairs' (``g_a``: the geometric gap plus the pair's offset)."""
-        extra = sum(points.M for _, points, _, _ in pairs)
-        total = self.M + extra
-        rows = np.where(self.rows >= self.M, self.rows + extra, self.rows)
-        parts, offset = [(rows, self.cols, self.values)], self.M
+        """Append the points of the contact pairs (``Contact.pairs``) after the foundation's: normal rows
+        ``foundation .. M - 1``, tangential rows ``M + foundation .. 2 M - 1``; the law's data there are the pairs'
+        (``g_a``: the geometric gap plus the pair's offset)."""
+        total = self.M + sum(points.M for _, points, _ in pairs)
+        parts = [(np.where(self.rows >= self.M, self.rows + total - self.M, self.rows), self.cols, self.values)]
         data = {name: [np.broadcast_to(getattr(self, name), (self.M,))] for name in
                 ("omega", "g_a", "c_n", "c_tau", "m_n", "m_t")}
-        for pair, points, side, other in pairs:
-            parts.append(pair_rows(points, side, other, offset, total))
+        offset = self.M
+        for pair, points, (rows, cols, values) in pairs:
+            parts.append((np.where(rows < points.M, offset + rows, total + offset - points.M + rows), cols, values))
             offset += points.M
             data["omega"].append(points.weight)
             data["g_a"].append(points.gap)
             for name in ("c_n", "c_tau", "m_n", "m_t"):
                 data[name].append(np.full(points.M, getattr(pair, name)))
-        rows, cols, values = (np.concatenate(arrays) for arrays in zip(*parts, strict=True))
-        keys, where = np.unique(rows * self.ndof + cols, return_inverse=True)
-        summed = np.bincount(where, weights=values)
-        keep = summed != 0
-        self.rows, self.cols, self.values = keys[keep] // self.ndof, keys[keep] % self.ndof, summed[keep]
+        self.rows, self.cols, self.values = (np.concatenate(arrays) for arrays in zip(*parts, strict=True))
         for name, arrays in data.items():
             setattr(self, name, np.concatenate(arrays).astype(float))
         self.M = total
         self.redundant = True  # more points than trace values on an edge cut into pieces
-
-    @staticmethod
-    def _mass_matrix(contact, direction):
-        """(V dof, Q dof, value) of int (u . direction) mu ds over Gamma_C (Gauss rule), copied."""
-        mu, v = contact.Q.TrialFunction(), contact.V_plain.TestFunction()
-        form = ngs.BilinearForm(trialspace=contact.Q, testspace=contact.V_plain)
-        form += mu * (v * direction) * contact.dS
-        with threads(contact.V.ndof):
-            form.Assemble()
-        values, cols, rowptr = form.mat.CSR()
-        rowptr = np.array(rowptr, dtype=np.int64)
-        rows = np.repeat(np.arange(form.mat.height, dtype=np.int64), np.diff(rowptr))
-        values = np.array(values)
-        nonzero = values != 0
-        return rows[nonzero], np.array(cols, dtype=np.int64)[nonzero], values[nonzero]
 
     def _redundant(self, contact):
         """Whether the rows of B belonging to some element are linearly dependent.  For the conforming baseline
@@ -156,3 +114,45 @@ class ContactTraces:
     def apply_transpose(self, f):
         """B^T f for forces f (numpy array of length 2 M)."""
         return np.bincount(self.cols, weights=self.values * f[self.rows], minlength=self.ndof)
+
+
+def _mass_matrix(gauss, V_plain, ndof, direction):
+    """(V dof, Q dof, value) of int (u . direction) mu ds over the sides of ``gauss`` (its Gauss rule), mu in its
+    facet space."""
+    mu, v = gauss.Q.TrialFunction(), V_plain.TestFunction()
+    form = ngs.BilinearForm(trialspace=gauss.Q, testspace=V_plain)
+    form += mu * (v * direction) * gauss.dS
+    with threads(ndof):
+        form.Assemble()
+    values, cols, rowptr = form.mat.CSR()
+    rowptr = np.array(rowptr, dtype=np.int64)
+    rows = np.repeat(np.arange(form.mat.height, dtype=np.int64), np.diff(rowptr))
+    values = np.array(values)
+    nonzero = values != 0
+    return rows[nonzero], np.array(cols, dtype=np.int64)[nonzero], values[nonzero]
+
+
+def trace_rows(gauss, V_plain, ndof, directions):
+    """The traces v . d_c of V_h at the Gauss points of a ``ContactGauss`` (:mod:`ngdgfric.contact.boundary`) as COO
+    triplets (rows, cols, values), row c M + e q + i for direction c, edge e and point i (M = edges x q):
+    B_e = D_e^-1 V_e^-T (mass matrix)_e^T of the module docstring, entries below 1e-13 of the largest dropped."""
+    q, edges = gauss.q, len(gauss.dofs)
+    M = edges * q
+    edge_of = np.empty(gauss.Q.ndof, dtype=np.int64)
+    index_of = np.empty(gauss.Q.ndof, dtype=np.int64)
+    edge_of[gauss.dofs.ravel()] = np.repeat(np.arange(edges), q)
+    index_of[gauss.dofs.ravel()] = np.tile(np.arange(q), edges)
+    inverse_t = np.linalg.inv(gauss.vandermonde).transpose(0, 2, 1)
+    rows, cols, values = [], [], []
+    for component, direction in enumerate(directions):
+        v_dof, q_dof, entry = _mass_matrix(gauss, V_plain, ndof, direction)
+        e, k = edge_of[q_dof], index_of[q_dof]
+        for i in range(q):
+            rows.append(component * M + e * q + i)
+            cols.append(v_dof)
+            values.append(inverse_t[e, i, k] * entry / gauss.omega[e * q + i])
+    rows, cols, values = np.concatenate(rows), np.concatenate(cols), np.concatenate(values)
+    keys, where = np.unique(rows * ndof + cols, return_inverse=True)
+    summed = np.bincount(where, weights=values)
+    keep = np.abs(summed) > 1e-13 * np.max(np.abs(summed), initial=0.0)
+    return keys[keep] // ndof, keys[keep] % ndof, summed[keep]

@@ -28,6 +28,7 @@ import ngsolve as ngs
 import numpy as np
 
 from ..errors import SolverError
+from ..sparse import BlockSum, diagonal
 from ..threads import threads
 
 __all__ = ["free_motions", "FloatingSolve", "EPSILON", "FREE", "MAX_STEPS"]
@@ -44,32 +45,13 @@ _NAMES = ("translation in x", "translation in y", "rotation")
 
 
 def _mass(disc, indicator):
-    """The mass matrix of V_h weighted by ``indicator`` (a CoefficientFunction), in A's sparsity pattern."""
+    """The mass matrix of V_h weighted by ``indicator`` (a CoefficientFunction)."""
     u, v = disc.V.TnT()
     form = ngs.BilinearForm(disc.V)
     form += indicator * u * v * ngs.dx
     with threads(disc.V.ndof):
         form.Assemble()
     return form.mat
-
-
-def _coo(mat, scale):
-    """(rows, cols, scale * values) of an NGSolve sparse matrix."""
-    values, cols, rowptr = mat.CSR()
-    rowptr = np.array(rowptr, dtype=np.int64)
-    return (np.repeat(np.arange(mat.height, dtype=np.int64), np.diff(rowptr)), np.array(cols, dtype=np.int64),
-            scale * np.array(values))
-
-
-def _diagonal(mat):
-    """The diagonal of an NGSolve sparse matrix as an array."""
-    values, cols, rowptr = mat.CSR()
-    values, cols, rowptr = np.array(values), np.array(cols, dtype=np.int64), np.array(rowptr, dtype=np.int64)
-    rows = np.repeat(np.arange(mat.height), np.diff(rowptr))
-    diagonal = np.zeros(mat.height)
-    on = rows == cols
-    diagonal[rows[on]] = values[on]
-    return diagonal
 
 
 def _apply(mat, vector):
@@ -80,20 +62,22 @@ def _apply(mat, vector):
     return y.FV().NumPy().copy()
 
 
-def free_motions(disc):
-    """The rigid motions of the bodies of ``disc.problem`` that B_h does not hold: a list of (body number, region
-    names, name of the motion (its largest part: a translation or the rotation), coefficient vector on V_h)."""
-    problem, mesh = disc.problem, disc.mesh
-    geometry = problem.geometry
-    everywhere = _mass(disc, ngs.CF(1.0))
-    ratio = float(np.median(np.abs(_diagonal(disc.A)) / np.maximum(_diagonal(everywhere), 1e-300)))
+def _body_indicator(mesh, regions):
+    return mesh.MaterialCF({name: 1.0 for name in regions}, default=0.0)
+
+
+def free_motions(disc, mass, ratio):
+    """The rigid motions of the bodies of ``disc.problem`` that B_h does not hold (``mass``: the mass matrix of V_h,
+    ``ratio``: the typical A_ii / M_ii): a list of (body number, region names, name of the motion (its largest
+    part: a translation or the rotation), coefficient vector on V_h)."""
+    mesh, geometry = disc.mesh, disc.problem.geometry
+    size = max(geometry.diameter(), 1e-300)
     found = []
     for number in range(len(geometry.bodies)):
         regions = geometry.body_regions(number)
-        indicator = mesh.MaterialCF({name: 1.0 for name in regions}, default=0.0)
+        indicator = _body_indicator(mesh, regions)
         area = ngs.Integrate(indicator, mesh)
         cx, cy = (ngs.Integrate(indicator * c, mesh) / area for c in (ngs.x, ngs.y))
-        size = max(geometry.diameter(), 1e-300)
         modes = (ngs.CF((1.0, 0.0)), ngs.CF((0.0, 1.0)), ngs.CF((-(ngs.y - cy) / size, (ngs.x - cx) / size)))
         vectors = []
         for mode in modes:
@@ -102,37 +86,39 @@ def free_motions(disc):
             vectors.append(r.vec.FV().NumPy().copy())
         R = np.column_stack(vectors)
         energy = R.T @ np.column_stack([_apply(disc.A, r) for r in vectors])
-        mass = R.T @ np.column_stack([_apply(everywhere, r) for r in vectors])
-        energy = 0.5 * (energy + energy.T)
-        values, vectors_ = np.linalg.eig(np.linalg.solve(mass, energy))
-        for value, coefficients in zip(values.real, vectors_.real.T, strict=True):
+        gram = R.T @ np.column_stack([_apply(mass, r) for r in vectors])
+        values, coefficients = np.linalg.eig(np.linalg.solve(gram, 0.5 * (energy + energy.T)))
+        for value, mode in zip(values.real, coefficients.real.T, strict=True):
             if value < FREE * ratio:
-                weights = np.abs(coefficients) * np.sqrt(np.diag(mass))
-                found.append((number, regions, _NAMES[int(np.argmax(weights))], R @ coefficients))
+                weights = np.abs(mode) * np.sqrt(np.diag(gram))
+                found.append((number, regions, _NAMES[int(np.argmax(weights))], R @ mode))
     return found
 
 
 class FloatingSolve:
     """The proximal iteration of the module docstring around a ``NewtonState`` (:mod:`ngdgfric.solvers.newton`)
-    made with ``A + eps M_f``; ``motions``: ``free_motions(disc)`` (not empty)."""
+    made with ``A`` = A + eps M_f (``BlockSum`` of :mod:`ngdgfric.sparse`: the mass matrix lives in the element
+    blocks); ``motions``: the free motions (``free_motions``), ``mass``: eps M_f.  ``of`` makes one where a body
+    has free motions."""
 
-    def __init__(self, disc, motions):
+    def __init__(self, disc, motions, epsilon):
         self.disc, self.motions = disc, motions
-        mesh = disc.mesh
         regions = {name for _, names, _, _ in motions for name in names}
-        indicator = mesh.MaterialCF({name: 1.0 for name in regions}, default=0.0)
-        self.mass = _mass(disc, indicator)
-        everywhere = _diagonal(_mass(disc, ngs.CF(1.0)))
-        ratio = float(np.median(np.abs(_diagonal(disc.A)) / np.maximum(everywhere, 1e-300)))
-        self.epsilon = EPSILON * ratio
-        rows, cols, values = zip(*(_coo(mat, scale) for mat, scale in ((disc.A, 1.0), (self.mass, self.epsilon))),
-                                 strict=True)
-        self.A = ngs.la.SparseMatrixd.CreateFromCOO(np.concatenate(rows), np.concatenate(cols),
-                                                    np.concatenate(values), disc.A.height, disc.A.width)
+        self.mass = _mass(disc, epsilon * _body_indicator(disc.mesh, regions))
+        groups = [list(disc.V.GetDofNrs(el)) for el in disc.mesh.Elements(ngs.VOL) if el.mat in regions]
+        self.A = BlockSum(disc.A, groups).update(self.mass)
+
+    @classmethod
+    def of(cls, disc):
+        """The ``FloatingSolve`` of ``disc``, or None where B_h holds every rigid motion."""
+        mass = _mass(disc, ngs.CF(1.0))
+        ratio = float(np.median(np.abs(diagonal(disc.A)) / np.maximum(diagonal(mass), 1e-300)))
+        motions = free_motions(disc, mass, ratio)
+        return cls(disc, motions, EPSILON * ratio) if motions else None
 
     def load(self, u_vec):
         """F + eps M_f u_k as a numpy array."""
-        return self.disc.F.FV().NumPy() + self.epsilon * _apply(self.mass, u_vec)
+        return self.disc.F.FV().NumPy() + _apply(self.mass, u_vec)
 
     def drift(self, change):
         """The motion that moved most in ``change`` (a step of u): (its description, its amplitude)."""

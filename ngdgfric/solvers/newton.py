@@ -45,7 +45,7 @@ from ..errors import SolverError, SolverWarning, TimeLimitError, deadline, warn
 from ..transfer import starting_point
 from . import pardiso, semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
-from .floating import FloatingSolve, free_motions
+from .floating import FloatingSolve
 from .fullspace import FULL_SPACE_POINTS, applicable, full_space_newton
 from .options import SolverOptions
 from .reduced import ReducedContact, pair_forces
@@ -246,8 +246,8 @@ def newton(disc, contact, options=None, initial=None, problem=None):
     options = NewtonOptions() if options is None else options
     traces = contact.traces if problem is None else ContactTraces(contact, problem)
     fallback = None
-    motions = free_motions(disc) if disc.problem.pairs else []
-    if _full_space(disc, traces, options, bool(motions)):
+    floating = FloatingSolve.of(disc) if disc.problem.pairs else None
+    if _full_space(disc, traces, options, floating is not None):
         try:
             return full_space_newton(disc, contact, traces, options, initial)
         except TimeLimitError:
@@ -256,7 +256,6 @@ def newton(disc, contact, options=None, initial=None, problem=None):
             if options.formulation == "full-space" or 32.0 * traces.M**2 > FALLBACK_BYTES:
                 raise
             fallback = f"the full space failed ({error}); solved condensed"
-    floating = FloatingSolve(disc, motions) if motions else None
     state = NewtonState(disc, contact, traces, options.linear_solver, A=None if floating is None else floating.A)
     if initial is not None:
         state.start_from(*initial)
