@@ -23,10 +23,11 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .checks import MEMORY_BUDGET, callback, optional, positive_integer, positive_number, refuse_pairs
+from .checks import MEMORY_BUDGET, callback, optional, positive_integer, positive_number
 from .dg.discretization import MAX_DEGREE, check_order, space
 from .dg.material import largest
 from .dg.methods import get_method
+from .equilibration import PAIRS_REASON
 from .estimator import KINDS, VARIANTS, deprecated_weights, estimate
 from .files import check_writable, write_csv
 from .hp import containing
@@ -346,8 +347,9 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     settings = AdaptOptions.merged(settings, options)
     _check_arguments(order, settings, gamma_lin)
     _check_applicable(solver, estimator, variant, gamma_lin)
+    if estimator == "equilibrated" and problem.pairs:
+        raise ValueError(f"adapt(estimator='equilibrated') is refused: {PAIRS_REASON}")
     callback(keep, "keep")
-    refuse_pairs(problem, "adapt")
     start, say = time.perf_counter(), reporter(progress)
     settings = _with_hp_defaults(settings)
     mesh = initial_mesh(problem, INITIAL_LAYERS if settings.layers else 0) if mesh is None else mesh

@@ -80,7 +80,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .checks import check_solution, refuse_pairs
+from .checks import check_solution
 from .contact.boundary import boundary_edges, contact_elements, contact_points, normal_tangent
 from .contact.forms import compliance, friction_bound
 from .contact.laws import compliance_energy, friction_energy, pressure_conjugate, project_unit, smooth_unit
@@ -105,6 +105,14 @@ __all__ = ["Equilibration", "equilibrate", "potential", "equilibrated_stress", "
 ADMISSIBLE = 1e-10  # relative jump of u_D along Gamma_D still called round-off (dirichlet_jumps)
 DATA_BONUS = 6  # extra quadrature degree of the non-polynomial integrands (data, kinks of (.)_+)
 EDGE_BONUS = 24  # the same on the edges, for g and the contact traction (kinks where P(lam_tau) or (.)_+ cut off)
+
+
+PAIRS_REASON = ("contact pairs (two bodies) are not built into it: its stress is equilibrated against the foundation's "
+                "contact traction, and a pair would need the pair's traction as patch data on both sides and a "
+                "contact term for the relative displacement [u]; the residual estimator (kind='residual', the "
+                "default) has the pairs' terms")
+"""Why the equilibrated bound refuses a problem with :class:`~ngdgfric.ContactPair` s (``equilibrate``,
+``estimate(kind="equilibrated")``, ``adapt(estimator="equilibrated")``)."""
 
 
 @dataclass
@@ -424,7 +432,8 @@ def equilibrate(sol):
     ['asymmetry', 'conformity', 'contact', 'dirichlet', 'jumps', 'oscillation', 'stress', 'traction']
     """
     check_solution(sol, "sol")
-    refuse_pairs(sol.problem, "the equilibrated bound")
+    if sol.problem.pairs:
+        raise ValueError(f"the equilibrated bound is refused: {PAIRS_REASON}")
     with threads(sol.ndof):
         return _bound(sol)
 

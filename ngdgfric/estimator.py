@@ -92,9 +92,10 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .checks import check_solution, refuse_pairs
+from .checks import check_solution
 from .contact.boundary import contact_elements, normal_tangent
 from .contact.forms import contact_residuals
+from .contact.pair_residuals import pair_terms
 from .dg.forms import SYMMETRY_WEIGHT, edge_order, edge_penalty, jump_inner, normal_part
 from .dg.material import MATERIAL_BONUS
 from .errors import warn
@@ -275,7 +276,6 @@ def estimate(sol, variant=None, kind="residual", weights=None):
     22.3 True
     """
     check_solution(sol, "sol")
-    refuse_pairs(sol.problem, "estimate")
     variant = deprecated_weights(variant, weights, "estimate")
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
@@ -337,6 +337,9 @@ def residual_parts(sol, variant):
                       * jump_inner(jump_u, jump_u, n)))
     for name, integrand in jumps:
         parts[name] = parts.get(name, 0) + ngs.Integrate(integrand * jump_measure, mesh, element_wise=True).NumPy()
+    if problem.pairs:
+        pair_eta4, pair_eta6 = pair_terms(sol, sigma)
+        parts["eta4"], parts["eta6"] = parts["eta4"] + pair_eta4, parts["eta6"] + pair_eta6
     return {name: parts[name] for name in sorted(parts)}
 
 

@@ -56,7 +56,7 @@ def contact_edges(problem, mesh):
 
 def contact_elements(problem, mesh):
     """The numbers of the elements with an edge on Gamma_C."""
-    return np.unique([element.nr for _, element in boundary_edges(problem, mesh)])
+    return np.unique(np.array([element.nr for _, element in boundary_edges(problem, mesh)], dtype=np.int64))
 
 
 def contact_points(problem, mesh, order):
@@ -73,7 +73,7 @@ def edge_jacobians(points):
 def evaluate_on_contact(cf, points, volume=True):
     """Values of ``cf`` at contact Gauss points; ``volume`` for volume (element) functions."""
     values = (ngs.BoundaryFromVolumeCF(cf) if volume else cf)(points)
-    return np.asarray(values).reshape(len(points), -1).squeeze(axis=1) if cf.dim == 1 else np.asarray(values)
+    return np.asarray(values).reshape(-1) if cf.dim == 1 else np.asarray(values)
 
 
 def multiplier_space(problem, mesh, order):
@@ -154,6 +154,8 @@ class GaussValues:
     def __call__(self, xy):
         """Values at points xy (n, 2) on Gamma_C (Lagrange interpolation through each edge's Gauss nodes)."""
         xy = np.asarray(xy).reshape(-1, 2)
+        if len(xy) == 0:
+            return np.zeros(0)
         edge, s = self.edge_parameters(xy)
         a = self.ends[edge, 0]
         d = self.ends[edge, 1] - a

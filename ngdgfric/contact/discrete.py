@@ -97,13 +97,17 @@ class Contact:
         :mod:`ngdgfric.contact.pair_traces`: ``pair_rows``, normal rows ``0 .. m - 1`` and tangential rows
         ``m .. 2 m - 1`` for the pair's m points), with ``degree + 1`` points per piece of the common refinement."""
         q = self.degree + 1
-        reach_default = 0.1 * self.problem.geometry.diameter()
         found = []
         for pair in self.problem.pairs:
-            points = pair_points(self.mesh, pair, q, reach_default if pair.reach is None else pair.reach)
+            points = pair_points(self.mesh, pair, q, self.reach(pair))
             side, other = (SideTraces(self.V_plain, self.mesh, name, q) for name in (pair.side, pair.other))
             found.append((pair, points, pair_rows(points, side, other)))
         return found
+
+    def reach(self, pair):
+        """The distance within which the sides of ``pair`` face each other: its ``reach``, by default a tenth of the
+        geometry's diameter."""
+        return 0.1 * self.problem.geometry.diameter() if pair.reach is None else pair.reach
 
     @functools.cached_property
     def traces(self):

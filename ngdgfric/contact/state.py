@@ -48,6 +48,11 @@ def contact_state(sol):
     (4, True)
     """
     refuse_pairs(sol.problem, "contact_state")
+    return _foundation_state(sol)
+
+
+def _foundation_state(sol):
+    """``contact_state`` at the foundation's points (Gamma_C) only."""
     points = sol.contact.points()
     n, t = normal_tangent()
     u, problem = sol.u, sol.discretization.problem
@@ -72,13 +77,33 @@ def transitions(sol, tol=1e-8):
     between two neighbouring Gauss points of an edge where u_n - g_a changes sign, or |lam_tau| crosses 1 - ``tol``
     (where u may be singular; the adaptive loop grades its meshes towards them, :func:`ngdgfric.hp.hp_refine`)."""
     gauss = sol.contact.gauss
-    state = contact_state(sol)
+    state = _foundation_state(sol)
     shape = gauss.xy.shape[:2]
     in_contact = (state["gap"] > 0).reshape(shape)
     sticking = (np.abs(state["lam_tau"]) < 1 - tol).reshape(shape) & in_contact
     flips = (np.diff(in_contact, axis=1) != 0) | (np.diff(sticking, axis=1) != 0)
     edge, k = np.nonzero(flips)
-    return 0.5 * (gauss.xy[edge, k] + gauss.xy[edge, k + 1])
+    return np.vstack([0.5 * (gauss.xy[edge, k] + gauss.xy[edge, k + 1]), _pair_transitions(sol, tol)])
+
+
+def _pair_transitions(sol, tol):
+    """The transitions of ``transitions`` at the points of the contact pairs (between neighbouring points of an
+    edge of a pair's side), on the pair's side and their closest points on the other side: an (n, 2) array."""
+    traces, found = sol.contact.traces, [np.empty((0, 2))]
+    start = traces.foundation
+    penetration = traces.apply(sol.u.vec.FV().NumPy())[start:traces.M] - traces.g_a[start:]
+    multiplier = np.asarray(sol.info["pair_multiplier"]) if sol.contact.pairs else None
+    offset = 0
+    for _, points, _ in sol.contact.pairs:
+        here = slice(offset, offset + points.M)
+        offset += points.M
+        in_contact = penetration[here] > 0
+        sticking = (np.abs(multiplier[here]) < 1 - tol) & in_contact
+        flips = (points.edge[1:] == points.edge[:-1]) & ((in_contact[1:] != in_contact[:-1])
+                                                         | (sticking[1:] != sticking[:-1]))
+        k = np.flatnonzero(flips)
+        found += [0.5 * (points.xy[k] + points.xy[k + 1]), 0.5 * (points.other_xy[k] + points.other_xy[k + 1])]
+    return np.vstack(found)
 
 
 def _relative_residual(disc, contact, u, lam_tau):

@@ -31,7 +31,7 @@ from ..errors import SolverError
 from ..sparse import BlockSum, diagonal
 from ..threads import threads
 
-__all__ = ["free_motions", "FloatingSolve", "EPSILON", "FREE", "MAX_STEPS"]
+__all__ = ["free_motions", "anderson", "FloatingSolve", "EPSILON", "FREE", "MAX_STEPS"]
 
 EPSILON = 1e-6
 """The proximal weight relative to the typical diagonal ratio A_ii / M_ii."""
@@ -95,6 +95,21 @@ def free_motions(disc, mass, ratio):
     return found
 
 
+def anderson(steps):
+    """The next iterate of the proximal iteration from its last steps ``steps`` [(u_k, G(u_k)), ...] (G: one
+    proximal step): Anderson's extrapolation sum_i alpha_i G(u_i) with sum_i alpha_i = 1 and the combination of
+    the changes G(u_i) - u_i smallest.  Near the solution G is affine with its error in the span of the free motions
+    (it contracts each by eps / (eps + k), close to 1 on fine meshes, where eps grows with A_ii / M_ii), so one more
+    step than there are free motions makes that error vanish; a single step is the plain proximal step."""
+    if len(steps) == 1:
+        return steps[0][1]
+    changes = [image - u for u, image in steps]
+    D = np.column_stack([change - changes[-1] for change in changes[:-1]])
+    gamma = np.linalg.lstsq(D, -changes[-1], rcond=None)[0]
+    alpha = np.append(gamma, 1.0 - gamma.sum())
+    return sum(a * image for a, (_, image) in zip(alpha, steps, strict=True))
+
+
 class FloatingSolve:
     """The proximal iteration of the module docstring around a ``NewtonState`` (:mod:`ngdgfric.solvers.newton`)
     made with ``A`` = A + eps M_f (``BlockSum`` of :mod:`ngdgfric.sparse`: the mass matrix lives in the element
@@ -131,7 +146,7 @@ class FloatingSolve:
     def run(self, state, options, u_start):
         """Proximal steps with ``state`` (a NewtonState of ``self.A``) from u_start (array); returns
         (u, lam_tau, info) of the last step, ``info["proximal_steps"]`` its number of steps."""
-        u_k, total_iterations, history = u_start, 0, []
+        u_k, total_iterations, history, steps = u_start, 0, [], []
         for step in range(1, MAX_STEPS + 1):
             state.reload(self.load(u_k))
             u, lam_tau, info = state.run(options)
@@ -145,7 +160,8 @@ class FloatingSolve:
             gap = state.reduced.traces(state.f)[:state.traces.M] - state.traces.g_a
             if step > 1 and not np.any(gap > 0):
                 break  # no point pushes: nothing holds the body
-            u_k = u_new
+            steps = (steps + [(u_k, u_new)])[-(len(self.motions) + 1):]
+            u_k = anderson(steps)
         what, amplitude = self.drift(change)
         raise SolverError(f"nothing holds {what}: it moved by {amplitude:.3g} in the last of {step} proximal steps "
                           f"(the load pulls the body off or along its contact); hold it by a Dirichlet or symmetry "
