@@ -14,8 +14,9 @@ polygon, a half-disk, a block with a hole, two materials side by side):
 A :class:`~ngdgfric.Domain` is a set of named regions (each bounded by a :class:`~ngdgfric.Loop` of straight
 sides and circular arcs, :mod:`ngdgfric.loops`; loops of two regions may share sides, which become interfaces,
 or one region's loop may lie inside another's, an inclusion) and holes (loops inside a region, at a positive
-distance from every other loop: ``CLEARANCE``).  Boundary points of refined meshes lie on the circles to round-off
-(``Arc.pieces`` of :mod:`ngdgfric.loops`).
+distance from every other loop of that body: ``CLEARANCE``).  A region inside a hole is a body of its own (a shaft
+in a bore): its loop may run along the hole's or keep a gap.  Boundary points of refined meshes lie on the circles
+to round-off (``Arc.pieces`` of :mod:`ngdgfric.loops`).
 """
 
 import functools
@@ -123,8 +124,9 @@ class Geometry:
     @functools.cached_property
     def bodies(self):
         """The bodies: tuples of region numbers (0-based, in the order of ``region_loops``) joined by interfaces or
-        inclusions, ordered by their first region.  Two bodies may touch (along sides with names of their own, or
-        at points); each is meshed on its own (``meshing_geometry``), so their meshes need not match where they
+        inclusions, ordered by their first region (a region in a hole is no inclusion: a body of its own).  Two
+        bodies may touch (along sides with names of their own, a hole's sides and the sides of a body in it, or at
+        points); each is meshed on its own (``meshing_geometry``), so their meshes need not match where they
         touch."""
         root = list(range(len(self.region_loops)))
 
@@ -157,20 +159,27 @@ class Geometry:
 
     @functools.cached_property
     def touching(self):
-        """The pairs of side labels of two bodies that run together (along a line or a circle): a set of sorted
-        label pairs.  :class:`~ngdgfric.ContactProblem` requires each to be a contact pair."""
-        body, loops = self.region_body, [loop for _, loop in self.region_loops]
+        """The pairs of side labels of two bodies that run together (along a line or a circle; the sides of a hole
+        belong to the body around it): a set of sorted label pairs.  :class:`~ngdgfric.ContactProblem` requires
+        each to be a contact pair."""
+        body, loops = self._loop_bodies(), self._loops()
         gap = RESOLUTION * self.diameter()
         found = set()
         for i, loop in enumerate(loops):
             for j in range(i + 1, len(loops)):
-                if body[i] == body[j]:
+                if body[i] == body[j] or None in (body[i], body[j]):
                     continue
                 for a, label_a in zip(loop.sides(), loop.labels, strict=True):
                     for b, label_b in zip(loops[j].sides(), loops[j].labels, strict=True):
                         if overlap(a, b) > gap:
                             found.add(tuple(sorted((label_a, label_b))))
         return found
+
+    def _loop_bodies(self):
+        """The body of every loop of ``_loops()``: a region's, and for a hole that of the region it lies in (None if
+        none)."""
+        holes = [self._parent(hole, None) for hole in self.hole_loops]
+        return [*self.region_body, *(None if region is None else self.region_body[region] for region in holes)]
 
     def body_of_side(self, label):
         """The number of the body (in ``bodies``) whose boundary has the side ``label``."""
@@ -182,7 +191,8 @@ class Geometry:
         return tuple(self.region_names[i] for i in self.bodies[number])
 
     def _parent(self, loop, own):
-        """The innermost region whose loop contains ``loop`` (not sharing sides with it), or None."""
+        """The innermost region whose loop contains ``loop`` (not sharing sides with it), or None: also None if a
+        hole inside that region contains ``loop`` (a body in a hole of another: the shaft in the bore)."""
         keys = {side_key(side) for side in loop.sides()}
         probe = interior_point(loop)
         best = None
@@ -192,7 +202,17 @@ class Geometry:
             if inside(probe, other) and all(inside(v, other) for v in loop.vertices):
                 if best is None or other.area < self.region_loops[best][1].area:
                     best = j
+        if best is not None and any(hole is not loop and self._in_hole(loop, probe, hole)
+                                    and hole.area < self.region_loops[best][1].area * (1 - 1e-9)
+                                    for hole in self.hole_loops):
+            return None
         return best
+
+    @staticmethod
+    def _in_hole(loop, probe, hole):
+        """Whether ``loop`` (with ``probe`` = ``interior_point(loop)``) lies in ``hole``: the probe inside it and an
+        area no larger (loops do not cross, ``Domain._check_layout``), so a loop on the hole's curve lies in it."""
+        return inside(probe, hole) and loop.area <= hole.area * (1 + 1e-9)
 
     @functools.cached_property
     def corners(self):
@@ -354,9 +374,10 @@ class Domain(Geometry):
     """A domain of named regions and holes, bounded by straight sides and circular arcs.
 
     Loops of two regions may share sides, which become interfaces (Netgen's boundary name ``"interface"``), or
-    one region's loop may lie inside another's (an inclusion); holes are loops inside a region (module
-    docstring of :mod:`ngdgfric.domain`).  Every side that is not shared by two regions or inside another region
-    needs a label that the problem gives a condition.
+    one region's loop may lie inside another's (an inclusion); holes are loops inside a region, and a region
+    inside a hole is a body of its own, whose loop may run along the hole's (a shaft in a bore: the two sides are
+    then a :class:`~ngdgfric.ContactPair`) or keep a gap (module docstring of :mod:`ngdgfric.domain`).  Every side
+    that is not shared by two regions or inside another region needs a label that the problem gives a condition.
 
     Parameters
     ----------
@@ -369,9 +390,10 @@ class Domain(Geometry):
     Raises
     ------
     ValueError
-        If a name or label is not valid, two loops cross, a side runs along part of another, a hole covers a
-        region, a hole touches the boundary or another hole (comes within ``CLEARANCE`` times the domain's size of
-        it; so does a region that shares no vertex with another), or the domain has no boundary side.
+        If a name or label is not valid, two loops cross (two bodies may touch, not overlap), a side runs along
+        part of another, a hole lies inside a hole with no region between, a hole touches the boundary of its
+        body or another hole (comes within ``CLEARANCE`` times the domain's size of it; so does a region that
+        shares no vertex with a loop of its body), or the domain has no boundary side.
 
     See Also
     --------
@@ -427,19 +449,21 @@ class Domain(Geometry):
 
     def _check_layout(self):
         """ValueError unless the loops fit together: no two cross, no side runs along part of another's (shared
-        sides must have the same ends), no region or hole inside a hole, no hole overlapping another, and a hole
-        (or a region sharing no vertex with another loop) touches no other loop: it stays farther than CLEARANCE
-        times the domain's size from it (exactly, arcs as circles)."""
+        sides must have the same ends), no hole inside a hole unless a region lies between them, no hole
+        overlapping another, and a hole (or a region sharing no vertex with another loop) touches no other loop of
+        its body and no hole: it stays farther than CLEARANCE times the domain's size from it (exactly, arcs as
+        circles).  A region and a loop of another body (a region, or a hole of it) may touch, not cross."""
         loops = self._named_loops()
         size = max(np.ptp(np.concatenate([loop.polyline() for _, loop in loops]), axis=0))
         gap, clearance = RESOLUTION * size, CLEARANCE * size
-        body = self.region_body
+        body = self._loop_bodies()
         for i, (name, loop) in enumerate(loops):
             line = loop.polyline()
             starts, ends = line, np.roll(line, -1, axis=0)
             for j, (other_name, other) in enumerate(loops[i + 1:], start=i + 1):
-                apart = j >= len(self.regions) or not set(loop.vertices) & set(other.vertices)
-                two_bodies = j < len(self.regions) and body[i] != body[j]  # may touch: each is meshed on its own
+                # a region and a region or hole of another body may touch: each body is meshed on its own
+                two_bodies = i < len(self.regions) and body[j] is not None and body[i] != body[j]
+                apart = (j >= len(self.regions) and not two_bodies) or not set(loop.vertices) & set(other.vertices)
                 if apart:  # must keep a distance: only crossings farther than round-off count as crossings
                     distance, point = closest_approach(loop, other)
                     if distance > clearance:
@@ -465,9 +489,10 @@ class Domain(Geometry):
                                                  f"shared sides must have the same end points (split the longer)")
                 if apart:
                     raise ValueError(self._touching(name, other_name, i, j, point, distance, size))
-        for k, hole in enumerate(self.holes):
-            for name, loop in loops:
-                if loop is not hole and all(inside(point, hole) for point in loop.polyline()):
+        for k, hole in enumerate(self.holes):  # a region in a hole is a body of its own; a hole needs a region around
+            for name, loop in loops[len(self.regions):]:
+                if loop is not hole and self._parent(loop, None) is None and all(inside(point, hole)
+                                                                                 for point in loop.polyline()):
                     raise ValueError(f"{name} lies inside holes[{k}]")
 
     def _touching(self, name, other_name, i, j, point, distance, size):

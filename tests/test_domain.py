@@ -139,8 +139,13 @@ def square(x0, y0, size, labels="abcd"):
      "the sides of holes.0. and holes.1. cross"),  # a star: no vertex of either inside the other
     ({"a": square(0, 0, 2)}, [Loop.circle((1, 1), 0.5, "h"), Loop.circle((1, 1), 0.2, "h")],
      r"holes\[1\] lies inside holes\[0\]"),
-    ({"a": square(0, 0, 2), "b": Loop.circle((1, 1), 0.1, "i")}, [Loop.circle((1, 1), 0.5, "h")],
-     r"region 'b' lies inside holes\[0\]"),
+    ({"a": square(0, 0, 2), "b": Loop.circle((0.8, 1), 0.15, "i")}, [Loop.circle((1, 1), 0.5, "h"),
+                                                                    Loop.circle((1.2, 1), 0.1, "j")],
+     r"holes\[1\] lies inside holes\[0\]"),  # beside the region in the hole, not in it
+    ({"a": square(0, 0, 2), "b": Loop.circle((1.01, 1), 0.5, "i")}, [Loop.circle((1, 1), 0.5, "h")],
+     r"the sides of region 'b' and holes\[0\] cross \(two bodies may touch, not overlap\)"),
+    ({"a": square(0, 0, 2), "b": Loop.circle((1.2, 1), 0.4, "i")}, [Loop.circle((1, 1), 0.5, "h")],
+     r"the sides of region 'b' and holes\[0\] cross \(two bodies may touch, not overlap\)"),
     ({"a": Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["a", "interface", "c", "d"])}, [],
      "labelled 'interface' but no other region shares it"),
 ])
@@ -149,6 +154,20 @@ def test_domains_whose_loops_do_not_fit_together_are_refused(regions, holes, mes
     between two regions, nested or crossing holes reached Netgen."""
     with pytest.raises(ValueError, match=message):
         Domain(regions, holes=holes)
+
+
+@pytest.mark.parametrize("radius", [0.5, 0.1])
+def test_a_region_in_a_hole_is_a_body_of_its_own(radius):
+    """A disk in the hole of a square, on the hole's circle or inside it, with a hole of its own: two bodies, the
+    disk's sides keep their labels (not interfaces), the hole in the disk belongs to the disk; sides on one curve
+    are touching sides (a contact pair), and the area counts the disk."""
+    domain = Domain({"a": square(0, 0, 2), "b": Loop.circle((1, 1), radius, "rim")},
+                    holes=[Loop.circle((1, 1), 0.5, "bore"), Loop.circle((1, 1), 0.05, "axle")])
+    assert domain.bodies == ((0,), (1,)) and domain.side_names == ("a", "b", "c", "d", "rim", "bore", "axle")
+    assert {label: (left, right) for _, label, left, right in domain.segments} == {
+        "a": (1, 0), "b": (1, 0), "c": (1, 0), "d": (1, 0), "rim": (2, 0), "bore": (0, 1), "axle": (0, 2)}
+    assert domain.touching == ({("bore", "rim")} if radius == 0.5 else set())
+    assert domain.area == pytest.approx(4 - math.pi * (0.25 - radius**2 + 0.05**2), rel=1e-14)
 
 
 TOUCHES = r"holes\[0\] touches the boundary of region 'omega' at about \(0, 0\) \(distance 0\)"
