@@ -7,6 +7,7 @@ r"""Contact on :math:`\Gamma_C`: normal compliance (1.8) and friction (1.9)-(1.1
 - :mod:`~ngdgfric.contact.pairing`: two bodies in contact (:class:`~ngdgfric.ContactPair`): the closest-point map
   from one side onto the other and the pair's points on the common refinement of the two sides' edges;
 - :mod:`~ngdgfric.contact.pair_traces`: the rows of :math:`B` at those points, for :math:`[u] = u^1 - u^2 \circ \pi`;
+- :mod:`~ngdgfric.contact.pair_residuals`: the pairs' terms of the residual estimator on both sides;
 - :mod:`~ngdgfric.contact.discrete`: :class:`~ngdgfric.Contact`, the contact data of one mesh, built beside the
   :class:`~ngdgfric.dg.discretization.Discretization`;
 - :mod:`~ngdgfric.contact.forms`: the contact forms of (3.1), the residual of (3.3), the estimator's contact
