@@ -1,6 +1,6 @@
 r"""Hertz's contact of two elastic cylinders (issue 49): two bodies, a contact pair, load control.
 
-The scene (:func:`two_cylinders`): quarter disks of radii :math:`R_1` (below, centre :math:`(0, -R_1)`) and
+The scene (``two_cylinders``): quarter disks of radii :math:`R_1` (below, centre :math:`(0, -R_1)`) and
 :math:`R_2` (above, centre :math:`(0, R_2)`) touching at the origin, plane strain, materials
 :math:`E_1, \nu_1` and :math:`E_2, \nu_2`.  The lower body stands on its flat side (u = 0); the upper one has no
 Dirichlet side: a uniform pressure on its flat top transmits the force :math:`P/2` (the half of the force
@@ -17,7 +17,7 @@ Hertz (Johnson, *Contact Mechanics*, 1985, Section 4.2, two cylinders with paral
     \frac{1}{E^*} = \frac{1 - \nu_1^2}{E_1} + \frac{1 - \nu_2^2}{E_2}.
 
 The compliance :math:`c_n` is stiff: its share of the approach, :math:`p_0 / c_n`, is compared in
-:func:`measures` with the elastic approach in the contact zone (``compliance_share``).
+``measures`` with the elastic approach in the contact zone (``compliance_share``).
 """
 
 import math
