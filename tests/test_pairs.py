@@ -216,3 +216,112 @@ def test_tools_without_pair_terms_refuse_pairs(non_matching):
                  lambda: ndf.adapt(problem, non_matching, max_levels=1, estimator="equilibrated")):
         with pytest.raises(ValueError, match="refused: contact pairs .two bodies. are not built into it"):
             call()
+
+
+# ---- the search (ngdgfric.contact.pairing) ----------------------------------------------------------------------
+
+def arcs(gap=0.05):
+    """A half-disk (radius 1, its arc 'c1') under a half-ring whose inner arc 'c2' (radius 1 + gap) faces it."""
+    lower = ndf.Loop([(-1, 0), (1, 0)], ["bottom", "c1"], arcs={1: (0, 1)})
+    r = 1 + gap
+    upper = ndf.Loop([(r, 0), (1.5, 0), (-1.5, 0), (-r, 0)], ["r2", "top", "l2", "c2"], arcs={1: (0, 1.5), 3: (0, r)})
+    return ndf.ContactProblem(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=0.0, m_n=1.0, g_a=0.0, c_tau=0.0,
+                              geometry=ndf.Domain({"lower": lower, "upper": upper}), dirichlet=("bottom", "top"),
+                              traction=("r2", "l2"), contact=(), pairs=[ndf.ContactPair("c2", "c1", c_n=1.0)])
+
+
+@pytest.mark.parametrize("order", [1, 3])
+def test_the_bucket_search_finds_what_a_search_of_every_sample_finds(order):
+    """The closest points on a curved side (the arc of radius 1, curved to degree ``order``, 0.05 h long edges)
+    of points near it (within a cell of the bucket grid) and far from it (out to 3 radii, the search through the
+    edges' boxes): the same nearest sample as the smallest of all points-by-samples distances (the first where
+    several tie), so the same edge and, after Newton's method, the same parameter and point (to 1e-12)."""
+    from ngdgfric.contact.pairing import SideCurves
+
+    problem = arcs()
+    mesh = ndf.netgen_mesh(problem, {"lower": 0.05, "upper": 0.04})
+    ndf.Discretization(problem, mesh, order=order)  # curves the mesh
+    curves = SideCurves(mesh, "c1")
+    rng = np.random.default_rng(7)
+    angle, radius = rng.uniform(-0.3, np.pi + 0.3, 3000), np.concatenate([rng.uniform(0.97, 1.03, 2000),
+                                                                          rng.uniform(0.0, 3.0, 1000)])
+    xy = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    xy = np.concatenate([xy, curves.ends.reshape(-1, 2), curves.samples[::7, 5]])  # vertices and samples: ties
+    samples = curves.samples.reshape(-1, 2)
+    nearest = np.argmin(np.linalg.norm(xy[:, None, :] - samples[None], axis=2), axis=1)
+    edge, s = curves.nearest_sample(xy)
+    assert np.array_equal(edge, nearest // len(curves.grid))
+    assert np.array_equal(s, curves.grid[nearest % len(curves.grid)])
+    s_brute, distance_brute = curves.project(nearest // len(curves.grid), curves.grid[nearest % len(curves.grid)], xy)
+    found_edge, found_s, distance = curves.closest(xy)
+    assert np.array_equal(found_edge, nearest // len(curves.grid))
+    assert np.max(np.abs(found_s - s_brute)) < 1e-12 and np.max(np.abs(distance - distance_brute)) < 1e-12
+    assert np.max(np.abs(curves.at(found_edge, found_s) - curves.at(found_edge, s_brute))) < 1e-12
+
+
+def test_the_cuts_are_those_of_every_vertex_and_edge():
+    """The cuts of the pair's side (the outer arc, curved to degree 2) at the closest points of the other side's
+    vertices: the same as projecting every vertex onto every edge (nearest sample, Newton) and keeping those inside
+    the edge within reach, to 1e-12."""
+    from ngdgfric.contact.pairing import SideCurves, _breakpoints
+
+    problem = arcs()
+    mesh = ndf.netgen_mesh(problem, {"lower": 0.1, "upper": 0.077})
+    ndf.Discretization(problem, mesh, order=2)
+    curves, other = SideCurves(mesh, "c2"), SideCurves(mesh, "c1")
+    reach = 0.3
+    edge, s = _breakpoints(curves, other, reach)
+    vertices = np.unique(np.round(other.ends.reshape(-1, 2), 14), axis=0)
+    expected = []
+    for e in range(len(curves.coefficients)):
+        k = np.argmin(np.linalg.norm(vertices[:, None, :] - curves.samples[e][None], axis=2), axis=1)
+        t, distance = curves.project(np.full(len(vertices), e), curves.grid[k], vertices)
+        expected += [(e, value) for value in np.unique(t[(distance <= reach) & (t > 1e-12) & (t < 1 - 1e-12)])]
+    assert len(expected) > len(curves.coefficients) // 2
+    assert np.array_equal(edge, [e for e, _ in expected])
+    assert np.max(np.abs(s - np.array([value for _, value in expected]))) < 1e-12
+
+
+def overhang(lift=0.02):
+    """Rollers at x = 0 and y = 0: the lower block [0, 1] x [0, 1] under an upper block [0, 1.5] x [1 + lift,
+    1.5 + lift] that overhangs it by 0.5, pressed by the uniform pressure P on its top."""
+    lower = ndf.Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["bottom", "right1", "c1", "left1"])
+    upper = ndf.Loop([(0, 1 + lift), (1.5, 1 + lift), (1.5, 1.5 + lift), (0, 1.5 + lift)],
+                     ["c2", "right2", "top", "left2"])
+    return ndf.ContactProblem(E={"lower": E1, "upper": E2}, nu={"lower": NU1, "upper": NU2}, f=(0, 0),
+                              g={"top": (0, -P)}, c_n=0.0, m_n=1.0, g_a=0.0, c_tau=0.0,
+                              geometry=ndf.Domain({"lower": lower, "upper": upper}), dirichlet=(),
+                              symmetry=("bottom", "left1", "left2"), traction=("right1", "right2", "top"),
+                              contact=(), pairs=[ndf.ContactPair("c2", "c1", c_n=C_N)])
+
+
+@pytest.mark.parametrize("method", ["sipg", "cg"])
+def test_an_overhanging_block_is_held_by_the_side_beneath_it_only(method):
+    """The pair's points of the upper block's bottom side lie over the lower block's top side only (x <= 1, their
+    weights add up to its length 1): beyond its end nothing lies across, and the points there are left out, not
+    given the gap to the end vertex.  The pair carries the whole applied force 1.5 P."""
+    problem = overhang()
+    sol = ndf.solve(problem, ndf.netgen_mesh(problem, {"lower": 1 / 3, "upper": 1 / 5}), method=method, order=2)
+    (_, points, _), = sol.contact.pairs
+    assert np.max(points.xy[:, 0]) < 1 + 1e-12 and np.min(points.xy[:, 0]) > 0
+    assert points.weight.sum() == pytest.approx(1.0, rel=1e-12)
+    normal, _ = sol.info["pair_forces"]
+    assert normal.sum() == pytest.approx(1.5 * P, rel=1e-8)
+
+
+def test_a_closed_side_has_no_ends_and_keeps_every_point():
+    """A block's flat side above a disc (its circle 'c1' a closed side: every vertex is shared by two edges): each
+    point of the block's side within reach keeps its closest point, also those whose closest point is a vertex of
+    the circle's straight (p = 1) edges with an offset across the vertex's corner."""
+    from ngdgfric.contact.pairing import pair_points
+
+    disc = ndf.Loop.circle((0, 0), 1.0, "c1")
+    block = ndf.Loop([(-1, 1.3), (1, 1.3), (1, 1.6), (-1, 1.6)], ["c2", "right2", "top", "left2"])
+    problem = ndf.ContactProblem(E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=0.0, m_n=1.0, g_a=0.0, c_tau=0.0,
+                                 geometry=ndf.Domain({"disc": disc, "block": block}), dirichlet=("top",),
+                                 traction=("right2", "left2"), contact=(), pairs=[ndf.ContactPair("c2", "c1", c_n=1.0)])
+    mesh = ndf.netgen_mesh(problem, 0.4)
+    ndf.Discretization(problem, mesh, order=1)
+    points = pair_points(mesh, problem.pairs[0], 2, reach=5.0)
+    assert points.M == 2 * points.pieces
+    assert np.sum((points.other_s == 0) | (points.other_s == 1)) >= 4

@@ -19,7 +19,19 @@ other side.  Each edge of the pair's side is cut at the closest points of those 
 ``q`` = max degree + 1 Gauss points: the contact integrals are exact for piecewise polynomials on the common
 refinement, so a uniform pressure crosses a flat interface between non-matching meshes exactly (the contact patch
 test, ``tests/test_pairs.py``).  Points farther than ``reach`` from the other side (and their pieces) never touch it
-and are left out.
+and are left out, and so are the points beyond an end of the other side (an overhang): where :math:`\pi(x)` is an end
+of the whole other side (a vertex of one of its edges only) and :math:`x - \pi(x)` is not along its normal (a
+tangential part above ``OVERHANG`` times the edge's length), no part of the other side lies across from :math:`x`.
+A closed side has no ends.
+
+**The search.**  :math:`\pi(x)` starts from the nearest of ``4 * CURVE_SAMPLES`` samples per edge: the edges whose
+samples' bounding boxes meet the 3 x 3 cells around :math:`x` of a bucket grid (cells about one edge long) give the
+nearest sample wherever it is closer than a cell; elsewhere (points far from the side) every edge whose box is no
+farther than the nearest edge end is searched.  The cuts of an edge come from the vertices whose closest point on
+it lies inside it: a vertex :math:`v` and an edge :math:`x(s)` qualify only if the edge's box is within ``reach`` of
+:math:`v` and :math:`(x(s) - v) \cdot x'(s)` changes sign on it (or the edge bends too much to tell from its ends).
+The search finds the same sample as a search through all samples (``tests/test_pairs.py``), in time about linear in
+the number of edges near the pair's points.
 """
 
 from dataclasses import dataclass
@@ -29,13 +41,17 @@ import numpy as np
 
 from ..problem import pattern
 
-__all__ = ["SideCurves", "PairPoints", "pair_points", "CURVE_SAMPLES"]
+__all__ = ["SideCurves", "PairPoints", "pair_points", "CURVE_SAMPLES", "OVERHANG"]
 
 CURVE_SAMPLES = 12
 """Points per edge at which its curve is sampled: a polynomial of degree up to 11 in s is fitted exactly (Netgen
 curves elements up to the discretisation's degree; ``MAX_DEGREE`` allows more, then the fit is a least-squares
 approximation of the curve to about 1e-12 on arcs)."""
 NEWTON_STEPS = 8
+OVERHANG = 1e-9
+"""A point whose closest point is an end of the other side is left out where its offset has a tangential part above
+OVERHANG times the length of the edge there (module docstring)."""
+CHUNK = 1 << 20  # entries of the (points x edges) arrays of the far-point and cut searches, per chunk
 
 
 def _chebyshev(count):
@@ -45,7 +61,10 @@ def _chebyshev(count):
 
 class SideCurves:
     """The edges of one side as curves: ``coefficients`` (edges, 2, degree + 1) of x(s), y(s) (numpy's polyval
-    order), ``normal_sign`` per edge (+1 if the outward normal is (y', -x'))."""
+    order), ``normal_sign`` per edge (+1 if the outward normal is (y', -x')), ``ends`` (edges, 2, 2) the points at
+    s = 0, 1, ``side_end`` (edges, 2) whether that point is an end of the whole side (no other edge shares it),
+    ``samples`` (edges, 4 * CURVE_SAMPLES, 2) the points at the parameters ``grid`` and their bounding boxes
+    ``lower``, ``upper`` (edges, 2)."""
 
     def __init__(self, mesh, side):
         nodes = _chebyshev(CURVE_SAMPLES)
@@ -61,6 +80,12 @@ class SideCurves:
         self.normal_sign = np.sign(tangent[:, 1] * normal[:, 0] - tangent[:, 0] * normal[:, 1])
         self.ends = np.stack([self.at(np.arange(count), np.zeros(count)), self.at(np.arange(count), np.ones(count))],
                              axis=1)
+        self.grid = np.linspace(0.0, 1.0, 4 * CURVE_SAMPLES)
+        self.samples = self.at(np.repeat(np.arange(count), len(self.grid)),
+                               np.tile(self.grid, count)).reshape(count, len(self.grid), 2)
+        self.lower, self.upper = self.samples.min(axis=1), self.samples.max(axis=1)
+        self.side_end = _unshared(self.ends)
+        self._buckets = _Buckets(self.lower, self.upper)
 
     def at(self, edge, s):
         """Points x_e(s) for arrays ``edge`` and ``s``, shape (n, 2)."""
@@ -82,21 +107,135 @@ class SideCurves:
         n = self.normal_sign[edge][:, None] * np.column_stack([d[:, 1], -d[:, 0]]) / speed[:, None]
         return speed, n, np.column_stack([-n[:, 1], n[:, 0]])
 
-    def closest(self, xy, edges=None):
-        """For points xy (n, 2): (edge, s, distance) of the closest point of this side (of ``edges`` only, if
-        given): the nearest of 4 * CURVE_SAMPLES samples per edge, then Newton's method on that edge, s in [0, 1]."""
+    def nearest_sample(self, xy):
+        """For points xy (n, 2): (edge, s) of the nearest of the ``samples`` (the first in the order edge by edge
+        where several are as near), through the bucket grid (module docstring)."""
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-        candidates = np.arange(len(self.coefficients)) if edges is None else np.asarray(edges)
-        grid = np.linspace(0.0, 1.0, 4 * CURVE_SAMPLES)
-        samples = self.at(np.repeat(candidates, len(grid)), np.tile(grid, len(candidates)))
-        nearest = np.argmin(np.linalg.norm(xy[:, None, :] - samples[None], axis=2), axis=1)
-        edge, s = candidates[nearest // len(grid)], grid[nearest % len(grid)]
+        point, edge = self._buckets.near(xy)
+        best_edge, best_k, best = _nearest_among(self.samples, xy, point, edge)
+        far = np.flatnonzero(~(best < self._buckets.cell * (1 - 1e-9)))  # another cell may hold a nearer sample
+        for chunk in np.array_split(far, max(1, len(far) * len(self.lower) // CHUNK)):
+            if len(chunk):
+                point, edge = self._boxes_within(xy[chunk])
+                best_edge[chunk], best_k[chunk], _ = _nearest_among(self.samples, xy[chunk], point, edge)
+        return best_edge, self.grid[best_k]
+
+    def _boxes_within(self, xy):
+        """(point, edge) pairs, sorted, of the edges whose bounding box is no farther from the point than the nearest
+        edge end (s = 0, a sample): they hold every nearest sample."""
+        bound = np.min(np.linalg.norm(xy[:, None, :] - self.samples[None, :, 0], axis=2), axis=1)
+        return np.nonzero(_box_distance(xy, self.lower, self.upper) <= bound[:, None] * (1 + 1e-9))
+
+    def project(self, edge, s, xy):
+        """Newton's method for the closest point of edge ``edge`` to xy from the parameters s, s kept in [0, 1];
+        returns (s, distance)."""
         for _ in range(NEWTON_STEPS):
             r = self.at(edge, s) - xy
             d1, d2 = self._derivative(edge, s), self._derivative(edge, s, 2)
             slope = np.sum(d1 * d1, axis=1) + np.sum(r * d2, axis=1)
             s = np.clip(s - np.sum(r * d1, axis=1) / np.where(slope > 0, slope, np.sum(d1 * d1, axis=1)), 0.0, 1.0)
-        return edge, s, np.linalg.norm(self.at(edge, s) - xy, axis=1)
+        return s, np.linalg.norm(self.at(edge, s) - xy, axis=1)
+
+    def closest(self, xy):
+        """For points xy (n, 2): (edge, s, distance) of the closest point of this side: the nearest sample
+        (``nearest_sample``), then Newton's method on that edge (``project``), s in [0, 1]."""
+        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+        edge, s = self.nearest_sample(xy)
+        s, distance = self.project(edge, s, xy)
+        return edge, s, distance
+
+    def bend_bound(self):
+        """Per edge, an upper bound of |x''(s)| on [0, 1] (the sum of the second derivative's Chebyshev
+        coefficients' sizes) and a lower bound of |x'(s)| (its least value at the samples less that bound times
+        the samples' half spacing)."""
+        second = np.polynomial.chebyshev.chebder(self.coefficients, m=2, scl=2.0, axis=2)
+        bend = np.linalg.norm(np.sum(np.abs(second), axis=2), axis=1)
+        count = len(self.coefficients)
+        speed = np.linalg.norm(self._derivative(np.repeat(np.arange(count), len(self.grid)),
+                                                np.tile(self.grid, count)), axis=1).reshape(count, -1)
+        return bend, speed.min(axis=1) - bend * 0.5 / (len(self.grid) - 1)
+
+
+class _Buckets:
+    """A grid of square cells about one edge long; ``keys``, ``edges``: each edge listed in every cell its bounding
+    box meets, sorted by cell."""
+
+    def __init__(self, lower, upper):
+        extent = np.max(upper - lower, axis=1)
+        scale = max(float(np.max(upper - lower.min(axis=0), initial=0.0)), 1e-300)
+        self.cell = max(float(np.median(extent)) if len(extent) else scale, 1e-9 * scale)
+        self.origin = lower.min(axis=0)
+        while True:  # coarser cells where a few long edges would fill too many
+            first, last = self._cell(lower), self._cell(upper)
+            counts = np.prod(last - first + 1, axis=1)
+            if counts.sum() <= 16 * len(extent) + 64:
+                break
+            self.cell *= 2
+        self.shape = self._cell(upper.max(axis=0)[None])[0] + 1
+        edge = np.repeat(np.arange(len(extent)), counts)
+        index = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        width = (last - first + 1)[edge, 1]
+        i, j = first[edge, 0] + index // width, first[edge, 1] + index % width
+        keys = i * self.shape[1] + j
+        order = np.argsort(keys, kind="stable")
+        self.keys, self.edges = keys[order], edge[order]
+
+    def _cell(self, xy):
+        return np.floor((xy - self.origin) / self.cell).astype(np.int64)
+
+    def near(self, xy):
+        """(point, edge) pairs, sorted and without repeats, of the edges listed in the 3 x 3 cells around each
+        point's cell."""
+        cell = self._cell(xy)
+        offsets = np.array([(a, b) for a in (-1, 0, 1) for b in (-1, 0, 1)])
+        around = (cell[:, None, :] + offsets[None]).reshape(-1, 2)
+        point = np.repeat(np.arange(len(xy)), len(offsets))
+        inside = np.all((around >= 0) & (around < self.shape), axis=1)
+        point, around = point[inside], around[inside]
+        key = around[:, 0] * self.shape[1] + around[:, 1]
+        start, stop = np.searchsorted(self.keys, key, "left"), np.searchsorted(self.keys, key, "right")
+        counts = stop - start
+        picked = np.repeat(start - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+        pairs = np.unique(np.repeat(point, counts) * len(self.keys) + self.edges[picked])
+        return pairs // len(self.keys), pairs % len(self.keys)
+
+
+def _unshared(ends):
+    """(edges, 2): whether each end point of each edge is shared by no other end (to 1e-9 of the median edge
+    length): the ends of a side's chains; a closed side has none."""
+    points = ends.reshape(-1, 2)
+    size = 1e-9 * max(float(np.median(np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1))), 1e-300)
+    shared = np.zeros(len(points), dtype=bool)
+    for shift in (0.0, 0.5):  # two roundings half a bin apart: points closer than half a bin share a bin in one
+        bins = np.floor(points / size + shift)
+        _, inverse, counts = np.unique(bins, axis=0, return_inverse=True, return_counts=True)
+        shared |= counts[inverse.ravel()] > 1
+    return ~shared.reshape(-1, 2)
+
+
+def _box_distance(xy, lower, upper):
+    """(points, boxes): the distance of each point from each box."""
+    below, above = lower[None] - xy[:, None], xy[:, None] - upper[None]
+    return np.linalg.norm(np.maximum(np.maximum(below, above), 0.0), axis=2)
+
+
+def _nearest_among(samples, xy, point, edge):
+    """Over the (point, edge) pairs (sorted by point, then edge): per point the (edge, sample index, distance) of
+    its nearest sample, the first edge by edge where several are as near; edge 0, index 0 and distance inf for a
+    point without pairs."""
+    count = samples.shape[1]
+    best_edge, best_k, best = np.zeros(len(xy), dtype=int), np.zeros(len(xy), dtype=int), np.full(len(xy), np.inf)
+    if len(point) == 0:
+        return best_edge, best_k, best
+    distance = np.linalg.norm(xy[point][:, None, :] - samples[edge], axis=2)  # (pairs, samples)
+    starts = np.flatnonzero(np.diff(point, prepend=-1))
+    owners = point[starts]
+    best[owners] = np.minimum.reduceat(distance.min(axis=1), starts)
+    hits = np.flatnonzero(distance.ravel() == best[np.repeat(point, count)])
+    _, first = np.unique(point[hits // count], return_index=True)
+    hit = hits[first]
+    best_edge[owners], best_k[owners] = edge[hit // count], hit % count
+    return best_edge, best_k, best
 
 
 @dataclass
@@ -125,14 +264,36 @@ class PairPoints:
 
 
 def _breakpoints(curves, other, reach):
-    """For every edge of ``curves``: the sorted parameters in (0, 1) of the closest points of the vertices of
-    ``other`` that lie within ``reach`` of the edge."""
+    """The cuts of the edges of ``curves``: (edge, s) arrays, sorted by edge, then s, of the parameters in (0, 1)
+    of the closest points on each edge (the nearest of its samples, then Newton's method) of the vertices of
+    ``other`` that lie within ``reach`` of it.  Only the (vertex, edge) pairs that can have such a point are
+    projected (module docstring)."""
     vertices = np.unique(np.round(other.ends.reshape(-1, 2), 14), axis=0)
-    cuts = []
-    for e in range(len(curves.coefficients)):
-        _, s, distance = curves.closest(vertices, edges=[e])
-        cuts.append(np.unique(s[(distance <= reach) & (s > 1e-12) & (s < 1 - 1e-12)]))
-    return cuts
+    bend, speed = curves.bend_bound()
+    first, last = curves.samples[:, 0], curves.samples[:, -1]
+    start_tangent = curves._derivative(np.arange(len(first)), np.zeros(len(first)))
+    end_tangent = curves._derivative(np.arange(len(first)), np.ones(len(first)))
+    centre, radius = 0.5 * (curves.lower + curves.upper), 0.5 * np.linalg.norm(curves.upper - curves.lower, axis=1)
+    sag = bend / (8 * (len(curves.grid) - 1) ** 2)  # the curve strays at most this far from its samples' box
+    pairs = []
+    for chunk in np.array_split(np.arange(len(vertices)), max(1, len(vertices) * len(first) // CHUNK)):
+        v = vertices[chunk][:, None, :]
+        within = _box_distance(vertices[chunk], curves.lower, curves.upper) <= reach + sag[None] + 1e-12 * radius
+        # (x - v) . x' rises along an edge that bends little against its distance from v: its sign at the ends
+        # then says whether the closest point is inside the edge
+        rising = (np.linalg.norm(v - centre[None], axis=2) + radius[None]) * bend[None] < speed[None] ** 2
+        inside = (np.sum((first[None] - v) * start_tangent[None], axis=2) < 0) & \
+                 (np.sum((last[None] - v) * end_tangent[None], axis=2) > 0)
+        vertex, edge = np.nonzero(within & (inside | ~rising))
+        pairs.append((chunk[vertex], edge))
+    vertex, edge = (np.concatenate(parts) for parts in zip(*pairs, strict=True))
+    order = np.lexsort((vertex, edge))
+    vertex, edge = vertex[order], edge[order]
+    distance = np.linalg.norm(vertices[vertex][:, None, :] - curves.samples[edge], axis=2)
+    s, distance = curves.project(edge, curves.grid[np.argmin(distance, axis=1)], vertices[vertex])
+    keep = (distance <= reach) & (s > 1e-12) & (s < 1 - 1e-12)
+    cuts = np.unique(np.column_stack([edge[keep], s[keep]]), axis=0)
+    return cuts[:, 0].astype(int), cuts[:, 1]
 
 
 def pair_points(mesh, pair, q, reach):
@@ -141,17 +302,20 @@ def pair_points(mesh, pair, q, reach):
     curves, other = SideCurves(mesh, pair.side), SideCurves(mesh, pair.other)
     nodes, weights = np.polynomial.legendre.leggauss(q)
     nodes, weights = 0.5 * (nodes + 1), 0.5 * weights
-    edges, params, lengths = [], [], []
-    pieces = 0
-    for e, cut in enumerate(_breakpoints(curves, other, reach)):
-        ends = np.concatenate([[0.0], cut, [1.0]])
-        keep = np.diff(ends) > 1e-12
-        a, b = ends[:-1][keep], ends[1:][keep]
-        pieces += len(a)
-        edges.append(np.full(len(a) * q, e))
-        params.append((a[:, None] + (b - a)[:, None] * nodes[None]).ravel())
-        lengths.append(np.repeat(b - a, q) * np.tile(weights, len(a)))
-    edge, s, w = np.concatenate(edges), np.concatenate(params), np.concatenate(lengths)
+    count = len(curves.coefficients)
+    cut_edge, cut_s = _breakpoints(curves, other, reach)
+    edge = np.concatenate([np.arange(count), cut_edge, np.arange(count)])
+    ends = np.concatenate([np.zeros(count), cut_s, np.ones(count)])
+    order = np.lexsort((ends, edge))
+    edge, ends = edge[order], ends[order]
+    same = edge[1:] == edge[:-1]
+    a, b, piece_edge = ends[:-1][same], ends[1:][same], edge[:-1][same]
+    keep = b - a > 1e-12
+    a, b, piece_edge = a[keep], b[keep], piece_edge[keep]
+    pieces = len(a)
+    edge = np.repeat(piece_edge, q)
+    s = (a[:, None] + (b - a)[:, None] * nodes[None]).ravel()
+    w = np.repeat(b - a, q) * np.tile(weights, len(a))
     xy = curves.at(edge, s)
     speed, normal, tangent = curves.frame(edge, s)
     other_edge, other_s, distance = other.closest(xy)
@@ -161,7 +325,17 @@ def pair_points(mesh, pair, q, reach):
                          f"of {pair.side!r} comes within reach = {reach:.3g} of {pair.other!r} (closest "
                          f"{distance.min():.3g}); move the bodies closer or give the pair a larger reach")
     other_xy = other.at(other_edge, other_s)
+    near &= ~_overhang(other, other_edge, other_s, xy - other_xy)
     gap = np.sum((other_xy - xy) * normal, axis=1) + pair.g_a
     return PairPoints(xy=xy[near], weight=(w * speed)[near], normal=normal[near], tangent=tangent[near],
                       gap=gap[near], edge=edge[near], s=s[near], other_edge=other_edge[near],
                       other_s=other_s[near], other_xy=other_xy[near], pieces=pieces)
+
+
+def _overhang(other, edge, s, offset):
+    """Whether each point lies beyond an end of the side ``other`` (its closest point, parameter s of ``edge``, an
+    end of the whole side, and its ``offset`` x - pi(x) with a tangential part above OVERHANG times the edge's
+    length there)."""
+    at_end = ((s == 0.0) & other.side_end[edge, 0]) | ((s == 1.0) & other.side_end[edge, 1])
+    speed, _, tangent = other.frame(edge, s)
+    return at_end & (np.abs(np.sum(offset * tangent, axis=1)) > OVERHANG * speed)
