@@ -104,8 +104,10 @@ class PairPoints:
     """The points of one contact pair on its side (module docstring), arrays of length M: ``xy`` (M, 2), ``weight``
     (Gauss weight times the piece's length), ``normal``, ``tangent`` (M, 2) of the pair's side, ``gap`` (geometric
     gap plus the pair's g_a), ``edge``, ``s`` (edge of the pair's side, parameter), ``other_edge``, ``other_s`` (of
-    the closest point on the other side), ``other_xy`` (M, 2); ``pieces``: the number of pieces of the common
-    refinement."""
+    the closest point on the other side), ``other_xy`` (M, 2), ``cell`` (M, 2: the parameters s at the ends of each
+    point's Gauss cell, the part of its piece it owns: from a + (b - a) c_{i-1} to a + (b - a) c_i on the piece
+    [a, b], c_i = w_1 + ... + w_i the Gauss weights on [0, 1] summed, as on the foundation,
+    :mod:`ngdgfric.contact.forces`); ``pieces``: the number of pieces of the common refinement."""
 
     xy: np.ndarray
     weight: np.ndarray
@@ -117,6 +119,7 @@ class PairPoints:
     other_edge: np.ndarray
     other_s: np.ndarray
     other_xy: np.ndarray
+    cell: np.ndarray
     pieces: int
 
     @property
@@ -141,7 +144,8 @@ def pair_points(mesh, pair, q, reach):
     curves, other = SideCurves(mesh, pair.side), SideCurves(mesh, pair.other)
     nodes, weights = np.polynomial.legendre.leggauss(q)
     nodes, weights = 0.5 * (nodes + 1), 0.5 * weights
-    edges, params, lengths = [], [], []
+    fractions = np.r_[0.0, np.cumsum(weights)]
+    edges, params, lengths, cells = [], [], [], []
     pieces = 0
     for e, cut in enumerate(_breakpoints(curves, other, reach)):
         ends = np.concatenate([[0.0], cut, [1.0]])
@@ -151,6 +155,8 @@ def pair_points(mesh, pair, q, reach):
         edges.append(np.full(len(a) * q, e))
         params.append((a[:, None] + (b - a)[:, None] * nodes[None]).ravel())
         lengths.append(np.repeat(b - a, q) * np.tile(weights, len(a)))
+        cells.append(np.stack([a[:, None] + (b - a)[:, None] * fractions[None, :-1],
+                               a[:, None] + (b - a)[:, None] * fractions[None, 1:]], axis=2).reshape(-1, 2))
     edge, s, w = np.concatenate(edges), np.concatenate(params), np.concatenate(lengths)
     xy = curves.at(edge, s)
     speed, normal, tangent = curves.frame(edge, s)
@@ -164,4 +170,4 @@ def pair_points(mesh, pair, q, reach):
     gap = np.sum((other_xy - xy) * normal, axis=1) + pair.g_a
     return PairPoints(xy=xy[near], weight=(w * speed)[near], normal=normal[near], tangent=tangent[near],
                       gap=gap[near], edge=edge[near], s=s[near], other_edge=other_edge[near],
-                      other_s=other_s[near], other_xy=other_xy[near], pieces=pieces)
+                      other_s=other_s[near], other_xy=other_xy[near], cell=np.concatenate(cells)[near], pieces=pieces)
