@@ -20,7 +20,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .adaptivity import Adaptation, AdaptOptions, adapt, dorfler_mark
 from .checks import DataError
-from .contact import Contact, contact_state, kkt_residuals
+from .contact import Contact, contact_state, kkt_residuals, pair_state
 from .dg.discretization import Discretization
 from .dg.material import MaterialWarning
 from .dg.methods import DG_METHODS, METHODS, LockingWarning, Method, PenaltyWarning
@@ -64,7 +64,7 @@ __all__ = [
     "solve", "finish", "Solution", "WarmStart", "SolverOptions", "NewtonOptions", "UzawaOptions",
     "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError", "SolverWarning",
     # outputs
-    "contact_state", "kkt_residuals", "force_balance", "ForceBalance",
+    "contact_state", "pair_state", "kkt_residuals", "force_balance", "ForceBalance",
     # estimators and adaptivity
     "estimate", "Estimate", "equilibrate", "Equilibration", "dorfler_mark", "adapt", "AdaptOptions", "Adaptation",
     "hp_refine",

@@ -121,7 +121,7 @@ def cmd_solve(args, problem, tag):
     write_csv(csv_path, [record])
     write_vtk(vtu_path, sol)
     balance = report_forces(sol)
-    write_deformed_png(png_path, sol, args.scale, balance.contact)
+    write_deformed_png(png_path, sol, args.scale, balance.sides())
     write_forces(forces_path, contact_path, sol, balance)
     say(f"wrote {csv_path}, {vtu_path}, {png_path}, {forces_path}, {contact_path}")
     return [record]
@@ -140,7 +140,7 @@ def report_forces(sol, heading="forces on the body"):
 def write_forces(csv_path, png_path, sol, balance):
     """The forces CSV (:meth:`ngdgfric.forces.ForceBalance.rows`) and the contact zones PNG of ``sol``."""
     write_csv(csv_path, balance.rows())
-    write_contact_png(png_path, sol, balance.contact)
+    write_contact_png(png_path, sol, balance.sides())
 
 
 def outputs(args, tag):

@@ -28,15 +28,23 @@ over the edges, with only normal parts :math:`(u \cdot n) n` and the weight :mat
 
 to round-off at a solution of (3.3) (:attr:`ngdgfric.ForceBalance.residual`).  Every term is assembled with the
 integrands and quadrature of the discrete problem.
+
+**Several bodies** (a :class:`~ngdgfric.Domain` whose regions form bodies that touch along contact pairs,
+:class:`~ngdgfric.ContactPair`).  No DG term couples two bodies, so (3.3) at :math:`v = e_i^b`, the constant
+:math:`e_i` on body :math:`b` and 0 elsewhere, is the balance of body :math:`b` alone: the reactions of its
+supports, its loads (:math:`(f, e_i^b)` and the tractions of its sides), the foundation's contact forces on its
+contact sides and the pairs' forces on its pair sides (:mod:`ngdgfric.contact.pair_zones`: measured on each side
+of a pair through that side's traces) add up to zero (:attr:`ngdgfric.ForceBalance.bodies`).  A pair's force on
+one side and on the other are equal and opposite to round-off (:meth:`ngdgfric.ForceBalance.pair_resultants`).
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
 
-from .checks import refuse_pairs
 from .contact.forces import LAM_TOL, SLIP_TOL, constant_vectors, contact_sides
+from .contact.pair_zones import pair_sides
 from .dg.forms import dirichlet_load_terms, has_dirichlet_data, support_terms
 from .dg.liftings import liftings
 from .meshes import facet_indicator
@@ -77,6 +85,16 @@ class ForceBalance:
         ``{traction side: vector}``: the load :math:`\int_S g \, ds` of each traction side.
     body : numpy.ndarray
         :math:`(f, e_i)`, the body force.
+    pairs : dict
+        ``{side of a contact pair: ContactSide}``: for each pair its side, then its other side (``partner``), with
+        the force of the other body on the side's body (``force``), the pair's ``normal`` and ``tangential``
+        resultants, the pressure along the side (``arc``, ``xy``, ``pressure``) and the zones
+        (:mod:`ngdgfric.contact.pair_zones`).  Empty without pairs.
+    bodies : tuple
+        With several bodies, one :class:`~ngdgfric.ForceBalance` per body (``geometry.bodies``), of the forces on
+        that body only; its ``residual`` is zero to round-off.  Empty for one body.
+    name : str
+        What the forces act on: ``"the body"``, or ``"body k (regions ...)"``.
 
     Examples
     --------
@@ -90,12 +108,32 @@ class ForceBalance:
     reactions: dict
     traction: dict
     body: np.ndarray
+    pairs: dict = field(default_factory=dict)
+    bodies: tuple = ()
+    name: str = "the body"
 
     def vectors(self):
-        """Every force on the body as (kind, side, vector): reactions, contact, traction, body force."""
+        """Every force as (kind, side, vector): reactions, contact, contact pairs (both sides), traction, body
+        force."""
         return ([(r.part, side, r.force) for side, r in self.reactions.items()]
                 + [("contact", side, c.force) for side, c in self.contact.items()]
+                + [("pair", side, c.force) for side, c in self.pairs.items()]
                 + [("traction", side, g) for side, g in self.traction.items()] + [("body", "", self.body)])
+
+    def sides(self):
+        """``{side: ContactSide}`` of the foundation's contact sides and of both sides of every pair (for plots)."""
+        return {**self.contact, **self.pairs}
+
+    def pair_resultants(self):
+        """Per contact pair (side, other side, force on the side's body, force on the other's body, their sum):
+        action and reaction, the sum zero to round-off."""
+        seen, result = set(), []
+        for side, c in self.pairs.items():
+            if side not in seen and c.partner in self.pairs:
+                seen.update((side, c.partner))
+                other = self.pairs[c.partner].force
+                result.append((side, c.partner, c.force, other, c.force + other))
+        return result
 
     @property
     def residual(self):
@@ -124,9 +162,11 @@ class ForceBalance:
         rows = []
         for kind, side, vector in self.vectors():
             row = dict(kind=kind, side=side, force_x=float(vector[0]), force_y=float(vector[1]))
-            if kind == "contact":
-                c = self.contact[side]
+            if kind in ("contact", "pair"):
+                c = self.sides()[side]
                 row.update(normal=c.normal, tangential=c.tangential, length=c.length)
+                if kind == "pair":
+                    row.update(partner=c.partner)
                 for name in ("contact", "stick", "slip"):
                     zone = getattr(c, name)
                     start, end = zone.start or (np.nan, np.nan), zone.end or (np.nan, np.nan)
@@ -134,17 +174,41 @@ class ForceBalance:
                                 f"{name}_start_x": start[0], f"{name}_start_y": start[1],
                                 f"{name}_end_x": end[0], f"{name}_end_y": end[1]})
             rows.append(row)
+        for body in self.bodies:
+            residual = body.residual
+            rows.append(dict(kind="residual", side=body.name, force_x=float(residual[0]), force_y=float(residual[1])))
         residual = self.residual
         rows.append(dict(kind="residual", side="", force_x=float(residual[0]), force_y=float(residual[1])))
         return rows
 
     def summary(self):
-        """A few lines for a terminal: per side the forces and zones, then the equilibrium residual."""
+        """A few lines for a terminal: per side the forces and zones, then the equilibrium residual; with several
+        bodies, those of each body, then each pair's action and reaction and the residual of all forces."""
+        if not self.bodies:
+            return self._lines()
+        lines = []
+        for body in self.bodies:
+            lines.append(f"{body.name}:")
+            lines += [f"  {line}" for line in body._lines()]
+        for side, other, force, reaction, total in self.pair_resultants():
+            size = max(float(np.linalg.norm(force)), float(np.linalg.norm(reaction)))
+            relative = float(np.linalg.norm(total)) / size if size > 0 else 0.0
+            lines.append(f"pair {side} / {other}: force on {side} ({force[0]:.6e}, {force[1]:.6e}), on {other} "
+                         f"({reaction[0]:.6e}, {reaction[1]:.6e}), sum ({total[0]:.3e}, {total[1]:.3e}), "
+                         f"{relative:.1e} of the force")
+        residual = self.residual
+        lines.append(f"equilibrium of all bodies: sum of forces ({residual[0]:.3e}, {residual[1]:.3e}), "
+                     f"{self.relative_residual:.1e} of the largest")
+        return lines
+
+    def _lines(self):
+        """The lines of one body: per side the forces and zones, then the equilibrium residual."""
         lines = []
         for side, r in self.reactions.items():
             lines.append(f"{r.part} {side}: reaction ({r.force[0]:.6e}, {r.force[1]:.6e})")
-        for side, c in self.contact.items():
-            lines.append(f"contact {side}: normal {c.normal:.6e}, tangential {c.tangential:.6e}, "
+        for side, c in self.sides().items():
+            kind = f"pair {side} (with {c.partner})" if c.partner else f"contact {side}"
+            lines.append(f"{kind}: normal {c.normal:.6e}, tangential {c.tangential:.6e}, "
                          f"force ({c.force[0]:.6e}, {c.force[1]:.6e})")
             lines += [f"  {name + ' zone':12s} {_zone_text(getattr(c, name), c.length)}"
                       for name in ("contact", "stick", "slip")]
@@ -207,14 +271,30 @@ def force_balance(sol, lam_tol=LAM_TOL, slip_tol=SLIP_TOL):
     >>> balance.relative_residual < 1e-10
     True
     """
-    refuse_pairs(sol.problem, "force_balance")
     disc = sol.discretization
     constants = constant_vectors(disc.V)
     with threads(disc.V.ndof):
         contact = contact_sides(sol, lam_tol, slip_tol, constants)
         reactions = _reactions(disc, sol.u, constants)
-        traction, body = _loads(disc, constants)
-    return ForceBalance(contact, reactions, traction, body)
+        traction, body_load = _loads(disc, constants)
+        balance = ForceBalance(contact, reactions, traction, constants @ body_load)
+        geometry = sol.problem.geometry
+        if len(geometry.bodies) == 1:
+            return balance
+        per_body = [constant_vectors(disc.V, geometry.body_regions(k)) for k in range(len(geometry.bodies))]
+        pairs = pair_sides(sol, lam_tol, slip_tol, per_body) if sol.problem.pairs else {}
+    bodies = tuple(_of_body(balance, pairs, geometry, k, e @ body_load) for k, e in enumerate(per_body))
+    return ForceBalance(contact, reactions, traction, balance.body, pairs, bodies)
+
+
+def _of_body(balance, pairs, geometry, number, body_force):
+    """The :class:`ForceBalance` of body ``number``: the forces of ``balance`` and ``pairs`` on its sides, and its
+    body force."""
+    def own(forces):
+        return {side: value for side, value in forces.items() if geometry.body_of_side(side) == number}
+
+    return ForceBalance(own(balance.contact), own(balance.reactions), own(balance.traction), body_force, own(pairs),
+                        name=f"body {number} ({', '.join(geometry.body_regions(number))})")
 
 
 def _found(problem, mesh, part):
@@ -287,8 +367,8 @@ def _lifting_parts(disc, u, constants):
 
 
 def _loads(disc, constants):
-    """({traction side: int_S g ds}, (f, e_i)): the load vector's terms (:func:`ngdgfric.dg.forms.load_terms`) at
-    v = e_i."""
+    """({traction side: int_S g ds}, the vector (f, v) on V_h): the load vector's terms
+    (:func:`ngdgfric.dg.forms.load_terms`), the tractions at v = e_i (``constants``)."""
     problem, mesh = disc.problem, disc.mesh
     v = disc.V.TestFunction()
     body = ngs.LinearForm(disc.V)
@@ -300,4 +380,4 @@ def _loads(disc, constants):
         form += coefficient(problem.g) * v * ngs.ds(skeleton=True, definedon=mesh.Boundaries(pattern([side])))
         form.Assemble()
         traction[side] = constants @ form.vec.FV().NumPy()
-    return traction, constants @ body.vec.FV().NumPy()
+    return traction, body.vec.FV().NumPy().copy()

@@ -33,6 +33,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .contact.forces import contact_sides
+from .contact.pair_zones import all_sides
 from .contact.state import contact_state
 from .files import atomic_path
 from .meshes import mesh_arrays
@@ -140,10 +141,11 @@ def vertex_values(mesh, *cfs):
 def plot_deformed(ax, sol, scale=None, sides=None):
     r"""Draw the deformed elements, coloured by the von Mises stress, with the contact, stick and slip zones.
 
-    The triangles moved by ``scale`` :math:`u_h` (each by its own vertex values), coloured by the element's mean
-    von Mises stress (1.3), over the undeformed outline (every boundary and interface curve of the geometry,
-    curved sides sampled), with the contact, stick and slip zones marked on the undeformed contact sides
-    (``plot_zone_marks``); a colour bar, a title and a legend.
+    The triangles moved by ``scale`` :math:`u_h` (each by its own vertex values; every body with the same scale),
+    coloured by the element's mean von Mises stress (1.3), over the undeformed outline (every boundary and
+    interface curve of the geometry, curved sides sampled), with the contact, stick and slip zones marked on the
+    undeformed contact sides and on both sides of every contact pair (``plot_zone_marks``); a colour bar, a title
+    and a legend.
 
     Parameters
     ----------
@@ -155,8 +157,9 @@ def plot_deformed(ax, sol, scale=None, sides=None):
         The displacement's magnification.  Default ``None``: the largest displacement drawn as 10 % of the
         domain's size.
     sides : dict or None, optional
-        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.contact.forces`), to share them between
-        plots.  Default ``None``: computed.
+        The contact sides of ``sol`` and the sides of its contact pairs (``all_sides`` of
+        :mod:`ngdgfric.contact.pair_zones`, or :meth:`ngdgfric.ForceBalance.sides`), to share them between plots.
+        Default ``None``: computed.
 
     Returns
     -------
@@ -186,7 +189,7 @@ def plot_deformed(ax, sol, scale=None, sides=None):
     cells = PolyCollection(xy + scale * u, array=stress[:, :, 0].mean(axis=1), cmap="viridis", edgecolors="k",
                            linewidths=0.2 if mesh.ne <= 5000 else 0)
     ax.add_collection(cells)
-    plot_zone_marks(ax, contact_sides(sol) if sides is None else sides)
+    plot_zone_marks(ax, all_sides(sol) if sides is None else sides)
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.figure.colorbar(cells, ax=ax, label="von Mises stress")
@@ -364,44 +367,46 @@ def plot_zones(ax, sol, side, sides=None):
     sol : Solution
         A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
     side : str
-        The name of a contact side of the problem.
+        The name of a contact side of the problem, or of a side of a contact pair.
     sides : dict or None, optional
-        The contact sides of ``sol`` (``contact_sides`` of :mod:`ngdgfric.contact.forces`), to share them between
-        plots.  Default ``None``: computed.
+        The contact sides of ``sol`` and the sides of its pairs (``all_sides`` of
+        :mod:`ngdgfric.contact.pair_zones`), to share them between plots.  Default ``None``: computed.
 
     Returns
     -------
     matplotlib.axes.Axes
         The second Axes, of :math:`|\lambda_\tau|`.
     """
-    c = (contact_sides(sol) if sides is None else sides)[side]
-    state = contact_state(sol)
+    c = (all_sides(sol) if sides is None else sides)[side]
     for name, mask in (("stick", c.sticking), ("slip", c.slipping)):
         for k, (a, b) in enumerate(_runs(c.cells, mask)):
             ax.axvspan(a, b, color=ZONE_STYLE[name]["color"], alpha=0.15, lw=0, label=None if k else f"{name} zone")
     for k, (a, b) in enumerate(_runs(c.cells, c.in_contact)):
         ax.plot([a, b], [0, 0], solid_capstyle="butt", label=None if k else "contact zone", **ZONE_STYLE["contact"])
-    ax.plot(c.arc, state["pressure"][c.points], "k.-", ms=3, lw=1, label=r"$c_n\,(u_{hn} - g_a)_+^{m_n}$")
+    ax.plot(c.arc, c.pressure, "k.-", ms=3, lw=1,
+            label=r"$f_n / \omega$" if c.partner else r"$c_n\,(u_{hn} - g_a)_+^{m_n}$")
     ax.set_xlim(0, c.length)
     x0, y0 = np.round(c.cell_ends[0, 0], 12) + 0.0  # no -0 or 1e-16 for a vertex on an axis
     ax.set_xlabel(f"arc length along {side} from ({x0:.3g}, {y0:.3g})")
     ax.set_ylabel("pressure")
     twin = ax.twinx()
-    twin.plot(c.arc, np.abs(state["lam_tau"][c.points]), ".-", color="tab:purple", ms=3, lw=1,
+    twin.plot(c.arc, np.abs(c.lam_tau), ".-", color="tab:purple", ms=3, lw=1,
               label=r"$|\lambda_\tau|$")
     twin.set_ylim(0, 1.05)
     twin.set_ylabel(r"$|\lambda_\tau|$", color="tab:purple")
     lines = ax.get_legend_handles_labels()
     more = twin.get_legend_handles_labels()
     ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=7, loc="best")
-    ax.set_title(f"{side}: normal {c.normal:.4g}, tangential {c.tangential:.4g}", fontsize=9)
+    paired = f" (pair with {c.partner})" if c.partner else ""
+    ax.set_title(f"{side}{paired}: normal {c.normal:.4g}, tangential {c.tangential:.4g}", fontsize=9)
     return twin
 
 
 def write_contact_png(path, sol, sides=None):
     """Write the contact PNG of ``ngdgfric solve`` and ``adaptive``: every contact side of ``sol``.
 
-    :func:`~ngdgfric.output.plot_zones` of every contact side, one above the other, written atomically.
+    :func:`~ngdgfric.output.plot_zones` of every contact side and of both sides of every contact pair, one above
+    the other, written atomically.
 
     Parameters
     ----------
@@ -412,7 +417,7 @@ def write_contact_png(path, sol, sides=None):
     sides : dict or None, optional
         The contact sides of ``sol``, as in :func:`~ngdgfric.output.plot_zones`.  Default ``None``: computed.
     """
-    sides = contact_sides(sol) if sides is None else sides
+    sides = all_sides(sol) if sides is None else sides
     fig = figure(7, 0.6 + 2.6 * len(sides))
     for ax, side in zip(fig.subplots(len(sides), 1, squeeze=False)[:, 0], sides, strict=True):
         plot_zones(ax, sol, side, sides)

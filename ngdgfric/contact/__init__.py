@@ -13,12 +13,16 @@ r"""Contact on :math:`\Gamma_C`: normal compliance (1.8) and friction (1.9)-(1.1
 - :mod:`~ngdgfric.contact.forms`: the contact forms of (3.1), the residual of (3.3), the estimator's contact
   residuals;
 - :mod:`~ngdgfric.contact.state`: a solution's state on :math:`\Gamma_C` and its KKT residuals;
-- :mod:`~ngdgfric.contact.forces`: contact resultants and the contact, stick and slip zones per side.
+- :mod:`~ngdgfric.contact.pair_state`: a solution's state at the pairs' points (the jump, the forces, the
+  multiplier);
+- :mod:`~ngdgfric.contact.forces`: contact resultants and the contact, stick and slip zones per side;
+- :mod:`~ngdgfric.contact.pair_zones`: the same on both sides of each contact pair.
 
 Nothing here imports :mod:`ngdgfric.dg` or :mod:`ngdgfric.solvers`.
 """
 
 from .discrete import Contact
+from .pair_state import pair_state
 from .state import contact_state, kkt_residuals, rounding_residual, transitions
 
-__all__ = ["Contact", "contact_state", "kkt_residuals", "rounding_residual", "transitions"]
+__all__ = ["Contact", "contact_state", "pair_state", "kkt_residuals", "rounding_residual", "transitions"]

@@ -60,7 +60,8 @@ import numpy as np
 from .boundary import boundary_edges, contact_rule
 from .state import contact_state
 
-__all__ = ["Zone", "ContactSide", "contact_sides", "constant_vectors", "LAM_TOL", "SLIP_TOL"]
+__all__ = ["Zone", "ContactSide", "contact_sides", "zone_masks", "side_of", "walk", "chains", "zone",
+           "constant_vectors", "LAM_TOL", "SLIP_TOL"]
 
 LAM_TOL = 1e-6
 """Default ``lam_tol`` of :func:`ngdgfric.forces.force_balance`: |lam_tau| >= 1 - LAM_TOL is at the friction bound."""
@@ -100,15 +101,19 @@ class Zone:
 
 @dataclass(frozen=True)
 class ContactSide:
-    """The contact forces and zones of one contact side (module docstring).
+    """The contact forces and zones of one contact side (module docstring), or of one side of a contact pair
+    (:mod:`ngdgfric.contact.pair_zones`).
 
-    ``normal``: N_S; ``tangential``: T_S (along t); ``force``: F_S, the (x, y) force of the foundation on the
-    body; ``length``: the side's length (sum of its weights omega_q); ``contact``, ``stick``, ``slip``:
-    :class:`Zone`.  Point data in order along the side (along t): ``points`` (indices into the arrays of
-    :func:`ngdgfric.contact.contact_state`), ``arc`` (arc length of each point from the side's start),
-    ``cells`` ((m, 2) arc length of each point's cell ends), ``cell_ends`` ((m, 2, 2) the (x, y) of those ends),
-    ``in_contact``, ``sticking``, ``slipping`` (boolean arrays).  A side made of several separate pieces is walked
-    piece after piece (its arc length then runs on across the gaps).
+    ``normal``: N_S; ``tangential``: T_S (along t); ``force``: F_S, the (x, y) force of the foundation (of the other
+    body, on a pair's side) on the body; ``length``: the side's length (sum of its weights omega_q); ``contact``,
+    ``stick``, ``slip``: :class:`Zone`.  Point data in order along the side (along t): ``points`` (indices into the
+    arrays of :func:`ngdgfric.contact.contact_state`, or of the pair's entry of
+    :func:`ngdgfric.contact.pair_state`), ``arc`` (arc length of each point from the side's start), ``cells``
+    ((m, 2) arc length of each point's cell ends), ``cell_ends`` ((m, 2, 2) the (x, y) of those ends), ``xy``
+    ((m, 2) the points), ``pressure`` (the normal traction c_n (u_n - g_a)_+^{m_n} there), ``lam_tau`` (the
+    multiplier), ``in_contact``, ``sticking``, ``slipping`` (boolean arrays); ``partner``: the other side of its
+    contact pair ("" on the foundation).  A side made of several separate pieces is walked piece after piece (its
+    arc length then runs on across the gaps).
     """
 
     side: str
@@ -123,17 +128,26 @@ class ContactSide:
     arc: np.ndarray = field(repr=False)
     cells: np.ndarray = field(repr=False)
     cell_ends: np.ndarray = field(repr=False)
+    xy: np.ndarray = field(repr=False)
+    pressure: np.ndarray = field(repr=False)
+    lam_tau: np.ndarray = field(repr=False)
     in_contact: np.ndarray = field(repr=False)
     sticking: np.ndarray = field(repr=False)
     slipping: np.ndarray = field(repr=False)
+    partner: str = ""
 
 
-def constant_vectors(V):
-    """The coefficient vectors of the constant functions e_x, e_y in V_h (numpy arrays)."""
+def constant_vectors(V, regions=None):
+    """The coefficient vectors of the constant functions e_x, e_y in V_h (numpy arrays, shape (2, ndof)); with
+    ``regions`` (region names), of e_x, e_y on the elements of those regions and 0 elsewhere (one body's rigid
+    translations: bodies share no vertex, so this is a function of V_h)."""
     vectors = []
     for e in ((1.0, 0.0), (0.0, 1.0)):
         gf = ngs.GridFunction(V)
-        gf.Set(ngs.CF(e))
+        cf = ngs.CF(e)
+        if regions is not None:
+            cf = cf * V.mesh.MaterialCF({name: 1.0 for name in regions}, default=0.0)
+        gf.Set(cf)
         vectors.append(gf.vec.FV().NumPy().copy())
     return np.array(vectors)
 
@@ -145,39 +159,58 @@ def contact_sides(sol, lam_tol=LAM_TOL, slip_tol=SLIP_TOL, constants=None):
     disc, contact = sol.discretization, sol.contact
     constants = constant_vectors(disc.V) if constants is None else constants
     traces, q = contact.traces, contact.gauss.q
-    M = traces.M
+    M, foundation = traces.M, traces.foundation  # the foundation's points first, then the pairs'
     state = contact_state(sol)
     # n, t at the points as (3.3) sees them: (B e_i)_q = n_i(x_q), (B e_i)_{M+q} = t_i(x_q)
-    n = np.column_stack([traces.apply(e)[:M] for e in constants])
-    t = np.column_stack([traces.apply(e)[M:] for e in constants])
-    f_n = traces.omega * state["pressure"]
-    f_t = traces.omega * state["bound"] * state["lam_tau"]
-    scale = max(float(np.max(np.abs(np.r_[state["u_n"], state["u_tau"]]), initial=0.0)), np.finfo(float).tiny)
-    in_contact = state["gap"] > 0
-    friction = state["bound"] > 0
-    slipping = friction & (np.abs(state["lam_tau"]) >= 1 - lam_tol) & (np.abs(state["u_tau"]) > slip_tol * scale)
-    sticking = friction & ~slipping
+    n = np.column_stack([traces.apply(e)[:foundation] for e in constants])
+    t = np.column_stack([traces.apply(e)[M:M + foundation] for e in constants])
+    omega = traces.omega[:foundation]
+    f_n = omega * state["pressure"]
+    f_t = omega * state["bound"] * state["lam_tau"]
+    in_contact, sticking, slipping = zone_masks(state["gap"], state["bound"], state["lam_tau"], state["u_n"],
+                                                state["u_tau"], lam_tol, slip_tol)
     nodes, fractions = _cells(q)
     within = (nodes - fractions[:-1]) / np.diff(fractions)  # where each point lies in its cell
     walks, cell_ends = _walks(sol.mesh, disc.problem, fractions, t)
+    xy = np.column_stack([state["x"], state["y"]])
     result = {}
-    for side, walk in walks.items():
-        points = np.concatenate([np.arange(k * q, (k + 1) * q)[::-1 if reverse else 1] for k, reverse in walk])
+    for side, walked in walks.items():
+        points = np.concatenate([np.arange(k * q, (k + 1) * q)[::-1 if reverse else 1] for k, reverse in walked])
         ends = np.concatenate([np.stack([e[:-1], e[1:]], axis=1) for e in
-                               (cell_ends[k][::-1 if reverse else 1] for k, reverse in walk)])
-        position = np.concatenate([(1 - within)[::-1] if reverse else within for _, reverse in walk])
-        weights = traces.omega[points]
-        end = np.cumsum(weights)
-        start = np.r_[0.0, end[:-1]]
-        zones = {name: _zone(mask[points], weights, ends)
-                 for name, mask in (("contact", in_contact), ("stick", sticking), ("slip", slipping))}
-        result[side] = ContactSide(
-            side=side, normal=float(f_n[points].sum()), tangential=float(-f_t[points].sum()),
+                               (cell_ends[k][::-1 if reverse else 1] for k, reverse in walked)])
+        position = np.concatenate([(1 - within)[::-1] if reverse else within for _, reverse in walked])
+        result[side] = side_of(
+            side, points, omega[points], ends, position,
+            masks=(in_contact[points], sticking[points], slipping[points]),
+            normal=float(f_n[points].sum()), tangential=float(-f_t[points].sum()),
             force=-(f_n[points, None] * n[points] + f_t[points, None] * t[points]).sum(axis=0),
-            length=float(weights.sum()), **zones, points=points, arc=start + position * weights,
-            cells=np.column_stack([start, end]), cell_ends=ends, in_contact=in_contact[points],
-            sticking=sticking[points], slipping=slipping[points])
+            xy=xy[points], pressure=state["pressure"][points], lam_tau=state["lam_tau"][points])
     return result
+
+
+def zone_masks(penetration, bound, lam_tau, u_n, u_tau, lam_tol, slip_tol):
+    """(in contact, sticking, slipping), boolean arrays over points (module docstring): penetration > 0; at the
+    friction bound (``bound`` > 0, |lam_tau| >= 1 - ``lam_tol``) with |u_tau| > ``slip_tol`` times the largest of
+    |u_n|, |u_tau| over the points; and where friction acts otherwise."""
+    scale = max(float(np.max(np.abs(np.r_[u_n, u_tau]), initial=0.0)), np.finfo(float).tiny)
+    friction = bound > 0
+    slipping = friction & (np.abs(lam_tau) >= 1 - lam_tol) & (np.abs(u_tau) > slip_tol * scale)
+    return penetration > 0, friction & ~slipping, slipping
+
+
+def side_of(side, points, weights, ends, position, masks, partner="", **forces):
+    """The :class:`ContactSide` of the points ``points`` of one side in walk order: ``weights`` (their omega_q),
+    ``ends`` ((m, 2, 2) their cell ends), ``position`` (where each point lies in its cell, 0 to 1), ``masks``
+    (in contact, sticking, slipping), ``partner``; ``forces``: the fields normal, tangential, force, xy, pressure,
+    lam_tau."""
+    end = np.cumsum(weights)
+    start = np.r_[0.0, end[:-1]]
+    in_contact, sticking, slipping = masks
+    zones = {name: zone(mask, weights, ends)
+             for name, mask in (("contact", in_contact), ("stick", sticking), ("slip", slipping))}
+    return ContactSide(side=side, length=float(weights.sum()), **zones, points=points, arc=start + position * weights,
+                       cells=np.column_stack([start, end]), cell_ends=ends, in_contact=in_contact,
+                       sticking=sticking, slipping=slipping, partner=partner, **forces)
 
 
 def _cells(q):
@@ -210,19 +243,27 @@ def _walks(mesh, problem, fractions, t):
     walks = {}
     for side in dict.fromkeys(sides):
         edges = [k for k, name in enumerate(sides) if name == side]
-        walk = []
-        for chain in _chains([vertices[k] for k in edges]):
-            chain = [(edges[j], reverse) for j, reverse in chain]
-            k, reverse = chain[0]
-            forward = (cell_ends[k, -1] - cell_ends[k, 0]) * (-1 if reverse else 1)
-            if forward @ t[k * q:(k + 1) * q].mean(axis=0) < 0:
-                chain = [(k, not reverse) for k, reverse in chain[::-1]]
-            walk += chain
-        walks[side] = walk
+        forward = np.array([cell_ends[k, -1] - cell_ends[k, 0] for k in edges])
+        along = np.array([t[k * q:(k + 1) * q].mean(axis=0) for k in edges])
+        walks[side] = [(edges[j], reverse) for j, reverse in walk([vertices[k] for k in edges], forward, along)]
     return walks, cell_ends
 
 
-def _chains(edges):
+def walk(vertices, forward, along):
+    """The edges of one side chained along its tangent: a list of (edge number, reversed), chain after chain
+    (:func:`chains`), each chain turned so that it runs along ``along``.  ``vertices``: (a, b) per edge (the vertices
+    at s = 0 and s = 1); ``forward``: (edges, 2) x(1) - x(0) of each edge; ``along``: (edges, 2) the tangent t on
+    each edge."""
+    walked = []
+    for chain in chains(vertices):
+        k, reverse = chain[0]
+        if (forward[k] * (-1 if reverse else 1)) @ along[k] < 0:
+            chain = [(k, not reverse) for k, reverse in chain[::-1]]
+        walked += chain
+    return walked
+
+
+def chains(edges):
     """The edges (vertex pairs (a, b)) as chains: lists of (edge number, reversed) with consecutive edges
     sharing a vertex, each chain from one end to the other (or around a closed loop)."""
     touching = {}
@@ -249,7 +290,7 @@ def _chains(edges):
     return chains
 
 
-def _zone(mask, weights, ends):
+def zone(mask, weights, ends):
     """The :class:`Zone` of the points ``mask`` of one side (in walk order); ``ends``: their cell ends, (m, 2, 2)."""
     pieces, current, previous = [], None, None
     for (a, b), inside in zip(ends, mask, strict=True):

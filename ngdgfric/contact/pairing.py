@@ -243,8 +243,10 @@ class PairPoints:
     """The points of one contact pair on its side (module docstring), arrays of length M: ``xy`` (M, 2), ``weight``
     (Gauss weight times the piece's length), ``normal``, ``tangent`` (M, 2) of the pair's side, ``gap`` (geometric
     gap plus the pair's g_a), ``edge``, ``s`` (edge of the pair's side, parameter), ``other_edge``, ``other_s`` (of
-    the closest point on the other side), ``other_xy`` (M, 2); ``pieces``: the number of pieces of the common
-    refinement."""
+    the closest point on the other side), ``other_xy`` (M, 2), ``cell`` (M, 2: the parameters s at the ends of each
+    point's Gauss cell, the part of its piece it owns: from a + (b - a) c_{i-1} to a + (b - a) c_i on the piece
+    [a, b], c_i = w_1 + ... + w_i the Gauss weights on [0, 1] summed, as on the foundation,
+    :mod:`ngdgfric.contact.forces`); ``pieces``: the number of pieces of the common refinement."""
 
     xy: np.ndarray
     weight: np.ndarray
@@ -256,6 +258,7 @@ class PairPoints:
     other_edge: np.ndarray
     other_s: np.ndarray
     other_xy: np.ndarray
+    cell: np.ndarray
     pieces: int
 
     @property
@@ -316,6 +319,9 @@ def pair_points(mesh, pair, q, reach):
     edge = np.repeat(piece_edge, q)
     s = (a[:, None] + (b - a)[:, None] * nodes[None]).ravel()
     w = np.repeat(b - a, q) * np.tile(weights, len(a))
+    fractions = np.r_[0.0, np.cumsum(weights)]
+    cells = np.stack([a[:, None] + (b - a)[:, None] * fractions[None, :-1],
+                      a[:, None] + (b - a)[:, None] * fractions[None, 1:]], axis=2).reshape(-1, 2)
     xy = curves.at(edge, s)
     speed, normal, tangent = curves.frame(edge, s)
     other_edge, other_s, distance = other.closest(xy)
@@ -329,7 +335,8 @@ def pair_points(mesh, pair, q, reach):
     gap = np.sum((other_xy - xy) * normal, axis=1) + pair.g_a
     return PairPoints(xy=xy[near], weight=(w * speed)[near], normal=normal[near], tangent=tangent[near],
                       gap=gap[near], edge=edge[near], s=s[near], other_edge=other_edge[near],
-                      other_s=other_s[near], other_xy=other_xy[near], pieces=pieces)
+                      other_s=other_s[near], other_xy=other_xy[near], cell=cells[near],
+                      pieces=pieces)
 
 
 def _overhang(other, edge, s, offset):

@@ -5,12 +5,15 @@ Gauss points, the ends of the contact and stick zones, and the violations of the
 import ngsolve as ngs
 import numpy as np
 
-from ..checks import refuse_pairs
 from ..problem import coefficient, strain, stress
 from .boundary import evaluate_on_contact, normal_tangent
 from .forms import compliance, friction_bound, penetration, residual_terms
+from .pair_state import pair_law_term, pair_state
 
-__all__ = ["contact_state", "transitions", "kkt_residuals", "rounding_residual"]
+__all__ = ["contact_state", "transitions", "kkt_residuals", "rounding_residual", "STATE_KEYS"]
+
+STATE_KEYS = ("x", "y", "u_n", "u_tau", "gap", "pressure", "sigma_n", "sigma_tau", "lam_tau", "c_tau", "bound")
+"""The arrays of :func:`contact_state`."""
 
 
 def contact_state(sol):
@@ -40,6 +43,8 @@ def contact_state(sol):
         - ``bound``: the friction bound :math:`c_\tau (u_n - g_a)_+^{m_t}` (1.9) (:math:`c_\tau` for
           :math:`m_t = 0`).
 
+    The points of contact pairs (two bodies): :func:`ngdgfric.contact.pair_state`.
+
     Examples
     --------
     >>> problem = ndf.example("6.1")
@@ -47,13 +52,9 @@ def contact_state(sol):
     >>> len(state["x"]), bool(abs(state["lam_tau"]).max() <= 1 + 1e-12)
     (4, True)
     """
-    refuse_pairs(sol.problem, "contact_state")
-    return _foundation_state(sol)
-
-
-def _foundation_state(sol):
-    """``contact_state`` at the foundation's points (Gamma_C) only."""
     points = sol.contact.points()
+    if len(points) == 0:  # no side on the foundation (two bodies in contact only)
+        return {name: np.zeros(0) for name in STATE_KEYS}
     n, t = normal_tangent()
     u, problem = sol.u, sol.discretization.problem
     sigma_n_vec = stress(sol.discretization.material, strain(u)) * n
@@ -77,7 +78,7 @@ def transitions(sol, tol=1e-8):
     between two neighbouring Gauss points of an edge where u_n - g_a changes sign, or |lam_tau| crosses 1 - ``tol``
     (where u may be singular; the adaptive loop grades its meshes towards them, :func:`ngdgfric.hp.hp_refine`)."""
     gauss = sol.contact.gauss
-    state = _foundation_state(sol)
+    state = contact_state(sol)
     shape = gauss.xy.shape[:2]
     in_contact = (state["gap"] > 0).reshape(shape)
     sticking = (np.abs(state["lam_tau"]) < 1 - tol).reshape(shape) & in_contact
@@ -106,19 +107,25 @@ def _pair_transitions(sol, tol):
     return np.vstack(found)
 
 
-def _relative_residual(disc, contact, u, lam_tau):
+def _relative_residual(disc, contact, u, lam_tau, pair_lam_tau=None):
     """||:func:`residual`||_2 divided by the largest of the norms of its terms (:func:`residual_terms`: B_h(u, .),
-    j_n, g, (f, .)), a scale that exists without loads too (a body pushed by a penetration only: f = 0, g = 0);
-    0 if every term is zero."""
+    j_n, g, (f, .), and with contact pairs their forces B^T f at u and the pairs' multiplier values
+    ``pair_lam_tau``, :func:`ngdgfric.contact.pair_state.pair_law_term`), a scale that exists without loads too (a
+    body pushed by a penetration only: f = 0, g = 0); 0 if every term is zero."""
     terms = [term.FV().NumPy() for term in residual_terms(disc, contact, u, lam_tau)]
+    if contact.pairs:
+        terms.append(pair_law_term(contact, u.vec.FV().NumPy(), pair_lam_tau))
     scale = max(float(np.linalg.norm(term)) for term in terms)
     return float(np.linalg.norm(np.sum(terms, axis=0)) / scale) if scale > 0 else 0.0
 
 
 def kkt_residuals(sol):
-    r"""Violations of the discrete KKT system (3.3)-(3.4) of a solution at the Gauss points of :math:`\Gamma_C`.
+    r"""Violations of the discrete KKT system (3.3)-(3.4) of a solution at the Gauss points of :math:`\Gamma_C` and
+    at the points of its contact pairs.
 
-    All three are at round-off level at a solution.
+    All three are at round-off level at a solution.  At a pair's points the multiplier and the slip are those of
+    the jump :math:`[u_h]_\tau` (:func:`ngdgfric.contact.pair_state`); the compliance law needs no residual of its
+    own there, as on the foundation: the equilibrium residual evaluates it at :math:`u_h`.
 
     Parameters
     ----------
@@ -130,10 +137,11 @@ def kkt_residuals(sol):
     dict of str to float
         - ``lam_excess``: :math:`\max(|\lambda_\tau| - 1, 0)`;
         - ``complementarity``: :math:`\max |\lambda_\tau u_\tau - |u_\tau|| / \max |u|` (:math:`\max |u|` over
-          the coefficients of :math:`u_h`);
+          the coefficients of :math:`u_h`; :math:`[u_h]_\tau` for :math:`u_\tau` at a pair's points);
         - ``equilibrium``: the Euclidean norm of the residual of (3.3) relative to the largest of its terms
           :math:`B_h(u_h, \cdot)`, :math:`j_n`, :math:`g` and :math:`(f, \cdot)`, the friction term with the bound
-          at :math:`u_h` (``residual`` of :mod:`ngdgfric.contact.forms`).
+          at :math:`u_h` (``residual`` of :mod:`ngdgfric.contact.forms`), and the pairs' forces by the laws at
+          :math:`u_h` (``pair_law_term`` of :mod:`ngdgfric.contact.pair_state`).
 
     Examples
     --------
@@ -144,15 +152,21 @@ def kkt_residuals(sol):
     >>> all(value < 1e-10 for value in residuals.values())
     True
     """
-    refuse_pairs(sol.problem, "kkt_residuals")
     state = contact_state(sol)
+    pairs = pair_state(sol) if sol.contact.pairs else []
     scale = max(np.max(np.abs(sol.u.vec.FV().NumPy())), 1e-300)
-    lam_tau, u_tau = state["lam_tau"], state["u_tau"]
+    lam_tau = np.concatenate([state["lam_tau"]] + [pair["lam_tau"] for pair in pairs])
+    u_tau = np.concatenate([state["u_tau"]] + [pair["jump_tau"] for pair in pairs])
     return {
         "lam_excess": float(max(np.max(np.abs(lam_tau), initial=0.0) - 1.0, 0.0)),
         "complementarity": float(np.max(np.abs(lam_tau * u_tau - np.abs(u_tau)), initial=0.0) / scale),
-        "equilibrium": _relative_residual(sol.discretization, sol.contact, sol.u, sol.lam_tau),
+        "equilibrium": _relative_residual(sol.discretization, sol.contact, sol.u, sol.lam_tau, _pair_multiplier(sol)),
     }
+
+
+def _pair_multiplier(sol):
+    """The multiplier at the pairs' points (``sol.info["pair_multiplier"]``), None without pairs."""
+    return np.asarray(sol.info["pair_multiplier"]) if sol.contact.pairs else None
 
 
 def rounding_residual(sol):
@@ -161,4 +175,4 @@ def rounding_residual(sol):
     u = ngs.GridFunction(sol.u.space)
     signs = np.random.default_rng(0).choice([-1.0, 1.0], size=len(u.vec))
     u.vec.FV().NumPy()[:] = sol.u.vec.FV().NumPy() * (1 + np.finfo(float).eps * signs)
-    return _relative_residual(sol.discretization, sol.contact, u, sol.lam_tau)
+    return _relative_residual(sol.discretization, sol.contact, u, sol.lam_tau, _pair_multiplier(sol))
