@@ -158,6 +158,67 @@ def test_sliding_beyond_the_friction_limit_gives_c_tau_times_the_length():
         assert abs(tangential.sum()) == pytest.approx(c_tau * 1.0, rel=1e-12)
 
 
+def tilted(problem):
+    """``problem`` (the displacement-driven patch test) with a load that is not uniform: the top moved by a tilted
+    displacement, with friction on the pair (stick and slip)."""
+    return dataclasses.replace(problem, u_D={"top": exact_parts()[1] + ngs.CF((0.002 * ngs.x, -0.003 * ngs.x))},
+                               pairs=[ndf.ContactPair("c2", "c1", c_n=C_N, c_tau=0.001)])
+
+
+def sheared(problem):
+    """``problem`` (the force-driven patch test) with a shear load 2 S x on top (S = 0.0005, below the friction
+    capacity c_tau x 1 = 0.001; the roller on the upper body's left side takes part of it): stick and slip."""
+    return dataclasses.replace(problem, g={"top": (0.001 * ngs.x, -P)},
+                               pairs=[ndf.ContactPair("c2", "c1", c_n=C_N, c_tau=0.001)])
+
+
+def difference(first, second):
+    """The relative differences (u in L2 on the solution's mesh, the pair forces in the max norm) of two solutions
+    of one problem on one mesh (the same space: coefficient by coefficient)."""
+    u = ngs.GridFunction(first.u.space)
+    u.vec.data = first.u.vec - second.u.vec
+    mesh = first.mesh
+    forces = first.info["pair_forces"]
+    return (float(np.sqrt(ngs.Integrate(u**2, mesh) / ngs.Integrate(first.u**2, mesh))),
+            float(np.max(np.abs(forces - second.info["pair_forces"])) / np.max(np.abs(forces))))
+
+
+@pytest.mark.skipif(not ndf.solvers.pardiso.available(), reason="needs MKL PARDISO")
+@pytest.mark.parametrize("load", [False, True], ids=["displacement", "force"])
+@pytest.mark.parametrize("method", ["sipg", "bassi", "cg"])
+def test_full_space_newton_solves_the_patch_test(non_matching, method, load):
+    """The full-space Newton (:mod:`ngdgfric.solvers.fullspace`) on the pair's points: the patch test exact, the
+    condensed solution and pair forces reproduced, for a body held by contact only (load) through the proximal steps
+    of :mod:`ngdgfric.solvers.floating` around the full-space solve.  Measured at p = 1, 2: differences at most
+    3.2e-14 (displacement) and 2.1e-11 (force: bassi p = 1, whose last proximal step keeps the full space's
+    equilibrium residual of 3e-12); tested at 1e-10 as the patch test."""
+    problem = patch_problem(load)
+    for order in (1, 2):
+        condensed = ndf.solve(problem, non_matching, method=method, order=order, formulation="condensed")
+        full = ndf.solve(problem, non_matching, method=method, order=order, formulation="full-space")
+        assert full.info["linear_solver"] == "pardiso (full space)"
+        assert ("proximal_steps" in full.info) == load
+        assert relative_error(full) < 1e-10
+        assert max(difference(condensed, full)) < 1e-10
+
+
+@pytest.mark.skipif(not ndf.solvers.pardiso.available(), reason="needs MKL PARDISO")
+@pytest.mark.parametrize("load", [False, True], ids=["displacement", "force"])
+def test_full_space_newton_agrees_with_friction(non_matching, load):
+    """Stick and slip at the pair's points (a tilted displacement of the top, or a shear load on the body held by
+    contact): the full space and the condensed solver agree (sipg p = 2; measured u 2.5e-14 and 4.6e-14, forces
+    7.8e-14 and 4.0e-13, multipliers 6.8e-13 and 4.6e-12)."""
+    problem = tilted(patch_problem(False)) if not load else sheared(patch_problem(True))
+    condensed = ndf.solve(problem, non_matching, order=2, formulation="condensed")
+    full = ndf.solve(problem, non_matching, order=2, formulation="full-space")
+    sticking = np.abs(condensed.info["pair_multiplier"]) < 1 - 1e-9
+    assert np.any(sticking) and not np.all(sticking)
+    u, forces = difference(condensed, full)
+    assert u < 1e-12
+    assert forces < 1e-11
+    assert np.max(np.abs(condensed.info["pair_multiplier"] - full.info["pair_multiplier"])) < 1e-10
+
+
 def test_a_body_that_nothing_holds_is_named():
     """The upper body pulled up (load control): nothing holds its vertical translation; a SolverError names it."""
     problem = dataclasses.replace(patch_problem(load=True), g={"top": (0, P)})
