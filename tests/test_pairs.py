@@ -219,6 +219,66 @@ def test_full_space_newton_agrees_with_friction(non_matching, load):
     assert np.max(np.abs(condensed.info["pair_multiplier"] - full.info["pair_multiplier"])) < 1e-10
 
 
+UZAWA_TOL = dict(solver_tol=1e-10, kkt_tol=1e-10)
+"""Uzawa's tolerances in the comparisons with friction (the defaults, 1e-8 and 1e-6, left u 6.6e-7 and the pair
+forces 1.5e-4 apart on the tilted load)."""
+OTHER_SOLVERS = [("uzawa", {}), ("fixed_point", dict(inner="newton")), ("fixed_point", dict(inner="uzawa"))]
+
+
+@pytest.mark.parametrize("solver, options", OTHER_SOLVERS, ids=["uzawa", "fixed_point-newton", "fixed_point-uzawa"])
+@pytest.mark.parametrize("method", ["sipg", "nipg", "cg"])
+def test_uzawa_and_the_fixed_point_solve_the_patch_test(non_matching, method, solver, options):
+    """Uzawa's multiplier update and inner problem at the pair's points (``PairTerms`` of
+    :mod:`ngdgfric.solvers.nonlinear`), and the fixed point around Uzawa or Newton (m_t = 0: one inner solve), on
+    the displacement-driven patch test: exact, the condensed Newton's solution and pair forces reproduced (p = 2;
+    measured at most 3.4e-15 ... 2.1e-14 and pair forces 1.1e-13)."""
+    problem = patch_problem(load=False)
+    newton = ndf.solve(problem, non_matching, method=method, order=2)
+    other = ndf.solve(problem, non_matching, method=method, order=2, solver=solver, **options)
+    assert relative_error(other) < 1e-10
+    assert max(difference(newton, other)) < 1e-10
+    assert other.info["pair_forces"][0].sum() == pytest.approx(P, rel=1e-10)
+
+
+@pytest.mark.parametrize("solver, options", OTHER_SOLVERS, ids=["uzawa", "fixed_point-newton", "fixed_point-uzawa"])
+def test_uzawa_and_the_fixed_point_agree_with_friction(non_matching, solver, options):
+    """Stick and slip at the pair's points (the tilted displacement of the top): Uzawa to its tolerance
+    (``UZAWA_TOL``: measured u 6.6e-11, pair forces 1.5e-8 relative, multipliers 3.4e-7; the fixed point around Uzawa
+    stops Uzawa at its own solver_tol 1e-8: 6.6e-9, 1.5e-6, 3.4e-5) and the fixed point around Newton (exact: one
+    inner solve) agree with the condensed Newton (sipg p = 2)."""
+    problem = tilted(patch_problem(False))
+    newton = ndf.solve(problem, non_matching, order=2)
+    sticking = np.abs(newton.info["pair_multiplier"]) < 1 - 1e-9
+    assert np.any(sticking) and not np.all(sticking)
+    tolerances = dict(kkt_tol=1e-10) if solver == "fixed_point" else UZAWA_TOL
+    other = ndf.solve(problem, non_matching, order=2, solver=solver, **options,
+                      **({} if options.get("inner") == "newton" else tolerances))
+    u, forces = difference(newton, other)
+    loose = 100.0 if options.get("inner") == "uzawa" else 1.0
+    assert u < 1e-9 * loose
+    assert forces < 1e-6 * loose
+    assert np.max(np.abs(newton.info["pair_multiplier"] - other.info["pair_multiplier"])) < 1e-5 * loose
+
+
+def test_uzawa_refuses_a_body_held_by_contact_only(non_matching):
+    """The force-driven patch test: Uzawa's inner matrix is singular while the upper body does not touch; a
+    ValueError names the body, and the fixed point with Newton inside solves it (proximal steps)."""
+    problem = patch_problem(load=True)
+    with pytest.raises(ValueError, match=r"uzawa cannot solve a body held by contact only: nothing but the contact "
+                                         r"pairs holds the translation in y of body 1 \(regions 'upper'\)"):
+        ndf.solve(problem, non_matching, solver="uzawa")
+    assert relative_error(ndf.solve(problem, non_matching, solver="fixed_point")) < 1e-10
+
+
+def test_the_fixed_point_refuses_a_pair_bound_that_depends_on_the_penetration(non_matching):
+    problem = dataclasses.replace(patch_problem(load=False), pairs=[ndf.ContactPair("c2", "c1", c_n=C_N, c_tau=0.1,
+                                                                                    m_t=1.0)])
+    with pytest.raises(ValueError, match=r"fixed_point does not freeze the friction bound of a contact pair \(m_t = 1"):
+        ndf.solve(problem, non_matching, solver="fixed_point")
+    with pytest.raises(ValueError, match=r"uzawa solves the reduced law m_t = 0 only"):
+        ndf.solve(problem, non_matching, solver="uzawa")
+
+
 def test_a_body_that_nothing_holds_is_named():
     """The upper body pulled up (load control): nothing holds its vertical translation; a SolverError names it."""
     problem = dataclasses.replace(patch_problem(load=True), g={"top": (0, P)})
@@ -263,8 +323,8 @@ def test_sides_out_of_reach_are_named():
 
 
 def test_tools_without_pair_terms_refuse_pairs(non_matching):
-    """The estimators, adapt, the KKT residuals, the contact state, the force balance and the other solvers have no
-    terms for the pairs yet: each refuses by name instead of leaving them out."""
+    """The estimators, adapt, the KKT residuals, the contact state and the force balance have no terms for the pairs
+    yet: each refuses by name instead of leaving them out."""
     problem = patch_problem(load=False)
     sol = ndf.solve(problem, non_matching)
     for call, name in ((lambda: ndf.estimate(sol), "estimate"),
@@ -272,7 +332,6 @@ def test_tools_without_pair_terms_refuse_pairs(non_matching):
                        (lambda: ndf.kkt_residuals(sol), "kkt_residuals"),
                        (lambda: ndf.contact_state(sol), "contact_state"),
                        (lambda: ndf.force_balance(sol), "force_balance"),
-                       (lambda: ndf.adapt(problem, non_matching, max_levels=1), "adapt"),
-                       (lambda: ndf.solve(problem, non_matching, solver="uzawa"), "solver='uzawa'")):
+                       (lambda: ndf.adapt(problem, non_matching, max_levels=1), "adapt")):
         with pytest.raises(ValueError, match=f"{name} does not handle contact pairs"):
             call()
