@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .checks import MEMORY_BUDGET, refuse_pairs
+from .checks import MEMORY_BUDGET
 from .contact import Contact
 from .dg.discretization import Discretization
 from .errors import warn
@@ -227,8 +227,6 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
     function, options_class = SOLVERS[solver]
-    if solver != "newton":
-        refuse_pairs(problem, f"solver={solver!r}")
     settings = options_class.from_keywords(solver_tol=_solver_tol(solver_tol, options), **options)
     start_from = None if initial is None else _warm_start(initial)
     start = time.perf_counter()

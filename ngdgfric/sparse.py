@@ -52,6 +52,7 @@ class BlockSum:
         else:
             keys_j = np.insert(keys_a, np.searchsorted(keys_a, new), new)
             self.J = ngs.la.SparseMatrixd.CreateFromCOO(keys_j // n, keys_j % n, np.zeros(len(keys_j)), n, n)
+        self._keys_j = keys_j
         self._pos_b = np.searchsorted(keys_j, keys_b)
         self._keys_b = keys_b
         self._k_positions = None
@@ -68,6 +69,11 @@ class BlockSum:
         values = self.J.AsVector().FV().NumPy()
         values[self._pos_b] = self._a_blocks
         values[self._pos_b[found]] += K.AsVector().FV().NumPy()[pos[found]]
+        return self.J
+
+    def add(self, rows, cols, values):
+        """J += the COO triplets (rows, cols, values), which lie in the blocks (after :meth:`update`); returns J."""
+        np.add.at(self.J.AsVector().FV().NumPy(), np.searchsorted(self._keys_j, rows * self.n + cols), values)
         return self.J
 
 

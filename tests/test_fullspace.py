@@ -135,7 +135,7 @@ def test_auto_falls_back_to_the_condensed_solver_when_the_full_space_fails(monke
     def failing(*args, **kwargs):
         raise ndf.SolverError("no convergence (forced)", solver="newton")
 
-    monkeypatch.setattr(ndf.solvers.newton, "full_space_newton", failing)
+    monkeypatch.setattr(fullspace.FullSpaceState, "run", failing)
     sol = ndf.solve(problem, mesh, method="sipg", order=3)
     assert sol.info["linear_solver"] == "pardiso" and "forced" in sol.info["fallback"]
     assert ndf.energy_norm(reference, sol.u) <= 1e-12 * ndf.energy_norm(reference)

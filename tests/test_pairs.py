@@ -158,6 +158,127 @@ def test_sliding_beyond_the_friction_limit_gives_c_tau_times_the_length():
         assert abs(tangential.sum()) == pytest.approx(c_tau * 1.0, rel=1e-12)
 
 
+def tilted(problem):
+    """``problem`` (the displacement-driven patch test) with a load that is not uniform: the top moved by a tilted
+    displacement, with friction on the pair (stick and slip)."""
+    return dataclasses.replace(problem, u_D={"top": exact_parts()[1] + ngs.CF((0.002 * ngs.x, -0.003 * ngs.x))},
+                               pairs=[ndf.ContactPair("c2", "c1", c_n=C_N, c_tau=0.001)])
+
+
+def sheared(problem):
+    """``problem`` (the force-driven patch test) with a shear load 2 S x on top (S = 0.0005, below the friction
+    capacity c_tau x 1 = 0.001; the roller on the upper body's left side takes part of it): stick and slip."""
+    return dataclasses.replace(problem, g={"top": (0.001 * ngs.x, -P)},
+                               pairs=[ndf.ContactPair("c2", "c1", c_n=C_N, c_tau=0.001)])
+
+
+def difference(first, second):
+    """The relative differences (u in L2 on the solution's mesh, the pair forces in the max norm) of two solutions
+    of one problem on one mesh (the same space: coefficient by coefficient)."""
+    u = ngs.GridFunction(first.u.space)
+    u.vec.data = first.u.vec - second.u.vec
+    mesh = first.mesh
+    forces = first.info["pair_forces"]
+    return (float(np.sqrt(ngs.Integrate(u**2, mesh) / ngs.Integrate(first.u**2, mesh))),
+            float(np.max(np.abs(forces - second.info["pair_forces"])) / np.max(np.abs(forces))))
+
+
+@pytest.mark.skipif(not ndf.solvers.pardiso.available(), reason="needs MKL PARDISO")
+@pytest.mark.parametrize("load", [False, True], ids=["displacement", "force"])
+@pytest.mark.parametrize("method", ["sipg", "bassi", "cg"])
+def test_full_space_newton_solves_the_patch_test(non_matching, method, load):
+    """The full-space Newton (:mod:`ngdgfric.solvers.fullspace`) on the pair's points: the patch test exact, the
+    condensed solution and pair forces reproduced, for a body held by contact only (load) through the proximal steps
+    of :mod:`ngdgfric.solvers.floating` around the full-space solve.  Measured at p = 1, 2: differences at most
+    3.2e-14 (displacement) and 2.1e-11 (force: bassi p = 1, whose last proximal step keeps the full space's
+    equilibrium residual of 3e-12); tested at 1e-10 as the patch test."""
+    problem = patch_problem(load)
+    for order in (1, 2):
+        condensed = ndf.solve(problem, non_matching, method=method, order=order, formulation="condensed")
+        full = ndf.solve(problem, non_matching, method=method, order=order, formulation="full-space")
+        assert full.info["linear_solver"] == "pardiso (full space)"
+        assert ("proximal_steps" in full.info) == load
+        assert relative_error(full) < 1e-10
+        assert max(difference(condensed, full)) < 1e-10
+
+
+@pytest.mark.skipif(not ndf.solvers.pardiso.available(), reason="needs MKL PARDISO")
+@pytest.mark.parametrize("load", [False, True], ids=["displacement", "force"])
+def test_full_space_newton_agrees_with_friction(non_matching, load):
+    """Stick and slip at the pair's points (a tilted displacement of the top, or a shear load on the body held by
+    contact): the full space and the condensed solver agree (sipg p = 2; measured u 2.5e-14 and 4.6e-14, forces
+    7.8e-14 and 4.0e-13, multipliers 6.8e-13 and 4.6e-12)."""
+    problem = tilted(patch_problem(False)) if not load else sheared(patch_problem(True))
+    condensed = ndf.solve(problem, non_matching, order=2, formulation="condensed")
+    full = ndf.solve(problem, non_matching, order=2, formulation="full-space")
+    sticking = np.abs(condensed.info["pair_multiplier"]) < 1 - 1e-9
+    assert np.any(sticking) and not np.all(sticking)
+    u, forces = difference(condensed, full)
+    assert u < 1e-12
+    assert forces < 1e-11
+    assert np.max(np.abs(condensed.info["pair_multiplier"] - full.info["pair_multiplier"])) < 1e-10
+
+
+UZAWA_TOL = dict(solver_tol=1e-10, kkt_tol=1e-10)
+"""Uzawa's tolerances in the comparisons with friction (the defaults, 1e-8 and 1e-6, left u 6.6e-7 and the pair
+forces 1.5e-4 apart on the tilted load)."""
+OTHER_SOLVERS = [("uzawa", {}), ("fixed_point", dict(inner="newton")), ("fixed_point", dict(inner="uzawa"))]
+
+
+@pytest.mark.parametrize("solver, options", OTHER_SOLVERS, ids=["uzawa", "fixed_point-newton", "fixed_point-uzawa"])
+@pytest.mark.parametrize("method", ["sipg", "nipg", "cg"])
+def test_uzawa_and_the_fixed_point_solve_the_patch_test(non_matching, method, solver, options):
+    """Uzawa's multiplier update and inner problem at the pair's points (``PairTerms`` of
+    :mod:`ngdgfric.solvers.nonlinear`), and the fixed point around Uzawa or Newton (m_t = 0: one inner solve), on
+    the displacement-driven patch test: exact, the condensed Newton's solution and pair forces reproduced (p = 2;
+    measured at most 3.4e-15 ... 2.1e-14 and pair forces 1.1e-13)."""
+    problem = patch_problem(load=False)
+    newton = ndf.solve(problem, non_matching, method=method, order=2)
+    other = ndf.solve(problem, non_matching, method=method, order=2, solver=solver, **options)
+    assert relative_error(other) < 1e-10
+    assert max(difference(newton, other)) < 1e-10
+    assert other.info["pair_forces"][0].sum() == pytest.approx(P, rel=1e-10)
+
+
+@pytest.mark.parametrize("solver, options", OTHER_SOLVERS, ids=["uzawa", "fixed_point-newton", "fixed_point-uzawa"])
+def test_uzawa_and_the_fixed_point_agree_with_friction(non_matching, solver, options):
+    """Stick and slip at the pair's points (the tilted displacement of the top): Uzawa to its tolerance
+    (``UZAWA_TOL``: measured u 6.6e-11, pair forces 1.5e-8 relative, multipliers 3.4e-7; the fixed point around Uzawa
+    stops Uzawa at its own solver_tol 1e-8: 6.6e-9, 1.5e-6, 3.4e-5) and the fixed point around Newton (exact: one
+    inner solve) agree with the condensed Newton (sipg p = 2)."""
+    problem = tilted(patch_problem(False))
+    newton = ndf.solve(problem, non_matching, order=2)
+    sticking = np.abs(newton.info["pair_multiplier"]) < 1 - 1e-9
+    assert np.any(sticking) and not np.all(sticking)
+    tolerances = dict(kkt_tol=1e-10) if solver == "fixed_point" else UZAWA_TOL
+    other = ndf.solve(problem, non_matching, order=2, solver=solver, **options,
+                      **({} if options.get("inner") == "newton" else tolerances))
+    u, forces = difference(newton, other)
+    loose = 100.0 if options.get("inner") == "uzawa" else 1.0
+    assert u < 1e-9 * loose
+    assert forces < 1e-6 * loose
+    assert np.max(np.abs(newton.info["pair_multiplier"] - other.info["pair_multiplier"])) < 1e-5 * loose
+
+
+def test_uzawa_refuses_a_body_held_by_contact_only(non_matching):
+    """The force-driven patch test: Uzawa's inner matrix is singular while the upper body does not touch; a
+    ValueError names the body, and the fixed point with Newton inside solves it (proximal steps)."""
+    problem = patch_problem(load=True)
+    with pytest.raises(ValueError, match=r"uzawa cannot solve a body held by contact only: nothing but the contact "
+                                         r"pairs holds the translation in y of body 1 \(regions 'upper'\)"):
+        ndf.solve(problem, non_matching, solver="uzawa")
+    assert relative_error(ndf.solve(problem, non_matching, solver="fixed_point")) < 1e-10
+
+
+def test_the_fixed_point_refuses_a_pair_bound_that_depends_on_the_penetration(non_matching):
+    problem = dataclasses.replace(patch_problem(load=False), pairs=[ndf.ContactPair("c2", "c1", c_n=C_N, c_tau=0.1,
+                                                                                    m_t=1.0)])
+    with pytest.raises(ValueError, match=r"fixed_point does not freeze the friction bound of a contact pair \(m_t = 1"):
+        ndf.solve(problem, non_matching, solver="fixed_point")
+    with pytest.raises(ValueError, match=r"uzawa solves the reduced law m_t = 0 only"):
+        ndf.solve(problem, non_matching, solver="uzawa")
+
+
 def test_a_body_that_nothing_holds_is_named():
     """The upper body pulled up (load control): nothing holds its vertical translation; a SolverError names it."""
     problem = dataclasses.replace(patch_problem(load=True), g={"top": (0, P)})
@@ -201,14 +322,12 @@ def test_sides_out_of_reach_are_named():
         ndf.solve(problem, ndf.netgen_mesh(problem, 0.5))
 
 
-def test_tools_without_pair_terms_refuse_pairs(non_matching):
-    """The other solvers have no terms for the pairs yet: each refuses by name instead of leaving them out (the
-    estimator, adapt, the KKT residuals, the contact state and the force balance have them:
-    tests/test_pair_residuals.py, tests/test_pair_outputs.py); the equilibrated bound refuses pairs with its reason."""
+def test_the_equilibrated_bound_refuses_pairs_with_its_reason(non_matching):
+    """The equilibrated bound has no pair terms: it refuses pairs with its reason (estimate, equilibrate and adapt
+    with estimator="equilibrated"); the estimator, adapt, the KKT residuals, the contact state, the force balance
+    and the solvers have the pairs' terms (tests/test_pair_residuals.py, tests/test_pair_outputs.py)."""
     problem = patch_problem(load=False)
     sol = ndf.solve(problem, non_matching)
-    with pytest.raises(ValueError, match="solver='uzawa' does not handle contact pairs"):
-        ndf.solve(problem, non_matching, solver="uzawa")
     for call in (lambda: ndf.equilibrate(sol), lambda: ndf.estimate(sol, kind="equilibrated"),
                  lambda: ndf.adapt(problem, non_matching, max_levels=1, estimator="equilibrated")):
         with pytest.raises(ValueError, match="refused: contact pairs .two bodies. are not built into it"):

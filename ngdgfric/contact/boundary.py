@@ -72,6 +72,8 @@ def edge_jacobians(points):
 
 def evaluate_on_contact(cf, points, volume=True):
     """Values of ``cf`` at contact Gauss points; ``volume`` for volume (element) functions."""
+    if len(points) == 0:  # no foundation (only contact pairs)
+        return np.zeros(0) if cf.dim == 1 else np.zeros((0, cf.dim))
     values = (ngs.BoundaryFromVolumeCF(cf) if volume else cf)(points)
     return np.asarray(values).reshape(-1) if cf.dim == 1 else np.asarray(values)
 

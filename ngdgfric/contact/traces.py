@@ -19,6 +19,8 @@ in the multiplier space :math:`Q` (degree :math:`p` per edge): for edge :math:`e
 those matrices are :math:`B_e^T D_e V_e`, so :math:`B_e = D_e^{-1} V_e^{-T} (\text{mass matrix})_e^T`.
 """
 
+import copy
+
 import ngsolve as ngs
 import numpy as np
 
@@ -106,6 +108,21 @@ class ContactTraces:
             return True  # an element with two edges on Gamma_C
         orders = contact.orders[element_of_edge]
         return bool(np.any(orders + 1 < gauss.q))
+
+    def pair_part(self):
+        """The pairs' points alone (those after the foundation's, in their order) as a ``ContactTraces`` of
+        ``M - foundation`` points (normal rows first, then tangential; ``foundation`` 0): the points where
+        Uzawa (:mod:`ngdgfric.solvers.uzawa`) writes the pairs' terms."""
+        part, start, M = copy.copy(self), self.foundation, self.M
+        keep = self.rows % M >= start
+        rows = self.rows[keep]
+        part.rows = np.where(rows < M, rows - start, rows - 2 * start)
+        part.cols, part.values = self.cols[keep], self.values[keep]
+        for name in ("omega", "g_a", "c_n", "c_tau", "m_n", "m_t"):
+            value = getattr(self, name)
+            setattr(part, name, value[start:] if np.ndim(value) else value)
+        part.M, part.foundation = M - start, 0
+        return part
 
     def apply(self, vec):
         """B u for a coefficient vector (numpy array) u."""

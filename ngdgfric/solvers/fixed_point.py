@@ -18,6 +18,11 @@ page *Friction bound depending on the penetration*).  For large :math:`c_\tau` t
 warm-started inner solve cycles because the frozen bound jumps between outer iterations; the coupled semismooth
 Newton (:mod:`ngdgfric.solvers.newton`) converged in all these cases.  For :math:`m_t = 0` the bound does not
 depend on :math:`u` and one inner solve is the answer.
+
+Contact pairs (:class:`~ngdgfric.ContactPair`) with the reduced law (:math:`m_t = 0`) are solved by the inner
+solver with the rest (their multiplier restarts from 0 in each inner solve; ``info["pair_multiplier"]`` and
+``info["pair_forces"]`` are those of the last); the friction bound of a pair with :math:`m_t > 0` is not frozen
+here (ValueError: the coupled Newton solves it).
 """
 
 import dataclasses
@@ -146,10 +151,16 @@ def fixed_point(disc, contact, options=None, initial=None):
 
     initial: None or a pair of GridFunctions (u, lam_tau) on ``disc.V``, ``contact.Q`` to start from.
     info: ``iterations`` (outer), ``history`` (relative changes), ``inner_iterations`` (per outer
-    iteration), ``factorizations`` (summed over the inner solves), ``timings``.
-    Raises ``SolverError`` (with the history) if it diverges or does not converge in maxit.
+    iteration), ``factorizations`` (summed over the inner solves), ``timings``, and with contact pairs
+    ``pair_multiplier`` and ``pair_forces`` (of the last inner solve).
+    Raises ``SolverError`` (with the history) if it diverges or does not converge in maxit; ValueError for a
+    contact pair with m_t > 0 (module docstring).
     """
     options = FixedPointOptions() if options is None else options
+    coupled = [pair.m_t for pair in disc.problem.pairs if pair.m_t != 0]
+    if coupled:
+        raise ValueError(f"fixed_point does not freeze the friction bound of a contact pair (m_t = {coupled[0]:g} "
+                         "> 0): use solver='newton' (the coupled semismooth Newton)")
     inner_options = options.inner_options
     inner_solver, inner = INNER[inner_options.solver][0], inner_options.solver
     start = time.perf_counter()
@@ -175,8 +186,10 @@ def fixed_point(disc, contact, options=None, initial=None):
         if options.progress is not None:
             options.progress(f"fixed point {k}: relative change {history[-1]:.2e}")
         if history[-1] <= options.solver_tol or max(exponents(disc.problem.m_t)) == 0:
+            pairs = {key: info[key] for key in ("pair_multiplier", "pair_forces") if key in info}
             return u, lam_tau, dict(iterations=k, history=history, inner_iterations=inner_iterations,
-                                    factorizations=factorizations, timings=dict(total=time.perf_counter() - start))
+                                    factorizations=factorizations, timings=dict(total=time.perf_counter() - start),
+                                    **pairs)
         if not np.isfinite(history[-1]) or (k >= 10 and history[-1] > 0.9 * history[-6]):
             break
     raise SolverError(f"fixed point on the friction bound did not converge: relative changes "

@@ -15,8 +15,9 @@ The contact problem is then solved by the proximal point iteration
     A u_{k+1} + \varepsilon M_f (u_{k+1} - u_k) + B^T f(B u_{k+1}) = F,
 
 :math:`M_f` the mass matrix of the bodies with free motions, :math:`\varepsilon = ` ``EPSILON`` times the typical
-:math:`A_{ii} / M_{ii}`: each step is the condensed contact solve (:mod:`ngdgfric.solvers.newton`) with
-:math:`A + \varepsilon M_f` (factorised once) and the load :math:`F + \varepsilon M_f u_k`.  Its fixed point solves
+:math:`A_{ii} / M_{ii}`: each step is the contact solve of :mod:`ngdgfric.solvers.newton`, condensed or in the full
+space (:mod:`ngdgfric.solvers.fullspace`), with :math:`A + \varepsilon M_f` (factorised once, or one PARDISO
+pattern) and the load :math:`F + \varepsilon M_f u_k`.  Its fixed point solves
 the problem itself (the regularisation leaves no trace in the answer); a motion the contact holds with stiffness
 :math:`k` contracts by :math:`\varepsilon / (\varepsilon + k)` per step, so a few steps reach round-off.  A motion
 that nothing holds (the load pulls the body off, or it slides without friction) drifts by
@@ -111,10 +112,10 @@ def anderson(steps):
 
 
 class FloatingSolve:
-    """The proximal iteration of the module docstring around a ``NewtonState`` (:mod:`ngdgfric.solvers.newton`)
-    made with ``A`` = A + eps M_f (``BlockSum`` of :mod:`ngdgfric.sparse`: the mass matrix lives in the element
-    blocks); ``motions``: the free motions (``free_motions``), ``mass``: eps M_f.  ``of`` makes one where a body
-    has free motions."""
+    """The proximal iteration of the module docstring around a ``NewtonState`` (:mod:`ngdgfric.solvers.newton`) or
+    a ``FullSpaceState`` (:mod:`ngdgfric.solvers.fullspace`) made with ``A`` = A + eps M_f (``BlockSum`` of
+    :mod:`ngdgfric.sparse`: the mass matrix lives in the element blocks); ``motions``: the free motions
+    (``free_motions``), ``mass``: eps M_f.  ``of`` makes one where a body has free motions."""
 
     def __init__(self, disc, motions, epsilon):
         self.disc, self.motions = disc, motions
@@ -144,7 +145,7 @@ class FloatingSolve:
         return f"the {name} of body {number} (regions {', '.join(map(repr, regions))})", amplitudes[k]
 
     def run(self, state, options, u_start):
-        """Proximal steps with ``state`` (a NewtonState of ``self.A``) from u_start (array); returns
+        """Proximal steps with ``state`` (a NewtonState or FullSpaceState of ``self.A``) from u_start (array); returns
         (u, lam_tau, info) of the last step, ``info["proximal_steps"]`` its number of steps."""
         u_k, total_iterations, history, steps = u_start, 0, [], []
         for step in range(1, MAX_STEPS + 1):
@@ -157,7 +158,7 @@ class FloatingSolve:
             if np.linalg.norm(change) <= CONVERGED * max(np.linalg.norm(u_new), 1e-300):
                 info.update(proximal_steps=step, iterations=total_iterations, history=history)
                 return u, lam_tau, info
-            gap = state.reduced.traces(state.f)[:state.traces.M] - state.traces.g_a
+            gap = state.traces.apply(u_new)[:state.traces.M] - state.traces.g_a
             if step > 1 and not np.any(gap > 0):
                 break  # no point pushes: nothing holds the body
             steps = (steps + [(u_k, u_new)])[-(len(self.motions) + 1):]

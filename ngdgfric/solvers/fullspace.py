@@ -58,7 +58,7 @@ from .condensation import augmented_matrix
 from .pardiso import Factorization
 from .reduced import law_forces, multiplier_of, pair_forces, point_state, trace_scale
 
-__all__ = ["FullSpace", "applicable", "kkt_residual", "full_space_newton", "FULL_SPACE_POINTS"]
+__all__ = ["FullSpace", "FullSpaceState", "applicable", "kkt_residual", "FULL_SPACE_POINTS"]
 
 R_FACTOR = 0.1
 """r_q = R_FACTOR / d_q: the Jacobi diagonal d_q stands in for W_qq, which it underestimates; a factor below 1 keeps
@@ -122,6 +122,10 @@ class FullSpace:
         self._row_start = np.searchsorted(traces.rows[order], np.arange(m + 1))
         self._row_cols, self._row_values = traces.cols[order], traces.values[order]
         self.setup_seconds = time.perf_counter() - start
+
+    def load(self, F):
+        """Take the load vector F (an array) instead of the one given to the constructor."""
+        self._F = np.array(F, dtype=float)
 
     def _A_times(self, u):
         """A u (numpy in and out)."""
@@ -259,31 +263,55 @@ class FullSpace:
         return multiplier_of(s, self.r), float(np.sqrt(np.sum(self.scale * s.G * s.G)))
 
 
-def full_space_newton(disc, contact, traces, options, initial=None):
-    """:func:`ngdgfric.solvers.newton.newton` in the full space (module docstring): (u, lam_tau, info) with the keys
-    of the condensed solver's info (``linear_solver`` "pardiso (full space)", ``state`` None: an inexact solve is
-    not resumed, so ``energy_tol`` is not taken here), and ``factorizations`` and ``factor_bytes`` (PARDISO's peak
-    memory)."""
-    start = time.perf_counter()
-    solver = FullSpace(disc.A, disc.F, traces)
-    if initial is None:
-        u, f = np.zeros(disc.V.ndof), np.zeros(2 * traces.M)
-    else:
-        u = initial[0].vec.FV().NumPy().copy()
-        f = law_forces(traces, traces.apply(u), contact.multiplier_values(initial[1]))
-    setup = time.perf_counter() - start
-    left = None if options.max_seconds is None else max(options.max_seconds - setup, 1e-9)
-    u_vec, f, info = solver.run(u, f, options.solver_tol, options.maxit, options.progress, left)
-    multiplier, linearization = solver.finish(u_vec, f)
-    u, lam_tau = starting_point(contact)
-    u.vec.FV().NumPy()[:] = u_vec
-    info.update(pair_multiplier=contact.set_multiplier(lam_tau, multiplier), pair_forces=pair_forces(traces, f))
-    info["factor_bytes"] = solver.factorization.memory_bytes
-    solver.factorization.release()
-    info.update(initial_residual=info["history"][0], steps=["full space"] * info["iterations"],
-                linearization=linearization, contact_points=traces.M,
-                linear_solver="pardiso (full space)", refinements=0, consistency_steps=0, least_squares_solves=0,
-                clamped_points=0, state=None,
-                timings=dict(condense=setup, newton=time.perf_counter() - start - setup, recover=0.0,
-                             total=time.perf_counter() - start))
-    return u, lam_tau, info
+class FullSpaceState:
+    """One discretisation's :class:`FullSpace` (one PARDISO pattern) with the current (u, f): the full-space twin of
+    ``NewtonState`` of :mod:`ngdgfric.solvers.newton` (``start_from``, ``reload``, ``run``), so that the proximal
+    steps of :mod:`ngdgfric.solvers.floating` run around either; a context manager that frees PARDISO's memory at
+    its end.  ``A``: the matrix of the linear part (default
+    ``disc.A``; A + eps M_f for bodies held by contact only)."""
+
+    def __init__(self, disc, contact, traces, A=None):
+        start = time.perf_counter()
+        self.disc, self.contact, self.traces = disc, contact, traces
+        self.solver = FullSpace(disc.A if A is None else A, disc.F, traces)
+        self.u, self.f = np.zeros(disc.V.ndof), np.zeros(2 * traces.M)
+        self.setup_seconds = time.perf_counter() - start
+
+    def start_from(self, u, lam_tau):
+        """(u, f) from GridFunctions u on ``disc.V`` and lam_tau on ``contact.Q``: u, and the forces of the laws at u
+        with lam_tau."""
+        self.u = u.vec.FV().NumPy().copy()
+        self.f = law_forces(self.traces, self.traces.apply(self.u), self.contact.multiplier_values(lam_tau))
+
+    def reload(self, F):
+        """Take the load vector F (an array) instead of disc.F; (u, f) kept as the start."""
+        self.solver.load(F)
+
+    def run(self, options):
+        """Newton from the current (u, f) with the ``NewtonOptions`` ``options``: (u, lam_tau, info) with the keys of
+        the condensed solver's info (``linear_solver`` "pardiso (full space)", ``state`` None: an inexact solve is not
+        resumed, so ``energy_tol`` is not taken here), and ``factorizations`` and ``factor_bytes`` (PARDISO's peak
+        memory)."""
+        start, setup = time.perf_counter(), self.setup_seconds
+        self.setup_seconds = 0.0  # a later run (a proximal step) does not set up again
+        left = None if options.max_seconds is None else max(options.max_seconds - setup, 1e-9)
+        self.u, self.f, info = self.solver.run(self.u, self.f, options.solver_tol, options.maxit, options.progress,
+                                               left)
+        multiplier, linearization = self.solver.finish(self.u, self.f)
+        u, lam_tau = starting_point(self.contact)
+        u.vec.FV().NumPy()[:] = self.u
+        info.update(pair_multiplier=self.contact.set_multiplier(lam_tau, multiplier),
+                    pair_forces=pair_forces(self.traces, self.f), factor_bytes=self.solver.factorization.memory_bytes,
+                    initial_residual=info["history"][0], steps=["full space"] * info["iterations"],
+                    linearization=linearization, contact_points=self.traces.M, linear_solver="pardiso (full space)",
+                    refinements=0, consistency_steps=0, least_squares_solves=0, clamped_points=0, state=None)
+        newton = time.perf_counter() - start
+        info["timings"] = dict(condense=setup, newton=newton, recover=0.0, total=setup + newton)
+        return u, lam_tau, info
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exception):
+        """Free PARDISO's memory: the state is done with (the solution is returned, or the solve failed)."""
+        self.solver.factorization.release()

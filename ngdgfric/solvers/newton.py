@@ -46,7 +46,7 @@ from ..transfer import starting_point
 from . import pardiso, semismooth
 from .condensation import LINEAR_SOLVERS, Condensation
 from .floating import FloatingSolve
-from .fullspace import FULL_SPACE_POINTS, applicable, full_space_newton
+from .fullspace import FULL_SPACE_POINTS, FullSpaceState, applicable
 from .options import SolverOptions
 from .reduced import ReducedContact, pair_forces
 
@@ -247,39 +247,44 @@ def newton(disc, contact, options=None, initial=None, problem=None):
     traces = contact.traces if problem is None else ContactTraces(contact, problem)
     fallback = None
     floating = FloatingSolve.of(disc) if disc.problem.pairs else None
-    if _full_space(disc, traces, options, floating is not None):
+    A = None if floating is None else floating.A
+    if _full_space(disc, traces, options):
         try:
-            return full_space_newton(disc, contact, traces, options, initial)
+            with FullSpaceState(disc, contact, traces, A) as state:
+                return _run(state, floating, options, initial)
         except TimeLimitError:
             raise
         except SolverError as error:  # "auto" only: the condensed solver, where W fits, takes over
             if options.formulation == "full-space" or 32.0 * traces.M**2 > FALLBACK_BYTES:
                 raise
             fallback = f"the full space failed ({error}); solved condensed"
-    state = NewtonState(disc, contact, traces, options.linear_solver, A=None if floating is None else floating.A)
-    if initial is not None:
-        state.start_from(*initial)
-    if floating is None:
-        u, lam_tau, info = state.run(options)
-    else:
-        u_start = np.zeros(disc.V.ndof) if initial is None else initial[0].vec.FV().NumPy().copy()
-        u, lam_tau, info = floating.run(state, options, u_start)
+    u, lam_tau, info = _run(NewtonState(disc, contact, traces, options.linear_solver, A=A), floating, options, initial)
     if fallback is not None:
         info["fallback"] = fallback
     return u, lam_tau, info
 
 
-def _full_space(disc, traces, options, floating=False):
+def _run(state, floating, options, initial):
+    """(u, lam_tau, info) of a ``NewtonState`` or a ``FullSpaceState`` (:mod:`ngdgfric.solvers.fullspace`) from
+    ``initial``: one run, or the proximal steps of the ``FloatingSolve`` ``floating`` around it."""
+    if initial is not None:
+        state.start_from(*initial)
+    if floating is None:
+        return state.run(options)
+    u_start = np.zeros(state.disc.V.ndof) if initial is None else initial[0].vec.FV().NumPy().copy()
+    return floating.run(state, options, u_start)
+
+
+def _full_space(disc, traces, options):
     """Whether ``newton`` takes the full-space iteration (``options.formulation``); ValueError for "full-space"
-    where it does not apply (``floating``: a body has rigid motions that only contact holds)."""
+    where it does not apply."""
     if options.formulation == "condensed":
         return False
     reasons = [reason for reason, missing in (
         ("B_h is not symmetric (NIPG)" if applicable(True, traces) else "it needs a symmetric B_h and m_t = 0",
          not applicable(disc.symmetric, traces)),
         ("energy_tol needs the resumable condensed solve", options.energy_tol is not None),
-        ("it needs MKL PARDISO (pip install mkl)", not pardiso.available() or options.linear_solver == "ngsolve"),
-        ("a body held by contact only needs the condensed solver's proximal steps", floating))
+        ("it needs MKL PARDISO (pip install mkl)", not pardiso.available() or options.linear_solver == "ngsolve"))
         if missing]
     if options.formulation == "full-space":
         if reasons:

@@ -8,8 +8,14 @@ r"""The Uzawa iteration of Section 6 for the characterisation (3.3)-(3.4).
         \quad \text{(Newton on the compliance term)},
 
 (:math:`\lambda_\tau^{k+1} = \operatorname{sign}(u_\tau^k)` where :math:`c_\tau = 0`: there :math:`\lambda_\tau`
-does not enter (3.3), only (3.4)).  Uzawa keeps the full sparse system (NGSolve's factorisations), independent
-of the condensed linear algebra of the default solver, so the two check each other.
+does not enter (3.3), only (3.4)). At the points of the contact pairs (:class:`~ngdgfric.ContactPair`) the same
+update acts on the relative displacement :math:`[u]_\tau` (the tangential rows of :math:`B`), with the pair's
+multiplier an array of point values (``info["pair_multiplier"]``, as the Newton solver's), and the pairs' terms of
+the inner problem are written at their points (``PairTerms`` of :mod:`ngdgfric.solvers.nonlinear`). A body held by
+contact only (no Dirichlet side) is refused: the inner problem's matrix :math:`A + K_n(u)` is singular while that
+body does not touch (the Newton solver's proximal steps, :mod:`ngdgfric.solvers.floating`, handle it). Uzawa keeps
+the full sparse system (NGSolve's factorisations), independent of the condensed linear algebra of the default
+solver, so the two check each other.
 
 **Stopping test.**  :math:`\|u^{k+1} - u^k\|_\infty \le` ``solver_tol`` :math:`\|u^{k+1}\|_\infty` (the
 paper's relative max-norm criterion, here on the coefficient vector of :math:`u_h`) and the complementarity
@@ -36,16 +42,18 @@ import numpy as np
 from ..checks import callback, optional, positive_integer, positive_number
 from ..contact.boundary import evaluate_on_contact, normal_tangent
 from ..contact.forms import friction_matrix
-from ..contact.laws import project_unit
+from ..contact.laws import project_unit, project_unit_values
 from ..errors import SolverError, check_deadline, deadline
 from ..problem import coefficient, exponents
 from ..sparse import direct_inverse
 from ..threads import threads
 from ..transfer import starting_point
-from .nonlinear import ContactOperator, ReusedFactorization, multiplier_update, newton_step, relative_change
+from .floating import FloatingSolve
+from .nonlinear import ContactOperator, PairTerms, ReusedFactorization, multiplier_update, newton_step, relative_change
 from .options import SolverOptions
+from .reduced import pair_forces
 
-__all__ = ["uzawa", "UzawaOptions", "default_rho", "complementarity"]
+__all__ = ["uzawa", "UzawaOptions", "default_rho", "complementarity", "multiplier_step"]
 
 WINDOW = 250  # iterations between the progress checks
 REPORT_EVERY = 100  # iterations between two calls of ``progress``
@@ -100,33 +108,46 @@ class UzawaOptions(SolverOptions):
     max_seconds: float | None = None
 
 
-def default_rho(disc, contact, problem=None, iterations=30, safety=1.5):
+def default_rho(disc, contact, problem=None, iterations=30, safety=1.5, pairs=None):
     """rho = safety / L with L the largest eigenvalue of the linearised Uzawa map of ``problem`` (default
-    ``disc.problem``) on ``disc``.
+    ``disc.problem``) on ``disc``, with the contact pairs' points ``pairs`` (a ``PairTerms``, or None).
 
     The map lam_tau -> c_tau u_tau(lam_tau) of the linear problem (compliance inactive) has the matrix
-    H = M^-1 G^T A^-1 G; projected gradient ascent on the dual converges for rho < 2/L.  L is
-    estimated by ``iterations`` power iterations with the factorised A; the compliance term
-    only adds stiffness and lowers L, so rho = 1.5/L is safe with margin.
+    H = M^-1 G^T A^-1 G (at the pairs' points G = B_t^T diag(omega c_tau) and M = diag(omega)); projected
+    gradient ascent on the dual converges for rho < 2/L.  L is estimated by ``iterations`` power iterations with
+    the factorised A; the compliance term only adds stiffness and lowers L, so rho = 1.5/L is safe with margin.
     """
-    if contact.Q.ndof == 0:
+    points = 0 if pairs is None else pairs.M
+    if contact.Q.ndof + points == 0:
         return 1.0
-    G = friction_matrix(contact, (disc.problem if problem is None else problem).c_tau)
+    foundation = contact.Q.ndof > 0
+    G = friction_matrix(contact, (disc.problem if problem is None else problem).c_tau) if foundation else None
     with threads(disc.V.ndof):
         inverse = direct_inverse(disc.A, disc.symmetric)
-    x = ngs.GridFunction(contact.Q).vec
+    x_Q, load, z = ngs.GridFunction(contact.Q).vec, disc.F.CreateVector(), disc.F.CreateVector()
+    y_Q = x_Q.CreateVector()
+
+    def apply(x):  # H x for x = (lam_tau's coefficients, the pairs' point values)
+        x_Q.FV().NumPy()[:] = x[:contact.Q.ndof]
+        load.FV().NumPy()[:] = 0.0 if pairs is None else pairs.friction_load(x[contact.Q.ndof:])
+        if foundation:
+            load.data += G * x_Q
+        z.data = inverse * load
+        if foundation:
+            y_Q.data = contact.M_inv * (G.T * z)
+        pair_part = np.zeros(0) if pairs is None else pairs.traces.c_tau * pairs.traces_at(z.FV().NumPy())[points:]
+        return np.concatenate([y_Q.FV().NumPy(), pair_part])
+
     rng = np.random.default_rng(0)
-    x.FV().NumPy()[:] = rng.random(len(x)) + 0.5
-    y = x.CreateVector()
+    x = rng.random(contact.Q.ndof + points) + 0.5
     estimate = 0.0
     for _ in range(iterations):
-        y.data = contact.M_inv * (G.T * (inverse * (G * x)))
-        norm_y = np.linalg.norm(y.FV().NumPy())
-        norm_x = np.linalg.norm(x.FV().NumPy())
+        y = apply(x)
+        norm_y, norm_x = np.linalg.norm(y), np.linalg.norm(x)
         if norm_y == 0 or norm_x == 0:
             return 1.0
         estimate = norm_y / norm_x
-        x.data = (1 / norm_y) * y
+        x = y / norm_y
     return safety / estimate
 
 
@@ -147,13 +168,37 @@ def solve_displacement(op, linear_solver, du, solver_tol=1e-13, maxit=50):
                       solver="uzawa (inner Newton)")
 
 
-def complementarity(contact, u, lam_tau):
-    """max_q |lam_tau u_tau - |u_tau|| / ||u||_inf at the contact Gauss points: the residual of (3.4)."""
+def complementarity(contact, u, lam_tau, pairs=None):
+    """max_q |lam_tau u_tau - |u_tau|| / ||u||_inf at the contact Gauss points and at the pairs' points (``pairs``, a
+    ``PairTerms`` with its multiplier, or None; there u_tau is [u]_tau): the residual of (3.4)."""
     _, t = normal_tangent()
     u_tau = evaluate_on_contact(u * t, contact.gauss.points)
     values = contact.gauss.values(lam_tau).ravel()
+    if pairs is not None:
+        u_tau = np.concatenate([u_tau, pairs.traces_at(u.vec.FV().NumPy())[pairs.M:]])
+        values = np.concatenate([values, pairs.lam_tau])
     scale = max(np.max(np.abs(u.vec.FV().NumPy()), initial=0.0), 1e-300)
     return float(np.max(np.abs(values * u_tau - np.abs(u_tau)), initial=0.0)) / scale
+
+
+def multiplier_step(lam_tau, rho, c_tau, u_tau, values=False):
+    """The multiplier update of the module docstring, P_[-1,1](lam_tau + rho c_tau u_tau), and sign(u_tau) where
+    c_tau = 0: CoefficientFunctions, or with ``values`` arrays of point values (the pairs' points)."""
+    if values:
+        return np.where(c_tau > 0, project_unit_values(lam_tau + rho * c_tau * u_tau), np.where(u_tau > 0, 1.0, -1.0))
+    return ngs.IfPos(c_tau, project_unit(lam_tau + rho * c_tau * u_tau), ngs.IfPos(u_tau, 1, -1))
+
+
+def _refuse_floating(disc):
+    """ValueError naming a body held by contact only (:mod:`ngdgfric.solvers.floating`): Uzawa has no proximal
+    steps, and its inner matrix A + K_n(u) is singular while that body does not touch."""
+    floating = FloatingSolve.of(disc)
+    if floating is not None:
+        number, regions, name, _ = floating.motions[0]
+        raise ValueError(f"uzawa cannot solve a body held by contact only: nothing but the contact pairs holds the "
+                         f"{name} of body {number} (regions {', '.join(map(repr, regions))}), so the inner problem's "
+                         f"matrix A + K_n(u) is singular while that body does not touch; use solver='newton' (its "
+                         f"proximal steps), or hold the body by a Dirichlet or symmetry side")
 
 
 def uzawa(disc, contact, options=None, initial=None, problem=None):
@@ -170,14 +215,19 @@ def uzawa(disc, contact, options=None, initial=None, problem=None):
     """
     options = UzawaOptions() if options is None else options
     problem = disc.problem if problem is None else problem
-    if max(exponents(problem.m_t)) != 0:
-        raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {exponents(problem.m_t)}: use "
+    pairs = PairTerms(contact.traces.pair_part(), np.zeros(contact.traces.M - contact.traces.foundation)) \
+        if contact.pairs else None
+    m_t = exponents(problem.m_t) + ([] if pairs is None else [pair.m_t for pair in problem.pairs])
+    if max(m_t) != 0:
+        raise ValueError(f"uzawa solves the reduced law m_t = 0 only, got m_t = {m_t}: use "
                          "solver='newton', or solver='fixed_point' with inner='uzawa'")
+    if pairs is not None:
+        _refuse_floating(disc)
     start = time.perf_counter()
     until = deadline(options.max_seconds)
     u, lam_tau = starting_point(contact, initial)
-    rho = default_rho(disc, contact, problem) if options.rho is None else options.rho
-    op, update = _operators(disc, contact, problem, u, lam_tau, rho)
+    rho = default_rho(disc, contact, problem, pairs=pairs) if options.rho is None else options.rho
+    op, update = _operators(disc, contact, problem, u, lam_tau, rho, pairs)
     linear_solver = ReusedFactorization(op.jacobian, disc.symmetric)
     du, u_old = u.vec.CreateVector(), u.vec.CreateVector()
     history, kkt, inner_steps = [], [], 0
@@ -188,7 +238,7 @@ def uzawa(disc, contact, options=None, initial=None, problem=None):
         inner_steps += solve_displacement(op, linear_solver, du)
         u_old.data -= u.vec
         history.append(relative_change(u_old, u.vec))
-        kkt.append(complementarity(contact, u, lam_tau))
+        kkt.append(complementarity(contact, u, lam_tau, pairs))
         _report(options.progress, k, history, kkt)
         _check_divergence(rho, history, k)
         if _converged(options, history, kkt, k):
@@ -202,19 +252,29 @@ def uzawa(disc, contact, options=None, initial=None, problem=None):
                             f"(last relative change {history[-1]:.3e}, complementarity residual {kkt[-1]:.3e})")
     info = dict(iterations=k, history=history, kkt_history=kkt, rho=rho, inner_steps=inner_steps,
                 **linear_solver.counts, timings=dict(**linear_solver.times, total=time.perf_counter() - start))
+    if pairs is not None:
+        info.update(pair_multiplier=pairs.lam_tau.copy(),
+                    pair_forces=pair_forces(pairs.traces, pairs.forces(u.vec.FV().NumPy())))
     return u, lam_tau, info
 
 
-def _operators(disc, contact, problem, u, lam_tau, rho):
-    """Uzawa's inner operator F_lam_tau(u) (``ContactOperator`` with the friction force
-    density c_tau lam_tau) and the update lam_tau <- P_[-1,1](lam_tau + rho c_tau u_tau) (sign(u_tau) where
-    c_tau = 0), a callable."""
+def _operators(disc, contact, problem, u, lam_tau, rho, pairs=None):
+    """Uzawa's inner operator F_lam_tau(u) (``ContactOperator`` with the friction force density c_tau lam_tau, and
+    the pairs' terms ``pairs``) and the update of lam_tau and of the pairs' multiplier (``multiplier_step``), a
+    callable."""
     _, t = normal_tangent()
     c_tau = coefficient(problem.c_tau)
-    op = ContactOperator(disc, contact, u, c_tau, lam_tau)
-    u_tau = u * t
-    update = multiplier_update(contact, lam_tau, ngs.IfPos(c_tau, project_unit(lam_tau + rho * c_tau * u_tau),
-                                                        ngs.IfPos(u_tau, 1, -1)))
+    op = ContactOperator(disc, contact, u, c_tau, lam_tau, pairs)
+    foundation = multiplier_update(contact, lam_tau, multiplier_step(lam_tau, rho, c_tau, u * t)) \
+        if contact.Q.ndof else None
+
+    def update():
+        if foundation is not None:
+            foundation()
+        if pairs is not None:
+            u_tau = pairs.traces_at(u.vec.FV().NumPy())[pairs.M:]
+            pairs.lam_tau[:] = multiplier_step(pairs.lam_tau, rho, pairs.traces.c_tau, u_tau, values=True)
+
     return op, update
 
 
