@@ -44,6 +44,26 @@ materials, an interface, a curved side, a hole, a symmetry plane, data per regio
     # m_t = 0.0                               # optional: exponent of the friction bound (default 0)
                                               # each of them: one value, or a table {contact side = value}
 
+Two bodies in contact (:class:`~ngdgfric.ContactPair`): regions that share no interface are bodies of their own, and
+each ``[[contact.pair]]`` table names a side of one body and the side of another that it meets (sides of two bodies
+that touch must be a pair); ``side``, ``other`` and ``c_n`` are required, ``m_n`` (default 1), ``c_tau`` (0),
+``m_t`` (0), ``g_a`` (0, an offset added to the geometric gap) and ``reach`` (default: a tenth of the domain's
+diameter) optional, each a number.  With ``contact = []`` in ``[boundaries]`` no side rests on the foundation and the
+law of ``[contact]`` may be left out (then ``c_n = 0``, ``m_n = 1``, ``g_a = 0``, ``c_tau = 0``); ``dirichlet = []``
+is allowed too when there are pairs.  Errors name the table (``contact.pair[0].c_n``)::
+
+    [boundaries]
+    dirichlet = "top"
+    symmetry = ["bottom", "left1", "left2"]
+    traction = ["right1", "right2"]
+    contact = []                              # no side on the foundation
+
+    [[contact.pair]]                          # side c2 of the upper block meets side c1 of the lower
+    side = "c2"
+    other = "c1"
+    c_n = 50.0
+    c_tau = 0.3                               # optional: m_n, c_tau, m_t, g_a, reach
+
 One region (named ``omega``) may be written directly in ``[geometry]``, the form of the paper's examples
 (the shipped file of Example 6.1); without ``arcs`` and holes it is a :class:`~ngdgfric.Polygon`::
 
@@ -477,6 +497,7 @@ def _pairs(where, value):
                 fields[key] = _in(f"{at}.{key}", _number, item)
         try:
             pairs.append(ContactPair(**fields))
-        except ValueError as exc:  # "ContactPair.c_n must be >= 0, ...": the key as the file names it
-            raise _KeyError(at, str(exc).replace("ContactPair.", f"{at}.")) from None
+        except ValueError as exc:  # "ContactPair.c_n must be >= 0, ...": named by the key of the table
+            field = re.match(r"ContactPair\.(\w+) (.*)", str(exc), re.DOTALL)
+            raise _KeyError(f"{at}.{field[1]}" if field else at, field[2] if field else str(exc)) from None
     return tuple(pairs)
