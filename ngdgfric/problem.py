@@ -416,7 +416,7 @@ class ContactProblem:
                     raise ValueError(f"pairs[{k}]: the geometry has no side {name!r}; its sides: "
                                      f"{list(self.geometry.side_names)}")
                 if name in seen:
-                    raise ValueError(f"side {name!r} is in pairs[{seen[name]}] and pairs[{k}]: a side may be in one "
+                    raise ValueError(f"pairs[{k}]: side {name!r} is in pairs[{seen[name]}] too: a side may be in one "
                                      f"contact pair only")
                 seen[name] = k
             bodies = [self.geometry.body_of_side(name) for name in (pair.side, pair.other)]

@@ -44,6 +44,26 @@ materials, an interface, a curved side, a hole, a symmetry plane, data per regio
     # m_t = 0.0                               # optional: exponent of the friction bound (default 0)
                                               # each of them: one value, or a table {contact side = value}
 
+Two bodies in contact (:class:`~ngdgfric.ContactPair`): regions that share no interface are bodies of their own, and
+each ``[[contact.pair]]`` table names a side of one body and the side of another that it meets (sides of two bodies
+that touch must be a pair); ``side``, ``other`` and ``c_n`` are required, ``m_n`` (default 1), ``c_tau`` (0),
+``m_t`` (0), ``g_a`` (0, an offset added to the geometric gap) and ``reach`` (default: a tenth of the domain's
+diameter) optional, each a number.  With ``contact = []`` in ``[boundaries]`` no side rests on the foundation and the
+law of ``[contact]`` may be left out (then ``c_n = 0``, ``m_n = 1``, ``g_a = 0``, ``c_tau = 0``); ``dirichlet = []``
+is allowed too when there are pairs.  Errors name the table (``contact.pair[0].c_n``)::
+
+    [boundaries]
+    dirichlet = "top"
+    symmetry = ["bottom", "left1", "left2"]
+    traction = ["right1", "right2"]
+    contact = []                              # no side on the foundation
+
+    [[contact.pair]]                          # side c2 of the upper block meets side c1 of the lower
+    side = "c2"
+    other = "c1"
+    c_n = 50.0
+    c_tau = 0.3                               # optional: m_n, c_tau, m_t, g_a, reach
+
 One region (named ``omega``) may be written directly in ``[geometry]``, the form of the paper's examples
 (the shipped file of Example 6.1); without ``arcs`` and holes it is a :class:`~ngdgfric.Polygon`::
 
@@ -69,11 +89,12 @@ Shipped problem files (:func:`ngdgfric.example_file`): the paper's Examples 6.1 
 ``half_disk``, ``block_with_hole``, ``two_materials_symmetric``, ``indentation`` and ``rubber_pad``.
 """
 
+import re
 from pathlib import Path
 
 from .domain import Domain, Loop, check_name
 from .expressions import FUNCTIONS, parse_expression
-from .problem import ContactProblem, Polygon
+from .problem import ContactPair, ContactProblem, Polygon
 
 try:
     import tomllib
@@ -96,16 +117,23 @@ SCHEMA = {
     "boundaries": {"dirichlet": "sides", "traction": "sides", "contact": "sides", "symmetry": "sides"},
     "loads": {"f": "vector", "g": "vector", "u_D": "vector"},
     # m_t: optional friction exponent, default 0 (the paper's law)
-    "contact": {"c_n": "scalar", "m_n": "number", "g_a": "scalar", "c_tau": "scalar", "m_t": "number"},
+    # pair: the [[contact.pair]] tables (read by _pairs)
+    "contact": {"c_n": "scalar", "m_n": "number", "g_a": "scalar", "c_tau": "scalar", "m_t": "number",
+                "pair": "pairs"},
 }
 PER_PART = {"E": "region", "nu": "region", "f": "region", "g": "traction side", "u_D": "dirichlet side",
             "c_n": "contact side", "g_a": "contact side", "c_tau": "contact side", "m_n": "contact side",
             "m_t": "contact side"}
 REQUIRED = {"material": ("E", "nu"), "contact": ("c_n", "m_n", "g_a", "c_tau")}
 DEFAULTS = {"f": (0.0, 0.0), "g": (0.0, 0.0)}
+# the law of [contact] when boundaries.contact = [] (no side on the foundation, bodies in contact through pairs)
+NO_CONTACT_SIDE = {"c_n": 0.0, "m_n": 1.0, "g_a": 0.0, "c_tau": 0.0}
 KEYS = {key: f"{section}.{key}" for section, keys in SCHEMA.items() for key in keys}
 # the keys of a [[geometry.region]] / [[geometry.hole]] table: a loop, or a circle
 LOOP_KEYS, CIRCLE_KEYS = ("vertices", "labels", "arcs"), ("centre", "radius", "label")
+# the keys of a [[contact.pair]] table (ngdgfric.ContactPair's fields), the first three required
+PAIR_KEYS = ("side", "other", "c_n", "m_n", "c_tau", "m_t", "g_a", "reach")
+PAIR_REQUIRED = ("side", "other", "c_n")
 
 
 def shipped_files():
@@ -219,6 +247,9 @@ def problem_from_dict(data, source="<dict>", default_name="contact problem"):
     if not isinstance(name, str):
         fail("name", f"must be a string, got {name!r}")
     values = dict(DEFAULTS)
+    boundaries = data.get("boundaries", {})
+    if isinstance(boundaries, dict) and boundaries.get("contact", None) == []:
+        values.update(NO_CONTACT_SIDE)  # the law of no side: [contact] may leave it out
     for section, keys in SCHEMA.items():
         table = data.get(section, {})
         if not isinstance(table, dict):
@@ -226,10 +257,16 @@ def problem_from_dict(data, source="<dict>", default_name="contact problem"):
         for key in sorted(set(table) - set(keys)):
             fail(f"{section}.{key}", f"unknown key (allowed in [{section}]: {', '.join(keys)})")
         for key in REQUIRED.get(section, ()):
-            if key not in table:
+            if key not in table and key not in values:
                 fail(f"{section}.{key}", "missing")
         for key, value in table.items():
             if keys[key] == "geometry":
+                continue
+            if keys[key] == "pairs":
+                try:
+                    values["pairs"] = _pairs(f"{section}.{key}", value)
+                except _KeyError as exc:
+                    fail(exc.key, str(exc))
                 continue
             try:
                 values[key] = _value(keys[key], value, key in PER_PART)
@@ -254,9 +291,9 @@ def problem_from_dict(data, source="<dict>", default_name="contact problem"):
 def in_file(source, error):
     """The message of a problem's ValueError as the file says it: "nu must be ..." from ``source``
     becomes "<source>: material.nu must be ..."."""
-    message = str(error)
+    message = re.sub(r"\bpairs\[(\d+)\]", r"contact.pair[\1]", str(error))  # ContactProblem's pairs[k]
     field = message.split(" ", 1)[0].split("[", 1)[0].removesuffix(":")
-    if field in KEYS:
+    if field in KEYS and field != "pair":
         message = f"{KEYS[field].rsplit('.', 1)[0]}.{message}"
     elif message.startswith("side name "):  # one side in two boundary parts
         message = f"boundaries: {message}"
@@ -436,3 +473,31 @@ def _geometry(table):
                 raise _KeyError(f"{where}.name", f"region {name!r} is given twice")
             named[name] = _loop(where, region, ("name",) + LOOP_KEYS + CIRCLE_KEYS)
     return _in("geometry", lambda _: Domain(named, hole_loops), None)
+
+
+def _pairs(where, value):
+    """The :class:`~ngdgfric.ContactPair` tuple of the ``[[contact.pair]]`` tables (errors name the table)."""
+    if not (isinstance(value, list) and all(isinstance(table, dict) for table in value)):
+        raise _KeyError(where, f"must be a list of tables ([[{where}]]: side, other, c_n, ...), got {value!r}")
+    pairs = []
+    for k, table in enumerate(value):
+        at = f"{where}[{k}]"
+        for key in sorted(set(table) - set(PAIR_KEYS)):
+            raise _KeyError(f"{at}.{key}", f"unknown key (allowed: {', '.join(PAIR_KEYS)})")
+        for key in PAIR_REQUIRED:
+            if key not in table:
+                raise _KeyError(f"{at}.{key}", f"missing (a pair needs {', '.join(PAIR_REQUIRED)})")
+        fields = {}
+        for key, item in table.items():
+            if key in ("side", "other"):
+                if not (isinstance(item, str) and item):
+                    raise _KeyError(f"{at}.{key}", f"must be a side name, got {item!r}")
+                fields[key] = item
+            else:
+                fields[key] = _in(f"{at}.{key}", _number, item)
+        try:
+            pairs.append(ContactPair(**fields))
+        except ValueError as exc:  # "ContactPair.c_n must be >= 0, ...": named by the key of the table
+            field = re.match(r"ContactPair\.(\w+) (.*)", str(exc), re.DOTALL)
+            raise _KeyError(f"{at}.{field[1]}" if field else at, field[2] if field else str(exc)) from None
+    return tuple(pairs)

@@ -23,7 +23,7 @@ expressions, meshes, references).
 The report starts with counts per verdict and lists the cases that are not a "named error"; the
 exit code is 0 iff every case run is a "named error".  Regenerate results/fuzz.md with
 
-    python scripts/fuzz.py [--workers 2] [--timeout 30] [--only SUBSTRING] [--quick] [--out results]
+    python scripts/fuzz.py [--workers 2] [--timeout 30] [--only SUBSTRING] [--family NAME] [--quick] [--out results]
 
 ``--quick`` runs only the cases of the problem-file schema (``tests/data/fuzz/schema.toml``: regions,
 holes, arcs, symmetry sides, data per region and per side, u_D and the expression functions step, min,
@@ -53,7 +53,7 @@ REPO = Path(__file__).resolve().parent.parent
 RESULTS = REPO / "results"
 DATA = REPO / "tests" / "data" / "fuzz"
 FAMILIES = ("data", "functions", "expressions", "geometry", "mesh", "reference", "files", "arguments", "output",
-            "schema", "surface")
+            "schema", "surface", "pairs")
 
 NAMED = "named error"
 UNNAMED = "unnamed error"
@@ -452,6 +452,8 @@ def report(results, args, seconds):
         lines.append(f"Quick run: only the cases of the problem-file schema (ids containing {QUICK!r}).")
     if args.only:
         lines.append(f"Only the cases whose id contains {' or '.join(map(repr, args.only))}.")
+    if args.family:
+        lines.append(f"Only the famil{'ies' if len(args.family) > 1 else 'y'} {', '.join(args.family)}.")
     lines += [
         "",
         "| verdict | cases |",
@@ -499,6 +501,8 @@ def parse(argv=None):
     parser.add_argument("--timeout", type=float, default=30.0, help="seconds before a case is a hang (default: 30)")
     parser.add_argument("--only", action="append", metavar="SUBSTRING",
                         help="run only the cases whose id contains SUBSTRING (repeatable: any of them)")
+    parser.add_argument("--family", action="append", choices=FAMILIES,
+                        help="run only the cases of this family (tests/data/fuzz/FAMILY.toml; repeatable)")
     parser.add_argument("--quick", action="store_true",
                         help=f"run only the cases of the problem-file schema (ids containing {QUICK!r}: regions, "
                              "holes, arcs, symmetry, data per part, u_D, the expression functions)")
@@ -513,7 +517,8 @@ def parse(argv=None):
 def selected(args):
     """The cases that ``args`` (--quick, --only) select, in the order of CASES."""
     return [case for case in CASES if (not args.quick or QUICK in case.id)
-            and (not args.only or any(part in case.id for part in args.only))]
+            and (not args.only or any(part in case.id for part in args.only))
+            and (not args.family or case.family in args.family)]
 
 
 def main(argv=None):

@@ -37,6 +37,15 @@ def test_the_schema_of_problem_files_is_covered_and_is_the_quick_run():
     assert len(fuzz.selected(fuzz.parse([]))) == len(fuzz.CASES)
 
 
+def test_a_family_is_selected_by_its_name():
+    pairs = fuzz.selected(fuzz.parse(["--family", "pairs"]))
+    assert pairs and {case.family for case in pairs} == {"pairs"}
+    assert len(pairs) == sum(case.family == "pairs" for case in fuzz.CASES)
+    assert [case.id for case in fuzz.selected(fuzz.parse(["--family", "pairs", "--only", "touching"]))] \
+        == ["api-pairs-touching-not-a-pair", "cli-pairs-toml-touching-not-a-pair"]
+    assert not fuzz.selected(fuzz.parse(["--family", "data", "--only", "pairs-"]))
+
+
 def outcome(code, stdout="", stderr=""):
     return fuzz.Outcome(code, stdout, stderr, 0.1)
 

@@ -289,7 +289,7 @@ def test_a_body_that_nothing_holds_is_named():
 @pytest.mark.parametrize("change, message", [
     (dict(pairs=[ndf.ContactPair("c2", "top", c_n=1.0)]), "belong to one body"),
     (dict(pairs=[ndf.ContactPair("c2", "c1", c_n=1.0), ndf.ContactPair("c1", "right2", c_n=1.0)]),
-     "side 'c1' is in pairs.0. and pairs.1."),
+     r"pairs\[1\]: side 'c1' is in pairs\[0\] too"),
     (dict(pairs=[ndf.ContactPair("c2", "c9", c_n=1.0)]), "the geometry has no side 'c9'"),
     (dict(pairs=[]), "sides 'c1' and 'c2' of two bodies touch but are not a contact pair"),
     (dict(pairs=[], contact="c1", traction=("right1", "right2", "top", "c2")),

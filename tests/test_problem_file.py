@@ -470,3 +470,159 @@ def test_how_deep_an_expression_may_nest_does_not_depend_on_the_callers_stack():
 
     for depth in (0, 400, 800):
         assert nested(depth)(UNIT_SQUARE(0.25, 0.5)) == pytest.approx(0.25)
+
+
+# ---------------------------------------------------------------- contact pairs
+
+PAIRS = """
+name = "two blocks"
+[material]
+E = 1.0
+nu = 0.3
+[[geometry.region]]
+name = "lower"
+vertices = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+labels = ["bottom", "right1", "c1", "left1"]
+[[geometry.region]]
+name = "upper"
+vertices = [[0.0, 1.0], [1.0, 1.0], [1.0, 1.5], [0.0, 1.5]]
+labels = ["c2", "right2", "top", "left2"]
+[boundaries]
+dirichlet = ["top"]
+symmetry = ["bottom", "left1", "left2"]
+traction = ["right1", "right2"]
+contact = []
+[loads]
+u_D = { top = [0.0, -0.01] }
+[[contact.pair]]
+side = "c2"
+other = "c1"
+c_n = 50.0
+"""
+
+
+def two_blocks(**pair):
+    """The problem of PAIRS built in Python, its pair with ``pair`` changed."""
+    lower = ndf.Loop([(0, 0), (1, 0), (1, 1), (0, 1)], ["bottom", "right1", "c1", "left1"])
+    upper = ndf.Loop([(0, 1), (1, 1), (1, 1.5), (0, 1.5)], ["c2", "right2", "top", "left2"])
+    return ndf.ContactProblem(
+        E=1.0, nu=0.3, f=(0, 0), g=(0, 0), c_n=0.0, m_n=1.0, g_a=0.0, c_tau=0.0,
+        geometry=Domain({"lower": lower, "upper": upper}), dirichlet=("top",), symmetry=("bottom", "left1", "left2"),
+        traction=("right1", "right2"), contact=(), pairs=[ndf.ContactPair("c2", "c1", **{"c_n": 50.0, **pair})],
+        u_D={"top": (0, -0.01)})
+
+
+def test_contact_pairs_load_equal_to_the_problem_made_in_python_and_solve_the_same(tmp_path):
+    path = tmp_path / "pairs.toml"
+    path.write_text(PAIRS)
+    loaded, made = load_problem(path), two_blocks()
+    assert loaded == made and loaded.name == "two blocks"
+    assert loaded.pairs == (ndf.ContactPair("c2", "c1", c_n=50.0),) and loaded.contact == ()
+    solutions = [ndf.solve(problem, ndf.netgen_mesh(problem, {"lower": 1 / 3, "upper": 1 / 5}), method="sipg",
+                           order=1) for problem in (made, loaded)]
+    u, v = (sol.u.vec.FV().NumPy() for sol in solutions)
+    assert len(u) == len(v) and abs(u).max() > 1e-3
+    assert abs(u - v).max() <= 1e-12 * abs(u).max()
+
+
+def test_every_key_of_a_contact_pair_is_read():
+    data = tomllib.loads(PAIRS)
+    data["contact"]["pair"][0].update(m_n=2, c_tau=0.3, m_t=1.0, g_a=-0.001, reach=0.05)
+    data["contact"].update(c_n=0.0, m_n=1.0, g_a=0.0, c_tau=0.0)  # the law may be given with contact = [] too
+    expected = two_blocks(m_n=2.0, c_tau=0.3, m_t=1.0, g_a=-0.001, reach=0.05)
+    assert problem_from_dict(data, source="pairs.toml") == expected
+
+
+PAIR_ERRORS = [  # (changes of the pair table, None: delete; its error after "pairs.toml: ")
+    ({"colour": "red"}, "contact.pair[0].colour: unknown key (allowed: side, other, c_n, m_n, c_tau, m_t, g_a, reach)"),
+    ({"c_n": None}, "contact.pair[0].c_n: missing"),
+    ({"other": None}, "contact.pair[0].other: missing"),
+    ({"side": 3}, "contact.pair[0].side: must be a side name, got 3"),
+    ({"other": ""}, "contact.pair[0].other: must be a side name, got ''"),
+    ({"c_tau": "0.3*x"}, "contact.pair[0].c_tau: must be a number, got '0.3*x'"),
+    ({"reach": True}, "contact.pair[0].reach: must be a number, got True"),
+    ({"c_n": -1.0}, "contact.pair[0].c_n: must be >= 0, got -1.0"),
+    ({"m_n": 0.5}, "contact.pair[0].m_n: must be >= 1, got 0.5"),
+    ({"m_t": -1.0}, "contact.pair[0].m_t: must be >= 0, got -1.0"),
+    ({"g_a": math.nan}, "contact.pair[0].g_a: must be a finite number, got nan"),
+    ({"c_tau": math.inf}, "contact.pair[0].c_tau: must be a finite number, got inf"),
+    ({"reach": 0.0}, "contact.pair[0].reach: must be > 0, got 0.0"),
+    ({"reach": -1.0}, "contact.pair[0].reach: must be > 0, got -1.0"),
+    ({"other": "c2"}, "contact.pair[0]: a contact pair needs two sides, got 'c2' twice"),
+    ({"other": "nowhere"}, "contact.pair[0]: the geometry has no side 'nowhere'"),
+    ({"other": "right1"}, "sides 'c1' and 'c2' of two bodies touch but are not a contact pair"),
+]
+
+
+@pytest.mark.parametrize("changes, message", PAIR_ERRORS, ids=[message.split(":")[0] + "-" + ",".join(changes)
+                                                               for changes, message in PAIR_ERRORS])
+def test_bad_contact_pairs_are_named_by_their_table(changes, message):
+    data = tomllib.loads(PAIRS)
+    pair = data["contact"]["pair"][0]
+    for key, value in changes.items():
+        if value is None:
+            del pair[key]
+        else:
+            pair[key] = value
+    with pytest.raises(ValueError) as error:
+        problem_from_dict(data, source="pairs.toml")
+    assert str(error.value).startswith(f"pairs.toml: {message}"), str(error.value)
+
+
+def test_a_pair_within_one_body_is_named_by_its_table():
+    data = tomllib.loads(PAIRS)  # two sides of one region
+    data["boundaries"].update(traction=["right2"], symmetry=["bottom", "left2"])
+    data["contact"]["pair"].insert(0, {"side": "left1", "other": "right1", "c_n": 1.0})
+    with pytest.raises(ValueError, match=re.escape("pairs.toml: contact.pair[0]: sides 'left1' and 'right1' belong "
+                                                   "to one body (regions 'lower'): a pair joins two bodies")):
+        problem_from_dict(data, source="pairs.toml")
+    data = tomllib.loads(PAIRS)  # two regions joined by an interface
+    data["geometry"]["region"][0]["labels"][2] = data["geometry"]["region"][1]["labels"][0] = "interface"
+    data["boundaries"]["traction"] = []
+    data["contact"]["pair"] = [{"side": "right1", "other": "right2", "c_n": 1.0}]
+    with pytest.raises(ValueError, match=re.escape("pairs.toml: contact.pair[0]: sides 'right1' and 'right2' belong "
+                                                   "to one body (regions 'lower', 'upper')")):
+        problem_from_dict(data, source="pairs.toml")
+
+
+def test_a_pair_side_in_a_boundary_part_is_named():
+    data = tomllib.loads(PAIRS)
+    data["contact"]["pair"].append({"side": "right2", "other": "right1", "c_n": 1.0})
+    with pytest.raises(ValueError, match=re.escape("pairs.toml: boundaries: side name 'right2' is in both traction "
+                                                   "and pair")):
+        problem_from_dict(data, source="pairs.toml")
+
+
+def test_a_side_in_two_pairs_is_named_by_the_second_pair():
+    data = tomllib.loads(PAIRS)
+    data["contact"]["pair"].append({"side": "c1", "other": "right2", "c_n": 1.0})
+    with pytest.raises(ValueError, match=re.escape("pairs.toml: contact.pair[1]: side 'c1' is in contact.pair[0] too")):
+        problem_from_dict(data, source="pairs.toml")
+
+
+@pytest.mark.parametrize("value, message", [
+    (1.0, "contact.pair: must be a list of tables ([[contact.pair]]"),
+    ([1.0], "contact.pair: must be a list of tables"),
+    ({"side": "c2"}, "contact.pair: must be a list of tables"),
+])
+def test_contact_pairs_must_be_tables(value, message):
+    data = tomllib.loads(PAIRS)
+    data["contact"]["pair"] = value
+    with pytest.raises(ValueError, match=re.escape(f"pairs.toml: {message}")):
+        problem_from_dict(data, source="pairs.toml")
+
+
+def test_the_contact_law_may_be_left_out_only_without_contact_sides():
+    data = tomllib.loads(PAIRS)
+    del data["contact"]["pair"]
+    with pytest.raises(ValueError, match=re.escape("pairs.toml: sides 'c1' and 'c2' of two bodies touch but are not "
+                                                   "a contact pair")):
+        problem_from_dict(data, source="pairs.toml")  # no pairs: the blocks touch
+    upper = data["geometry"]["region"][1]
+    upper["vertices"] = [[x, y + 0.5] for x, y in upper["vertices"]]
+    with pytest.raises(ValueError, match=re.escape("pairs.toml: boundaries.contact needs at least one side name")):
+        problem_from_dict(data, source="pairs.toml")  # no pairs, blocks apart: an empty contact list is refused
+    data = tomllib.loads(PAIRS)
+    data["boundaries"]["contact"] = "c1"
+    with pytest.raises(ValueError, match=re.escape("pairs.toml: contact.c_n: missing")):
+        problem_from_dict(data, source="pairs.toml")
