@@ -155,15 +155,6 @@ def check_solution(value, name, reference=False):
     raise ValueError(f"{name} must be {what}, got {shown(value)}{hint}")
 
 
-def refuse_pairs(problem, what):
-    """ValueError if ``problem`` has contact pairs (two bodies, :class:`~ngdgfric.ContactPair`): ``what`` (a tool
-    named in the message) has no terms for them yet, and would leave them out silently."""
-    if getattr(problem, "pairs", ()):
-        raise ValueError(f"{what} does not handle contact pairs (two bodies) yet: it would leave the pairs' terms out; "
-                         f"solve with solver='newton' and read sol.info['pair_forces'] and "
-                         f"sol.info['pair_multiplier'] (issue 49)")
-
-
 def shown(value):
     """A bad argument as a message shows it: numbers, strings, None and containers by their (shortened) repr, any
     other object by its type."""
