@@ -16,7 +16,7 @@ solver (:mod:`ngdgfric.solvers.newton`).
 The contact pairs (:class:`~ngdgfric.ContactPair`) have no form on :math:`\Gamma_C`: their terms are written at
 their points with the rows of :math:`B` (``ContactTraces.pair_part`` of :mod:`ngdgfric.contact.traces`),
 :math:`B^T f` with the forces :math:`f = (N(B_n u), \omega c_\tau \lambda_\tau)` of the laws
-(:func:`~ngdgfric.solvers.reduced.law_forces`) and the Jacobian :math:`B_n^T \operatorname{diag} N'(B_n u) B_n`
+(``law_forces`` of :mod:`ngdgfric.solvers.reduced`) and the Jacobian :math:`B_n^T \operatorname{diag} N'(B_n u) B_n`
 (``PairTerms``), whose blocks couple the two bodies.
 """
 
