@@ -60,8 +60,8 @@ import numpy as np
 from .boundary import boundary_edges, contact_rule
 from .state import contact_state
 
-__all__ = ["Zone", "ContactSide", "contact_sides", "zone_masks", "side_of", "walk", "chains", "zone", "constant_vectors", "LAM_TOL",
-           "SLIP_TOL"]
+__all__ = ["Zone", "ContactSide", "contact_sides", "zone_masks", "side_of", "walk", "chains", "zone",
+           "constant_vectors", "LAM_TOL", "SLIP_TOL"]
 
 LAM_TOL = 1e-6
 """Default ``lam_tol`` of :func:`ngdgfric.forces.force_balance`: |lam_tau| >= 1 - LAM_TOL is at the friction bound."""
