@@ -34,7 +34,7 @@ integrands and quadrature of the discrete problem.
 :math:`e_i` on body :math:`b` and 0 elsewhere, is the balance of body :math:`b` alone: the reactions of its
 supports, its loads (:math:`(f, e_i^b)` and the tractions of its sides), the foundation's contact forces on its
 contact sides and the pairs' forces on its pair sides (:mod:`ngdgfric.contact.pair_zones`: measured on each side
-of a pair through that side's traces) add up to zero (:attr:`ngdgfric.ForceBalance.bodies`).  A pair's force on
+of a pair through that side's traces) add up to zero (``bodies`` of :class:`~ngdgfric.ForceBalance`).  A pair's force on
 one side and on the other are equal and opposite to round-off (:meth:`ngdgfric.ForceBalance.pair_resultants`).
 """
 

@@ -1,4 +1,4 @@
-r"""Forces and zones on both sides of each contact pair (two bodies): a :class:`~ngdgfric.contact.forces.ContactSide`
+r"""Forces and zones on both sides of each contact pair (two bodies): a ``ContactSide`` (:mod:`ngdgfric.contact.forces`)
 for the pair's side and one for the other side.
 
 **Forces.**  With :math:`f` the forces at the pair's points (:mod:`ngdgfric.contact.pair_state`) and :math:`e_i^b`

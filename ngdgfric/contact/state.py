@@ -20,7 +20,8 @@ def contact_state(sol):
     r"""The state of a solution at the contact Gauss points.
 
     The points are those of the discrete problem's contact rule on :math:`\Gamma_C`, :math:`p + 1` per edge, in
-    the order of :meth:`ngdgfric.Contact.points`.
+    the order of :meth:`ngdgfric.Contact.points` (none without a contact side; the points of contact pairs:
+    :func:`ngdgfric.pair_state`).
 
     Parameters
     ----------
@@ -42,8 +43,6 @@ def contact_state(sol):
         - ``c_tau``: the friction coefficient;
         - ``bound``: the friction bound :math:`c_\tau (u_n - g_a)_+^{m_t}` (1.9) (:math:`c_\tau` for
           :math:`m_t = 0`).
-
-    The points of contact pairs (two bodies): :func:`ngdgfric.contact.pair_state`.
 
     Examples
     --------
@@ -120,10 +119,10 @@ def _relative_residual(disc, contact, u, lam_tau, pair_lam_tau=None):
 
 
 def kkt_residuals(sol):
-    r"""Violations of the discrete KKT system (3.3)-(3.4) of a solution at the Gauss points of :math:`\Gamma_C` and
-    at the points of its contact pairs.
+    r"""Violations of the discrete KKT system (3.3)-(3.4) at the contact points of a solution.
 
-    All three are at round-off level at a solution.  At a pair's points the multiplier and the slip are those of
+    The points: the Gauss points of :math:`\Gamma_C` and the points of the contact pairs.  All three are at round-off
+    level at a solution.  At a pair's points the multiplier and the slip are those of
     the jump :math:`[u_h]_\tau` (:func:`ngdgfric.contact.pair_state`); the compliance law needs no residual of its
     own there, as on the foundation: the equilibrium residual evaluates it at :math:`u_h`.
 
