@@ -253,6 +253,19 @@ def test_long_contact_side_report_only(tmp_path):
     assert "--report-only" not in written and "| 0.18 (2, 1) |" in written and "| - (-) | - | - / 23 |" in written
 
 
+def test_bench_pairs(tmp_path):
+    """p = 1, M about 100 and 300 pair points on two stacked strips: the rows the CSV holds and their ratios."""
+    run("bench_pairs", tmp_path)
+    rows = read_csv(tmp_path / "pair_benchmark.csv")
+    assert [r["order"] for r in rows] == [1, 1]
+    assert 80 <= rows[0]["points"] <= 120 and 250 <= rows[1]["points"] <= 350
+    for row in rows:
+        assert row["ratio"] == pytest.approx(row["contact"] / row["linear"], rel=1e-6)
+        assert row["floor_ratio"] == pytest.approx(row["contact"] / row["floor"], rel=1e-6)
+        assert row["pair_points"] > 0 and row["pairing"] > 0
+    assert f"| 1 | {int(rows[1]['points'])} |" in (tmp_path / "pair_benchmark.md").read_text()
+
+
 def test_bench_equilibration(tmp_path):
     rows = run("bench_equilibration", tmp_path)
     assert [r["mesh"] for r in rows] == ["uniform h = 1/8, p = 1", "uniform h = 1/8, p = 2"]
