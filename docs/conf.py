@@ -238,6 +238,7 @@ RESULT_GROUPS = {
         "hp": "hp-adaptivity against h and uniform refinement",
         "curved": "Rates on curved meshes",
         "hertz": "A Hertz contact against Hertz's theory",
+        "two_cylinders": "Two elastic cylinders (two bodies, a contact pair, load control) against Hertz",
         "scenes": "Nine user scenes and a rubber pad",
         "mt": "A friction bound that depends on the penetration (m_t > 0)"},
     "Speed": {
@@ -246,6 +247,7 @@ RESULT_GROUPS = {
         "solver_benchmark": "The contact solve against a linear solve of the same system",
         "equilibration_cost": "The guaranteed bound against a linear solve of the same mesh",
         "long_contact_side": "Many contact points",
+        "pair_benchmark": "The contact solve of a contact pair against a linear solve of the same system",
         "assembly_benchmark": "The cost of assembling each method",
         "linear_solvers": "Sparse direct solvers that install with pip"},
 }

@@ -43,6 +43,7 @@ inner radius a) in a hub held at its outer radius c, so that no rigid motion is 
 pressure is measured at the pair points, the pair's normal force over the point's weight.
 """
 
+import dataclasses
 import math
 
 import ngsolve as ngs
@@ -187,3 +188,15 @@ def test_touching_sides_of_a_shaft_and_its_bore_must_be_a_pair():
     problem = shaft_in_bore(B)
     with pytest.raises(ValueError, match="sides 'bore' and 'rim' of two bodies touch but are not a contact pair"):
         material(geometry=problem.geometry, dirichlet=("outer", "axle"), traction=("rim", "bore"), pairs=[])
+
+
+def test_the_bore_as_the_pairs_side_gives_the_same_pressure():
+    """The pair written from the hub's side ("bore" against "rim"): the outward normal of a hole's side points into
+    the hole (the pairing takes it from the side's element, not from the boundary segment's orientation), so the
+    gap, the facing test and Lamé's pressure are those of the pair written from the shaft (the mean pressure over
+    the pair's length within 1e-5 of Lamé's, as ``test_a_shaft_in_a_bore_is_a_body_of_its_own_meshed_apart``)."""
+    problem = shaft_in_bore(B)
+    swapped = dataclasses.replace(problem, pairs=[pair.swapped() for pair in problem.pairs])
+    sol = ndf.solve(swapped, ndf.netgen_mesh(swapped, 0.2), order=3)
+    p = DELTA / (held_ring(E_H, NU_H, C, B) - held_ring(E_S, NU_S, A, B) + 1 / C_N)
+    assert pressure(sol)[1] == pytest.approx(p, rel=1e-5)

@@ -21,7 +21,10 @@ refinement, so a uniform pressure crosses a flat interface between non-matching 
 test, ``tests/test_pairs.py``).  Points farther than ``reach`` from the other side (and their pieces) never touch it
 and are left out, and so are the points beyond an end of the other side (an overhang): where :math:`\pi(x)` is an end
 of the whole other side (a vertex of one of its edges only) and :math:`x - \pi(x)` is not along its normal (a
-tangential part above ``OVERHANG`` times the edge's length), no part of the other side lies across from :math:`x`.
+tangential part above ``OVERHANG`` times the edge's length), no part of the other side lies across from :math:`x`;
+and the points whose closest point lies on a flank of the other side that does not face them (its outward normal
+there not against theirs, :math:`n \cdot n' \ge 0`: far along two convex sides, where the gap along :math:`n` would be
+negative and a contact spurious).
 A closed side has no ends.
 
 **The search.**  :math:`\pi(x)` starts from the nearest of ``4 * CURVE_SAMPLES`` samples per edge: the edges whose
@@ -75,9 +78,10 @@ class SideCurves:
         count = len(xy)
         basis = np.polynomial.chebyshev.chebvander(2 * nodes - 1, CURVE_SAMPLES - 1)
         self.coefficients = np.linalg.solve(basis, xy).transpose(0, 2, 1)  # (edges, 2, samples), Chebyshev in 2s - 1
-        normal = np.asarray(ngs.specialcf.normal(2)(points)).reshape(count, len(nodes), 2)[:, len(nodes) // 2]
+        middle = xy[:, len(nodes) // 2]
+        inward = _centroids(mesh, side) - middle  # towards the inside of each edge's element
         tangent = self._derivative(np.arange(count), nodes[len(nodes) // 2] * np.ones(count))
-        self.normal_sign = np.sign(tangent[:, 1] * normal[:, 0] - tangent[:, 0] * normal[:, 1])
+        self.normal_sign = -np.sign(tangent[:, 1] * inward[:, 0] - tangent[:, 0] * inward[:, 1])
         self.ends = np.stack([self.at(np.arange(count), np.zeros(count)), self.at(np.arange(count), np.ones(count))],
                              axis=1)
         self.grid = np.linspace(0.0, 1.0, 4 * CURVE_SAMPLES)
@@ -198,6 +202,13 @@ class _Buckets:
         picked = np.repeat(start - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
         pairs = np.unique(np.repeat(point, counts) * len(self.keys) + self.edges[picked])
         return pairs // len(self.keys), pairs % len(self.keys)
+
+
+def _centroids(mesh, side):
+    """(edges, 2): the centroid of the element of every edge of ``side`` (its vertices' mean)."""
+    elements = [mesh[el.edges[0]].elements[0] for el in mesh.Elements(ngs.BND) if el.mat == side]
+    return np.array([np.mean([mesh[v].point for v in mesh[element].vertices], axis=0) for element in elements],
+                    dtype=float).reshape(-1, 2)
 
 
 def _unshared(ends):
@@ -332,6 +343,8 @@ def pair_points(mesh, pair, q, reach):
                          f"{distance.min():.3g}); move the bodies closer or give the pair a larger reach")
     other_xy = other.at(other_edge, other_s)
     near &= ~_overhang(other, other_edge, other_s, xy - other_xy)
+    _, other_normal, _ = other.frame(other_edge, other_s)
+    near &= np.sum(normal * other_normal, axis=1) < 0  # the sides face each other (else pi lands on a far flank)
     gap = np.sum((other_xy - xy) * normal, axis=1) + pair.g_a
     return PairPoints(xy=xy[near], weight=(w * speed)[near], normal=normal[near], tangent=tangent[near],
                       gap=gap[near], edge=edge[near], s=s[near], other_edge=other_edge[near],
