@@ -51,6 +51,9 @@ CURVE_SAMPLES = 12
 curves elements up to the discretisation's degree; ``MAX_DEGREE`` allows more, then the fit is a least-squares
 approximation of the curve to about 1e-12 on arcs)."""
 NEWTON_STEPS = 8
+SHORT = 0.02
+"""Pieces of the common refinement shorter than this (in the edge's parameter) are joined to a neighbour
+(``_without_short_pieces``)."""
 OVERHANG = 1e-9
 """A point whose closest point is an end of the other side is left out where its offset has a tangential part above
 OVERHANG times the length of the edge there (module docstring)."""
@@ -66,6 +69,7 @@ class SideCurves:
     """The edges of one side as curves: ``coefficients`` (edges, 2, degree + 1) of x(s), y(s) (numpy's polyval
     order), ``normal_sign`` per edge (+1 if the outward normal is (y', -x')), ``ends`` (edges, 2, 2) the points at
     s = 0, 1, ``side_end`` (edges, 2) whether that point is an end of the whole side (no other edge shares it),
+    ``neighbour`` (edges, 2, 2) the edge sharing each of those points and its end there (-1, -1: none),
     ``samples`` (edges, 4 * CURVE_SAMPLES, 2) the points at the parameters ``grid`` and their bounding boxes
     ``lower``, ``upper`` (edges, 2)."""
 
@@ -89,6 +93,7 @@ class SideCurves:
                                np.tile(self.grid, count)).reshape(count, len(self.grid), 2)
         self.lower, self.upper = self.samples.min(axis=1), self.samples.max(axis=1)
         self.side_end = _unshared(self.ends)
+        self.neighbour = _neighbours(mesh, side, self.ends)
         self._buckets = _Buckets(self.lower, self.upper)
 
     def at(self, edge, s):
@@ -144,8 +149,16 @@ class SideCurves:
         """For points xy (n, 2): (edge, s, distance) of the closest point of this side: the nearest sample
         (``nearest_sample``), then Newton's method on that edge (``project``), s in [0, 1]."""
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-        edge, s = self.nearest_sample(xy)
-        s, distance = self.project(edge, s, xy)
+        edge, start = self.nearest_sample(xy)
+        s, distance = self.project(edge, start, xy)
+        for end in (0, 1):  # a point whose nearest sample is a shared end may lie across from the neighbour edge
+            at = np.flatnonzero(((start == end) | (s == end)) & (self.neighbour[edge, end, 0] >= 0))
+            if len(at):
+                other, other_end = self.neighbour[edge[at], end].T
+                other_s, other_distance = self.project(other, other_end.astype(float), xy[at])
+                better = other_distance < distance[at]
+                edge[at[better]], s[at[better]], distance[at[better]] = (other[better], other_s[better],
+                                                                         other_distance[better])
         return edge, s, distance
 
     def bend_bound(self):
@@ -202,6 +215,25 @@ class _Buckets:
         picked = np.repeat(start - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
         pairs = np.unique(np.repeat(point, counts) * len(self.keys) + self.edges[picked])
         return pairs // len(self.keys), pairs % len(self.keys)
+
+
+def _neighbours(mesh, side, ends):
+    """(edges, 2, 2): for the end s = 0, 1 of every edge of ``side``, the other edge of the side that shares that
+    mesh vertex and which of its ends it is (-1, -1 if none), from the mesh's vertex numbers."""
+    numbers = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.BND) if el.mat == side],
+                       dtype=np.int64).reshape(-1, 2)
+    points = np.array([mesh[ngs.NodeId(ngs.VERTEX, int(v))].point for v in numbers.ravel()]).reshape(-1, 2, 2)
+    flipped = np.linalg.norm(points[:, 0] - ends[:, 0], axis=1) > np.linalg.norm(points[:, 1] - ends[:, 0], axis=1)
+    numbers = np.where(flipped[:, None], numbers[:, ::-1], numbers)  # numbers[e, k]: the vertex at s = k
+    found = np.full((len(numbers), 2, 2), -1, dtype=np.int64)
+    at = {}
+    for e, k in np.ndindex(numbers.shape):
+        at.setdefault(int(numbers[e, k]), []).append((e, k))
+    for shared in at.values():
+        if len(shared) == 2:
+            (e1, k1), (e2, k2) = shared
+            found[e1, k1], found[e2, k2] = (e2, k2), (e1, k1)
+    return found
 
 
 def _centroids(mesh, side):
@@ -324,8 +356,7 @@ def pair_points(mesh, pair, q, reach):
     edge, ends = edge[order], ends[order]
     same = edge[1:] == edge[:-1]
     a, b, piece_edge = ends[:-1][same], ends[1:][same], edge[:-1][same]
-    keep = b - a > 1e-12
-    a, b, piece_edge = a[keep], b[keep], piece_edge[keep]
+    a, b, piece_edge = _without_short_pieces(a, b, piece_edge)
     pieces = len(a)
     edge = np.repeat(piece_edge, q)
     s = (a[:, None] + (b - a)[:, None] * nodes[None]).ravel()
@@ -350,6 +381,21 @@ def pair_points(mesh, pair, q, reach):
                       gap=gap[near], edge=edge[near], s=s[near], other_edge=other_edge[near],
                       other_s=other_s[near], other_xy=other_xy[near], cell=cells[near],
                       pieces=pieces)
+
+
+def _without_short_pieces(a, b, edge):
+    """The pieces [a, b] of the edges ``edge`` (sorted) with every piece shorter than ``SHORT`` (in the edge's
+    parameter) joined to its neighbour on the same edge (the cut between them dropped).  A short piece's points lie
+    close together, so its rows of B nearly repeat each other and W is nearly singular; joined, its cut (a vertex of
+    the other side, a kink of v^2 o pi where v^2 jumps there) lies inside a piece, whose rule then misses a kink
+    of height |[v^2]| over a length below SHORT times the edge."""
+    keep_a, keep_b, keep_edge = [], [], []
+    for start, stop, e in zip(a, b, edge, strict=True):
+        if keep_edge and keep_edge[-1] == e and (stop - start < SHORT or keep_b[-1] - keep_a[-1] < SHORT):
+            keep_b[-1] = stop  # join to the previous piece of the same edge
+        else:
+            keep_a.append(start), keep_b.append(stop), keep_edge.append(e)
+    return np.array(keep_a), np.array(keep_b), np.array(keep_edge, dtype=np.int64)
 
 
 def _overhang(other, edge, s, offset):

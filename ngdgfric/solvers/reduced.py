@@ -48,7 +48,7 @@ from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
 
 __all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multiplier_of", "trace_scale", "pair_forces",
-           "dense_solve", "EPS"]
+           "independent", "dense_solve", "EPS"]
 
 EPS = np.finfo(float).eps
 DIAGONAL_FLOOR = 1e-14  # W_qq below this times the largest: raised to it (r_q = 1 / W_tt stays finite)
@@ -210,12 +210,15 @@ class ReducedContact:
         self.beta_fixed = None if self.quasi_variational else self.omega * self.c_tau
 
     @classmethod
-    def condensed(cls, condensation, traces, symmetric):
+    def condensed(cls, condensation, traces, symmetric, checked=False):
         """The problem of a :class:`~ngdgfric.solvers.condensation.Condensation` (W, w0) at the points of its
         :class:`~ngdgfric.contact.traces.ContactTraces` ``traces`` (weights, law data, redundancy); ``symmetric``:
-        B_h symmetric."""
+        B_h symmetric; ``checked``: with contact pairs, the points are redundant only where W is singular
+        (``independent``; not checked for the proximal steps of a floating body, whose W carries its compliance
+        1 / eps)."""
+        redundant = traces.redundant and not (checked and traces.foundation < traces.M and independent(condensation.W))
         return cls(W=condensation.W, w0=condensation.w0, omega=traces.omega, g_a=traces.g_a, c_n=traces.c_n,
-                   c_tau=traces.c_tau, m_n=traces.m_n, m_t=traces.m_t, symmetric=symmetric, redundant=traces.redundant)
+                   c_tau=traces.c_tau, m_n=traces.m_n, m_t=traces.m_t, symmetric=symmetric, redundant=redundant)
 
     def variant(self, W=None, w0=None, c_tau=None, m_t=None, symmetric=None, redundant=None):
         """This problem with some of W, w0, c_tau, m_t, the symmetry and redundancy replaced (sharing its
@@ -335,6 +338,27 @@ class ReducedContact:
     def multiplier(self, f):
         """lam_tau at the points (:func:`multiplier_of` at f)."""
         return multiplier_of(self.evaluate(f), self.r)
+
+
+INDEPENDENT = 1e-12
+"""The rows of B are independent when the least eigenvalue of the symmetric part of D^-1/2 W D^-1/2 (D = diag W)
+is above this."""
+INDEPENDENCE_CHECKED = 4000
+"""The largest W (rows) whose eigenvalues ``independent`` computes; above, the points stay redundant."""
+
+
+def independent(W):
+    """Whether the Delassus operator W = B A^-1 B^T is nonsingular, so that the rows of B are independent and the
+    forces unique (the least eigenvalue of its scaled symmetric part above ``INDEPENDENT``); False for W larger than
+    ``INDEPENDENCE_CHECKED``.  ``ContactTraces`` marks the points of contact pairs redundant (the rows of a piece of
+    an edge may repeat another's); where they are not, the plain iteration takes far fewer steps than the
+    proximal point method that redundant points take."""
+    W = np.asarray(W)
+    if len(W) > INDEPENDENCE_CHECKED:
+        return False
+    scale = 1.0 / np.sqrt(np.maximum(np.abs(np.diag(W)), np.finfo(float).tiny))
+    scaled = scale[:, None] * W * scale[None, :]
+    return bool(np.linalg.eigvalsh(0.5 * (scaled + scaled.T))[0] > INDEPENDENT)
 
 
 def pair_forces(traces, f):
