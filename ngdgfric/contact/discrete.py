@@ -95,12 +95,14 @@ class Contact:
 
         A list of ``(pair, PairPoints, rows of B)`` (:mod:`ngdgfric.contact.pairing`,
         :mod:`ngdgfric.contact.pair_traces`: ``pair_rows``, normal rows ``0 .. m - 1`` and tangential rows
-        ``m .. 2 m - 1`` for the pair's m points), with ``degree + 1`` points per piece of the common refinement."""
-        q = self.degree + 1
+        ``m .. 2 m - 1`` for the pair's m points), with ``order + 1`` points per piece of the common refinement (as
+        on the foundation's edges: the conforming baseline's continuous traces take one point fewer, else their rows
+        repeat each other); the traces of each side at ``degree + 1`` nodes per edge (exact for its polynomials)."""
         found = []
         for pair in self.problem.pairs:
-            points = pair_points(self.mesh, pair, q, self.reach(pair))
-            side, other = (SideTraces(self.V_plain, self.mesh, name, q) for name in (pair.side, pair.other))
+            points = pair_points(self.mesh, pair, self.order + 1, self.reach(pair))
+            side, other = (SideTraces(self.V_plain, self.mesh, name, self.degree + 1)
+                           for name in (pair.side, pair.other))
             found.append((pair, points, pair_rows(points, side, other)))
         return found
 

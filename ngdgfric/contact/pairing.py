@@ -51,6 +51,8 @@ CURVE_SAMPLES = 12
 curves elements up to the discretisation's degree; ``MAX_DEGREE`` allows more, then the fit is a least-squares
 approximation of the curve to about 1e-12 on arcs)."""
 NEWTON_STEPS = 8
+SPLIT = 1e-6
+"""A piece is split where pi changes the edge it lands on only that far (in the edge's parameter) from its ends."""
 SHORT = 0.02
 """Pieces of the common refinement shorter than this (in the edge's parameter) are joined to a neighbour
 (``_without_short_pieces``)."""
@@ -356,7 +358,7 @@ def pair_points(mesh, pair, q, reach):
     edge, ends = edge[order], ends[order]
     same = edge[1:] == edge[:-1]
     a, b, piece_edge = ends[:-1][same], ends[1:][same], edge[:-1][same]
-    a, b, piece_edge = _without_short_pieces(a, b, piece_edge)
+    a, b, piece_edge = _without_short_pieces(*_aligned(other, curves, a, b, piece_edge))
     pieces = len(a)
     edge = np.repeat(piece_edge, q)
     s = (a[:, None] + (b - a)[:, None] * nodes[None]).ravel()
@@ -381,6 +383,49 @@ def pair_points(mesh, pair, q, reach):
                       gap=gap[near], edge=edge[near], s=s[near], other_edge=other_edge[near],
                       other_s=other_s[near], other_xy=other_xy[near], cell=cells[near],
                       pieces=pieces)
+
+
+def _target(other, curves, edge, s):
+    """The edge of ``other`` on which pi sends the points (edge, s) of ``curves``, or -1 - that edge where pi is an
+    end of the whole other side (beyond which the points overhang)."""
+    other_edge, other_s, _ = other.closest(curves.at(edge, s))
+    at_end = ((other_s == 0.0) & other.side_end[other_edge, 0]) | ((other_s == 1.0) & other.side_end[other_edge, 1])
+    return np.where(at_end, -1 - other_edge, other_edge)
+
+
+def _aligned(other, curves, a, b, edge, passes=3, halvings=40):
+    """Pieces [a, b] of the edges ``edge`` of ``curves`` on each of which pi (onto ``other``) lands on one edge:
+    split where that edge changes inside a piece (the crossing found by halving, unless it lies within SPLIT of an
+    end: then the end is the crossing), then neighbouring pieces of one edge that land on the same edge joined.  On
+    parallel sides the cuts at the closest points of the other side's vertices are these crossings; on curved sides
+    with a gap pi crosses a vertex where the other side's normal there meets this side, elsewhere: a piece would
+    hold a kink of v^2 o pi, and two pieces landing on one edge repeat each other's rows of B (W singular)."""
+    inside = 1e-9
+    for _ in range(passes):
+        start = _target(other, curves, edge, a + inside * (b - a))
+        stop = _target(other, curves, edge, b - inside * (b - a))
+        split = np.flatnonzero(start != stop)
+        if not len(split):
+            break
+        low, high = a[split] + inside * (b[split] - a[split]), b[split] - inside * (b[split] - a[split])
+        for _ in range(halvings):
+            middle = 0.5 * (low + high)
+            same = _target(other, curves, edge[split], middle) == start[split]
+            low, high = np.where(same, middle, low), np.where(same, high, middle)
+        cut = 0.5 * (low + high)
+        inner = (cut - a[split] > SPLIT) & (b[split] - cut > SPLIT)
+        split, cut = split[inner], cut[inner]
+        if not len(split):
+            break
+        a, b, edge = np.concatenate([a, cut]), np.concatenate([b, b[split]]), np.concatenate([edge, edge[split]])
+        b[split] = cut
+        order = np.lexsort((a, edge))
+        a, b, edge = a[order], b[order], edge[order]
+    landing = _target(other, curves, edge, 0.5 * (a + b))
+    first = np.ones(len(a), dtype=bool)
+    first[1:] = (edge[1:] != edge[:-1]) | (landing[1:] != landing[:-1])
+    kept = np.flatnonzero(first)
+    return a[kept], b[np.append(kept[1:], len(a)) - 1], edge[kept]
 
 
 def _without_short_pieces(a, b, edge):

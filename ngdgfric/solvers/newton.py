@@ -133,7 +133,7 @@ class NewtonState:
         start = time.perf_counter()
         self.disc, self.contact, self.traces = disc, contact, traces
         self.condensation = Condensation(disc.A if A is None else A, disc.F, traces, disc.symmetric, linear_solver)
-        self.reduced = ReducedContact.condensed(self.condensation, traces, disc.symmetric, checked=A is None)
+        self.reduced = ReducedContact.condensed(self.condensation, traces, disc.symmetric, checked=True)
         self.f = None
         self.condense_seconds = time.perf_counter() - start
 
