@@ -99,11 +99,15 @@ def test_the_patch_test_counts_its_pieces(non_matching):
     assert np.max(np.abs(points.gap)) < 1e-14
 
 
-@pytest.mark.parametrize("sizes", [0.25, {"lower": 1 / 3, "upper": 1 / 5}], ids=["matching", "non-matching"])
+@pytest.mark.parametrize("sizes", [0.25, {"lower": 1 / 3, "upper": 1 / 5}, {"lower": 1 / 6, "upper": 1 / 10}],
+                         ids=["matching", "non-matching", "non-matching finer"])
 def test_swapping_the_sides_of_a_pair_changes_nothing_on_a_flat_interface(sizes):
-    """On a flat interface the common refinement and its Gauss points are the same from either side and the normals
-    opposite: the solutions agree to round-off on matching and non-matching meshes (a load that is not uniform: a
-    tilted displacement of the top, with friction, stick and slip; measured 2.8e-16 and 8.3e-16)."""
+    """A load that is not uniform (a tilted displacement of the top, with friction, stick and slip) on a flat
+    interface.  Matching meshes: the law's points and the projection are the same from either side, the normals
+    opposite: the solutions agree to round-off (measured 3.4e-16).  Non-matching meshes: the jump is projected onto
+    the edges of the pair's side, which differ from the other side's, so the solutions differ by less than the
+    estimated error: the SIPG energy of the difference below eta_h / 4 (measured 0.027 eta_h on h = 1/3 : 1/5 and
+    1/6 : 1/10)."""
     problem = patch_problem(load=False)
     upper = exact_parts()[1]
     problem = dataclasses.replace(problem, u_D={"top": upper + ngs.CF((0.002 * ngs.x, -0.003 * ngs.x))},
@@ -112,7 +116,13 @@ def test_swapping_the_sides_of_a_pair_changes_nothing_on_a_flat_interface(sizes)
     first = ndf.solve(problem, mesh, method="sipg", order=2)
     swapped = ndf.solve(dataclasses.replace(problem, pairs=[problem.pairs[0].swapped()]), mesh, method="sipg", order=2)
     a, b = first.u.vec.FV().NumPy(), swapped.u.vec.FV().NumPy()  # one space: the same coefficients
-    assert np.linalg.norm(a - b) < 1e-13 * np.linalg.norm(a)
+    if isinstance(sizes, dict):
+        difference = first.u.vec.CreateVector()
+        difference.data = first.u.vec - swapped.u.vec
+        energy = np.sqrt(ngs.InnerProduct(difference, first.discretization.A * difference))
+        assert 0 < energy < 0.25 * ndf.estimate(first).eta_h
+    else:
+        assert np.linalg.norm(a - b) < 1e-13 * np.linalg.norm(a)
     sticking = np.abs(first.info["pair_multiplier"]) < 1 - 1e-9
     assert np.any(sticking) and not np.all(sticking)
 
@@ -447,8 +457,9 @@ def test_a_closed_side_has_no_ends_and_keeps_every_point():
     mesh = ndf.netgen_mesh(problem, 0.4)
     ndf.Discretization(problem, mesh, order=1)
     points = pair_points(mesh, problem.pairs[0], 2, reach=5.0)
-    assert points.M == 2 * points.pieces
-    assert np.sum((points.other_s == 0) | (points.other_s == 1)) >= 4
+    piece = points.piece  # the pieces' points: the integration of the jump
+    assert len(piece.edge) == 2 * points.pieces
+    assert np.sum((piece.other_s == 0) | (piece.other_s == 1)) >= 4
 
 
 def strips(length=0.6, order=1):
@@ -466,11 +477,11 @@ def strips(length=0.6, order=1):
 
 @pytest.mark.parametrize("order", [1, 2])
 def test_the_rows_of_a_flat_non_matching_pair_are_independent(order):
-    """On flat sides that do not match, every point of the pair's side pairs with the point across, and no piece is
-    shorter than SHORT of its edge: the rows of B are independent, the least eigenvalue of the scaled Delassus
-    operator W above 1e-12 (measured 3.3e-7 at p = 1, 1.7e-11 at p = 2; with short pieces kept, zero eigenvalues at
-    p = 2), so the solve takes the plain iteration (no proximal point method), in 28 and 36 iterations (the same
-    strip on the rigid foundation: 9 and 10)."""
+    """On flat sides that do not match, every point of the pieces pairs with the point across, and the jump is
+    projected onto the Gauss points of the pair side's edges (as many as the foundation's): the rows of B are
+    independent, the least eigenvalue of the scaled Delassus operator W above 1e-12, so the solve takes the plain
+    iteration (no proximal point method), in at most 10 iterations (measured 5 at p = 1, 2 at p = 2; the same strip on
+    the rigid foundation: 9 and 10; with the law at the pieces' points: 28 and 36 or none, W singular)."""
     from ngdgfric.solvers.newton import NewtonState
     from ngdgfric.solvers.reduced import independent
 
@@ -478,8 +489,10 @@ def test_the_rows_of_a_flat_non_matching_pair_are_independent(order):
     disc = ndf.Discretization(problem, mesh, method="sipg", order=order)
     contact = ndf.Contact(disc)
     (_, points, _), = contact.pairs
-    assert np.all(np.abs(points.other_xy - points.xy - np.array([0.0, 0.0])) < 1e-12)  # the point across
+    piece = points.piece
+    across = ndf.contact.pairing.SideCurves(mesh, "c1").at(piece.other_edge, piece.other_s)
+    assert np.max(np.abs(across - ndf.contact.pairing.SideCurves(mesh, "c2").at(piece.edge, piece.s))) < 1e-12
     assert independent(NewtonState(disc, contact, contact.traces).reduced.W)
     sol = ndf.solve(problem, mesh, method="sipg", order=order)
     assert not any(step.startswith("proximal") for step in sol.info["steps"])
-    assert sol.iterations <= 40
+    assert sol.iterations <= 10

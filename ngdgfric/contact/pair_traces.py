@@ -6,16 +6,18 @@ For one side, ``SideTraces`` holds the Cartesian traces :math:`u_x, u_y` at the 
 mass matrices with a facet space of degree :math:`q - 1` on the side).  The trace of :math:`u_h` on an edge is a
 polynomial of degree :math:`p_T \le q - 1` in the edge's parameter :math:`s` (on curved edges too: the element map
 restricted to an edge is affine in :math:`s` on the reference element), so its value at any :math:`s` is the
-Lagrange interpolant of the node values, exactly.  A pair point :math:`x_k` (edge :math:`e`, parameter :math:`s_k`)
-with its closest point on the other side (edge :math:`e'`, parameter :math:`s'_k`) gets the rows
+Lagrange interpolant of the node values, exactly.  A piece's point :math:`x_i` (edge :math:`e`, parameter
+:math:`s_i`) with its closest point on the other side (edge :math:`e'`, parameter :math:`s'_i`) has the jump
 
 .. math::
 
-    (B u)_k = n_k \cdot \Big(\sum_i L_i(s_k)\, u^1_{e,i} - \sum_i L_i(s'_k)\, u^2_{e',i}\Big), \qquad
-    (B u)_{M + k} = t_k \cdot (\ldots),
+    n_i \cdot [u](x_i) = n_i \cdot \Big(\sum_j L_j(s_i)\, u^1_{e,j} - \sum_j L_j(s'_i)\, u^2_{e',j}\Big), \qquad
+    t_i \cdot [u](x_i),
 
-the normal and tangent of the pair's side: the pair's forces act on both bodies, opposite
-(:math:`B^T f` is action and reaction).
+the normal and tangent of the pair's side, and the rows of :math:`B` at the law's points are their projection
+:math:`(B u)_k = \sum_i P_{ki}\, n_i \cdot [u](x_i)`, :math:`(B u)_{M + k} = \sum_i P_{ki}\, t_i \cdot [u](x_i)`
+(:mod:`ngdgfric.contact.pairing`): the pair's forces act on both bodies, opposite (:math:`B^T f` is action and
+reaction).
 """
 
 import ngsolve as ngs
@@ -68,18 +70,44 @@ class SideTraces:
 
 def pair_rows(points, side, other):
     """COO triplets of the rows of B of one pair's ``points`` (``PairPoints``) with the ``SideTraces`` of its two
-    sides, duplicates summed: normal rows 0 .. m - 1, tangential rows m .. 2 m - 1 (m = ``points.M``)."""
+    sides, duplicates summed: normal rows 0 .. M - 1, tangential rows M .. 2 M - 1 (M = ``points.M``): the jump's
+    normal and tangential parts at the pieces' points, projected onto the law's points (``points.projection``)."""
+    piece, (k, i, weight) = points.piece, points.projection
+    m = len(piece.edge)
+    rows, cols, values = _piece_rows(piece, side, other)
+    order = np.argsort(rows, kind="stable")
+    rows, cols, values = rows[order], cols[order], values[order]
+    indptr = np.searchsorted(rows, np.arange(2 * m + 1))
     parts = []
-    rows = np.arange(points.M)
-    for row_shift, direction in ((0, points.normal), (points.M, points.tangent)):
-        for traces, edge, s, sign in ((side, points.edge, points.s, 1.0),
-                                      (other, points.other_edge, points.other_s, -1.0)):
+    for block in (0, 1):  # normal, tangential
+        source = block * m + i
+        starts, stops = indptr[source], indptr[source + 1]
+        counts = stops - starts
+        picked = np.repeat(starts - np.concatenate([[0], np.cumsum(counts)[:-1]]), counts) + np.arange(counts.sum())
+        parts.append((np.repeat(block * points.M + k, counts), cols[picked],
+                      np.repeat(weight, counts) * values[picked]))
+    rows, cols, values = (np.concatenate(arrays) for arrays in zip(*parts, strict=True))
+    return _summed(rows, cols, values, side.ndof)
+
+
+def _piece_rows(piece, side, other):
+    """COO triplets of n . [u] and t . [u] at the pieces' points (``PiecePoints``): rows 0 .. m - 1 and
+    m .. 2 m - 1."""
+    m = len(piece.edge)
+    parts = []
+    rows = np.arange(m)
+    for row_shift, direction in ((0, piece.normal), (m, piece.tangent)):
+        for traces, edge, s, sign in ((side, piece.edge, piece.s, 1.0), (other, piece.other_edge, piece.other_s, -1.0)):
             basis = lagrange(traces.nodes, s)
             for component in (0, 1):
-                parts.append(traces.combine(rows + row_shift, edge, np.full(points.M, component),
+                parts.append(traces.combine(rows + row_shift, edge, np.full(m, component),
                                             sign * direction[:, component][:, None] * basis))
     rows, cols, values = (np.concatenate(arrays) for arrays in zip(*parts, strict=True))
-    ndof = side.ndof
+    return _summed(rows, cols, values, side.ndof)
+
+
+def _summed(rows, cols, values, ndof):
+    """COO triplets with duplicates summed and zeros dropped."""
     keys, where = np.unique(rows * ndof + cols, return_inverse=True)
     summed = np.bincount(where, weights=values)
     keep = summed != 0

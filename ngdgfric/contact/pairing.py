@@ -15,12 +15,31 @@ with :math:`n` the outward normal of the pair's side: the penetration is :math:`
 
 **Segment to segment.**  A displacement of the other body is a polynomial on each of its edges, so
 :math:`v^2 \circ \pi` is piecewise polynomial on the pair's side with kinks where :math:`\pi` crosses a vertex of the
-other side.  Each edge of the pair's side is cut at the closest points of those vertices, and every piece gets
-``q`` = max degree + 1 Gauss points: the contact integrals are exact for piecewise polynomials on the common
-refinement, so a uniform pressure crosses a flat interface between non-matching meshes exactly (the contact patch
-test, ``tests/test_pairs.py``).  Points farther than ``reach`` from the other side (and their pieces) never touch it
-and are left out, and so are the points beyond an end of the other side (an overhang): where :math:`\pi(x)` is an end
-of the whole other side (a vertex of one of its edges only) and :math:`x - \pi(x)` is not along its normal (a
+other side.  Each edge of the pair's side is cut at the closest points of those vertices, the cuts moved to where
+:math:`\pi` actually crosses a vertex (``_aligned``: on curved sides with a gap the two differ), and every piece gets
+``q`` Gauss points (the pieces' points, :class:`PiecePoints`): integrals over them are exact for piecewise
+polynomials on the common refinement.
+
+**The law's points (mortar).**  The laws act at the ``q`` Gauss points :math:`x_k` (weights :math:`\omega_k`) of
+each edge of the pair's side, as on the foundation's edges, on the jump projected onto the polynomials of degree
+``q - 1`` on the edge, evaluated with the pieces' rule:
+
+.. math::
+
+    [u]_k = \frac{1}{\omega_k} \int_e \phi_k\, [u]\, ds = \sum_i P_{ki}\, [u](x_i), \qquad
+    P_{ki} = w_i\, \phi_k(s_i) / \omega_k,
+
+:math:`\phi_k` the Lagrange basis of the edge's Gauss nodes, :math:`x_i, w_i` the pieces' points and weights (the
+gap is projected the same way).  A uniform pressure then crosses a flat interface between non-matching meshes
+exactly (:math:`\sum_k \phi_k = 1`: the contact patch test, ``tests/test_pairs.py``), and the rows of :math:`B` are
+as independent as the foundation's (the law at the pieces' points repeated rows where two pieces lie on one edge:
+a singular Delassus operator, the proximal point method and 28-44 Newton iterations on two strips where the
+projection takes 2-5).  An edge that faces the other side only in part (an end of the other side, the reach) keeps
+its pieces' points as the law's points.
+
+Points farther than ``reach`` from the other side (and their pieces) never touch it and are left out, and so are the
+points beyond an end of the other side (an overhang): where :math:`\pi(x)` is an end of the whole other side (a vertex
+of one of its edges only) and :math:`x - \pi(x)` is not along its normal (a
 tangential part above ``OVERHANG`` times the edge's length), no part of the other side lies across from :math:`x`;
 and the points whose closest point lies on a flank of the other side that does not face them (its outward normal
 there not against theirs, :math:`n \cdot n' \ge 0`: far along two convex sides, where the gap along :math:`n` would be
@@ -44,7 +63,7 @@ import numpy as np
 
 from ..problem import pattern
 
-__all__ = ["SideCurves", "PairPoints", "pair_points", "CURVE_SAMPLES", "OVERHANG"]
+__all__ = ["SideCurves", "PairPoints", "PiecePoints", "pair_points", "CURVE_SAMPLES", "OVERHANG"]
 
 CURVE_SAMPLES = 12
 """Points per edge at which its curve is sampled: a polynomial of degree up to 11 in s is fitted exactly (Netgen
@@ -53,9 +72,6 @@ approximation of the curve to about 1e-12 on arcs)."""
 NEWTON_STEPS = 8
 SPLIT = 1e-6
 """A piece is split where pi changes the edge it lands on only that far (in the edge's parameter) from its ends."""
-SHORT = 0.02
-"""Pieces of the common refinement shorter than this (in the edge's parameter) are joined to a neighbour
-(``_without_short_pieces``)."""
 OVERHANG = 1e-9
 """A point whose closest point is an end of the other side is left out where its offset has a tangential part above
 OVERHANG times the length of the edge there (module docstring)."""
@@ -284,14 +300,33 @@ def _nearest_among(samples, xy, point, edge):
 
 
 @dataclass
+class PiecePoints:
+    """The Gauss points of the pieces of the common refinement that face the other side (module docstring), arrays
+    of length m: ``edge``, ``s`` (edge of the pair's side, parameter), ``weight`` (Gauss weight times |dx/ds|
+    times the piece's length in s), ``normal``, ``tangent`` (m, 2) of the pair's side, ``gap`` (geometric gap plus
+    the pair's g_a), ``other_edge``, ``other_s`` (the closest point on the other side)."""
+
+    edge: np.ndarray
+    s: np.ndarray
+    weight: np.ndarray
+    normal: np.ndarray
+    tangent: np.ndarray
+    gap: np.ndarray
+    other_edge: np.ndarray
+    other_s: np.ndarray
+
+
+@dataclass
 class PairPoints:
-    """The points of one contact pair on its side (module docstring), arrays of length M: ``xy`` (M, 2), ``weight``
-    (Gauss weight times the piece's length), ``normal``, ``tangent`` (M, 2) of the pair's side, ``gap`` (geometric
-    gap plus the pair's g_a), ``edge``, ``s`` (edge of the pair's side, parameter), ``other_edge``, ``other_s`` (of
-    the closest point on the other side), ``other_xy`` (M, 2), ``cell`` (M, 2: the parameters s at the ends of each
-    point's Gauss cell, the part of its piece it owns: from a + (b - a) c_{i-1} to a + (b - a) c_i on the piece
-    [a, b], c_i = w_1 + ... + w_i the Gauss weights on [0, 1] summed, as on the foundation,
-    :mod:`ngdgfric.contact.forces`); ``pieces``: the number of pieces of the common refinement."""
+    """The law's points of one contact pair (module docstring): the Gauss points of the edges of the pair's side
+    that face the other side, arrays of length M: ``xy`` (M, 2), ``weight`` (Gauss weight times |dx/ds|),
+    ``normal``, ``tangent`` (M, 2) of the pair's side, ``gap`` (the projected gap, ``projection`` applied to the
+    pieces' gaps), ``edge``, ``s`` (edge of the pair's side, parameter), ``other_edge``, ``other_s`` (of the closest
+    point on the other side), ``other_xy`` (M, 2), ``cell`` (M, 2: the parameters s at the ends of each point's
+    Gauss cell, from c_{k-1} to c_k, c_k = w_1 + ... + w_k the Gauss weights on [0, 1] summed, as on the foundation,
+    :mod:`ngdgfric.contact.forces`); ``pieces``: the number of pieces of the common refinement; ``piece``: their
+    :class:`PiecePoints`; ``projection``: (k, i, P_ki) the weights of the projection onto the law's points,
+    P_ki = w_i phi_k(s_i) / omega_k."""
 
     xy: np.ndarray
     weight: np.ndarray
@@ -305,6 +340,8 @@ class PairPoints:
     other_xy: np.ndarray
     cell: np.ndarray
     pieces: int
+    piece: PiecePoints
+    projection: tuple
 
     @property
     def M(self):
@@ -358,7 +395,7 @@ def pair_points(mesh, pair, q, reach):
     edge, ends = edge[order], ends[order]
     same = edge[1:] == edge[:-1]
     a, b, piece_edge = ends[:-1][same], ends[1:][same], edge[:-1][same]
-    a, b, piece_edge = _without_short_pieces(*_aligned(other, curves, a, b, piece_edge))
+    a, b, piece_edge = _aligned(other, curves, a, b, piece_edge)
     pieces = len(a)
     edge = np.repeat(piece_edge, q)
     s = (a[:, None] + (b - a)[:, None] * nodes[None]).ravel()
@@ -379,10 +416,57 @@ def pair_points(mesh, pair, q, reach):
     _, other_normal, _ = other.frame(other_edge, other_s)
     near &= np.sum(normal * other_normal, axis=1) < 0  # the sides face each other (else pi lands on a far flank)
     gap = np.sum((other_xy - xy) * normal, axis=1) + pair.g_a
-    return PairPoints(xy=xy[near], weight=(w * speed)[near], normal=normal[near], tangent=tangent[near],
-                      gap=gap[near], edge=edge[near], s=s[near], other_edge=other_edge[near],
-                      other_s=other_s[near], other_xy=other_xy[near], cell=cells[near],
-                      pieces=pieces)
+    piece = PiecePoints(edge=edge[near], s=s[near], weight=(w * speed)[near], normal=normal[near],
+                        tangent=tangent[near], gap=gap[near], other_edge=other_edge[near], other_s=other_s[near])
+    covered = np.bincount(edge[near], weights=w[near], minlength=count) > 1 - 1e-9  # every piece of it faces
+    return _law_points(curves, other, piece, nodes, weights, pieces, covered, cells[near])
+
+
+def _law_points(curves, other, piece, nodes, weights, pieces, covered, cells):
+    """The :class:`PairPoints` of the pieces' points ``piece``: on every edge that faces the other side along its
+    whole length (``covered``) the edge's q Gauss points (``nodes``, ``weights`` on [0, 1]), onto which the pieces'
+    points are projected; on the edges that face it in part (an end of the other side, the reach) the pieces'
+    points themselves (their Gauss ``cells``)."""
+    q = len(nodes)
+    whole = covered[piece.edge]
+    edges = np.unique(piece.edge[whole])
+    own = np.flatnonzero(~whole)
+    law_edge = np.concatenate([np.repeat(edges, q), piece.edge[own]])
+    law_s = np.concatenate([np.tile(nodes, len(edges)), piece.s[own]])
+    order = np.lexsort((law_s, law_edge))
+    law_edge, law_s = law_edge[order], law_s[order]
+    position = np.argsort(order)  # where each unsorted law point went
+    xy = curves.at(law_edge, law_s)
+    speed, normal, tangent = curves.frame(law_edge, law_s)
+    omega = np.concatenate([np.tile(weights, len(edges)) * speed[position[:len(edges) * q]], piece.weight[own]])
+    omega = omega[order]
+    other_edge, other_s, _ = other.closest(xy)
+    i_whole = np.flatnonzero(whole)
+    first = np.searchsorted(edges, piece.edge[i_whole]) * q  # the edge's law points first .. first + q - 1
+    k = position[(first[:, None] + np.arange(q)[None]).ravel()]
+    i = np.repeat(i_whole, q)
+    values = (piece.weight[i_whole][:, None] * _lagrange(nodes, piece.s[i_whole])).ravel() / omega[k]
+    k = np.concatenate([k, position[len(edges) * q + np.arange(len(own))]])
+    i = np.concatenate([i, own])
+    values = np.concatenate([values, np.ones(len(own))])
+    gap = np.bincount(k, weights=values * piece.gap[i], minlength=len(law_edge))
+    fractions = np.r_[0.0, np.cumsum(weights)]
+    law_cells = np.concatenate([np.tile(np.column_stack([fractions[:-1], fractions[1:]]), (len(edges), 1)),
+                                cells[own]])[order]
+    return PairPoints(xy=xy, weight=omega, normal=normal, tangent=tangent, gap=gap, edge=law_edge, s=law_s,
+                      other_edge=other_edge, other_s=other_s, other_xy=other.at(other_edge, other_s), cell=law_cells,
+                      pieces=pieces, piece=piece, projection=(k, i, values))
+
+
+def _lagrange(nodes, s):
+    """The Lagrange basis of ``nodes`` at the points ``s``: shape (len(s), len(nodes))."""
+    s = np.asarray(s, dtype=float)[:, None]
+    values = np.ones((s.shape[0], len(nodes)))
+    for j, node in enumerate(nodes):
+        for m, other in enumerate(nodes):
+            if m != j:
+                values[:, j] *= (s[:, 0] - other) / (node - other)
+    return values
 
 
 def _target(other, curves, edge, s):
@@ -426,21 +510,6 @@ def _aligned(other, curves, a, b, edge, passes=3, halvings=40):
     first[1:] = (edge[1:] != edge[:-1]) | (landing[1:] != landing[:-1])
     kept = np.flatnonzero(first)
     return a[kept], b[np.append(kept[1:], len(a)) - 1], edge[kept]
-
-
-def _without_short_pieces(a, b, edge):
-    """The pieces [a, b] of the edges ``edge`` (sorted) with every piece shorter than ``SHORT`` (in the edge's
-    parameter) joined to its neighbour on the same edge (the cut between them dropped).  A short piece's points lie
-    close together, so its rows of B nearly repeat each other and W is nearly singular; joined, its cut (a vertex of
-    the other side, a kink of v^2 o pi where v^2 jumps there) lies inside a piece, whose rule then misses a kink
-    of height |[v^2]| over a length below SHORT times the edge."""
-    keep_a, keep_b, keep_edge = [], [], []
-    for start, stop, e in zip(a, b, edge, strict=True):
-        if keep_edge and keep_edge[-1] == e and (stop - start < SHORT or keep_b[-1] - keep_a[-1] < SHORT):
-            keep_b[-1] = stop  # join to the previous piece of the same edge
-        else:
-            keep_a.append(start), keep_b.append(stop), keep_edge.append(e)
-    return np.array(keep_a), np.array(keep_b), np.array(keep_edge, dtype=np.int64)
 
 
 def _overhang(other, edge, s, offset):
