@@ -5,7 +5,7 @@ The scene: two strips stacked, each 1/16 high, of a length that gives about M pa
 the lower strip's bottom held (u_D = 0), the upper strip's top pushed down and along (u_D = (0.0005, -0.002)), the
 interface a ContactPair (c_n = 100, c_tau = 0.002: stick in the middle, slip towards the ends), E = 1, nu = 0.3;
 Netgen meshes that do not match at the interface (h = 1/64 above, 1.3/64 below), SIPG, p = 1 and 2 (p + 1 points
-per piece of the common refinement).  Per size:
+per edge of the pair's side, on the jump projected from the pieces of the common refinement).  Per size:
 
 * pairing: ``Contact(disc).pairs`` (the pairs' points, the traces of both sides, the rows of B), and of it
   ``pair_points`` alone (the search of :mod:`ngdgfric.contact.pairing`);
@@ -49,8 +49,8 @@ FIELDS = ["order", "points", "pieces", "ndof", "pairing", "pair_points", "contac
 
 def stacked_strips(points, order):
     """The scene of the module docstring with a length that gives about ``points`` pair points at degree
-    ``order`` (order + 1 points per piece, one piece per edge of either side)."""
-    length = points / ((order + 1) * (1 / H_UPPER + 1 / H_LOWER))
+    ``order`` (the law's points: order + 1 per edge of the pair's side, the upper strip's bottom)."""
+    length = points * H_UPPER / (order + 1)
     lower = ndf.Loop([(0, 0), (length, 0), (length, HEIGHT), (0, HEIGHT)], ["bottom", "right1", "c1", "left1"])
     upper = ndf.Loop([(0, HEIGHT), (length, HEIGHT), (length, 2 * HEIGHT), (0, 2 * HEIGHT)],
                      ["c2", "right2", "top", "left2"])

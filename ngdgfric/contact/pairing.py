@@ -98,6 +98,7 @@ class SideCurves:
         xy = np.column_stack([np.asarray(ngs.x(points)).ravel(), np.asarray(ngs.y(points)).ravel()])
         xy = xy.reshape(-1, len(nodes), 2)
         count = len(xy)
+        self._derivatives = {}
         basis = np.polynomial.chebyshev.chebvander(2 * nodes - 1, CURVE_SAMPLES - 1)
         self.coefficients = np.linalg.solve(basis, xy).transpose(0, 2, 1)  # (edges, 2, samples), Chebyshev in 2s - 1
         middle = xy[:, len(nodes) // 2]
@@ -124,8 +125,9 @@ class SideCurves:
         return np.einsum("ndk,nk->nd", c, basis)
 
     def _derivative(self, edge, s, order=1):
-        c = np.polynomial.chebyshev.chebder(self.coefficients[edge], m=order, scl=2.0, axis=2)
-        return self._evaluate(c, s)
+        if order not in self._derivatives:  # Chebyshev coefficients of x^(order)(s), computed once
+            self._derivatives[order] = np.polynomial.chebyshev.chebder(self.coefficients, m=order, scl=2.0, axis=2)
+        return self._evaluate(self._derivatives[order][edge], s)
 
     def frame(self, edge, s):
         """(|dx/ds|, outward unit normal, tangent t = (-n_y, n_x)) at parameters s of edges ``edge``."""
@@ -477,7 +479,12 @@ def _target(other, curves, edge, s):
     return np.where(at_end, -1 - other_edge, other_edge)
 
 
-def _aligned(other, curves, a, b, edge, passes=3, halvings=40):
+def _edge_of(target):
+    """The edge of a ``_target`` value."""
+    return np.where(target < 0, -1 - target, target)
+
+
+def _aligned(other, curves, a, b, edge, passes=3, halvings=36):
     """Pieces [a, b] of the edges ``edge`` of ``curves`` on each of which pi (onto ``other``) lands on one edge:
     split where that edge changes inside a piece (the crossing found by halving, unless it lies within SPLIT of an
     end: then the end is the crossing), then neighbouring pieces of one edge that land on the same edge joined.  On
@@ -492,9 +499,15 @@ def _aligned(other, curves, a, b, edge, passes=3, halvings=40):
         if not len(split):
             break
         low, high = a[split] + inside * (b[split] - a[split]), b[split] - inside * (b[split] - a[split])
+        first, second = _edge_of(start[split]), _edge_of(stop[split])
+        two = first != second  # pi goes from one edge to another: nearer to the first than to the second
         for _ in range(halvings):
             middle = 0.5 * (low + high)
-            same = _target(other, curves, edge[split], middle) == start[split]
+            same = np.empty(len(split), dtype=bool)
+            xy = curves.at(edge[split][two], middle[two])
+            same[two] = (other.project(first[two], np.full(int(two.sum()), 0.5), xy)[1]
+                         <= other.project(second[two], np.full(int(two.sum()), 0.5), xy)[1])
+            same[~two] = _target(other, curves, edge[split][~two], middle[~two]) == start[split][~two]  # an end
             low, high = np.where(same, middle, low), np.where(same, high, middle)
         cut = 0.5 * (low + high)
         inner = (cut - a[split] > SPLIT) & (b[split] - cut > SPLIT)
