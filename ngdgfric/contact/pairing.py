@@ -125,8 +125,9 @@ class SideCurves:
         return np.einsum("ndk,nk->nd", c, basis)
 
     def _derivative(self, edge, s, order=1):
-        if order not in self._derivatives:  # Chebyshev coefficients of x^(order)(s), computed once
-            self._derivatives[order] = np.polynomial.chebyshev.chebder(self.coefficients, m=order, scl=2.0, axis=2)
+        for m in range(1, order + 1):  # Chebyshev coefficients of x^(m)(s), computed once
+            if m not in self._derivatives:
+                self._derivatives[m] = np.polynomial.chebyshev.chebder(self.coefficients, m=m, scl=2.0, axis=2)
         return self._evaluate(self._derivatives[order][edge], s)
 
     def frame(self, edge, s):
@@ -155,12 +156,16 @@ class SideCurves:
         bound = np.min(np.linalg.norm(xy[:, None, :] - self.samples[None, :, 0], axis=2), axis=1)
         return np.nonzero(_box_distance(xy, self.lower, self.upper) <= bound[:, None] * (1 + 1e-9))
 
-    def project(self, edge, s, xy):
-        """Newton's method for the closest point of edge ``edge`` to xy from the parameters s, s kept in [0, 1];
-        returns (s, distance)."""
-        for _ in range(NEWTON_STEPS):
-            r = self.at(edge, s) - xy
-            d1, d2 = self._derivative(edge, s), self._derivative(edge, s, 2)
+    def project(self, edge, s, xy, steps=NEWTON_STEPS):
+        """Newton's method (``steps`` steps) for the closest point of edge ``edge`` to xy from the parameters s, s
+        kept in [0, 1]; returns (s, distance)."""
+        self._derivative(edge[:0], s[:0], 2)  # the derivatives' coefficients
+        c0, c1, c2 = self.coefficients[edge], self._derivatives[1][edge], self._derivatives[2][edge]
+        for _ in range(steps):
+            basis = np.polynomial.chebyshev.chebvander(2 * s - 1, c0.shape[2] - 1)  # one basis for x, x', x''
+            r = np.einsum("ndk,nk->nd", c0, basis) - xy
+            d1 = np.einsum("ndk,nk->nd", c1, basis[:, :c1.shape[2]])
+            d2 = np.einsum("ndk,nk->nd", c2, basis[:, :c2.shape[2]])
             slope = np.sum(d1 * d1, axis=1) + np.sum(r * d2, axis=1)
             s = np.clip(s - np.sum(r * d1, axis=1) / np.where(slope > 0, slope, np.sum(d1 * d1, axis=1)), 0.0, 1.0)
         return s, np.linalg.norm(self.at(edge, s) - xy, axis=1)
@@ -484,7 +489,7 @@ def _edge_of(target):
     return np.where(target < 0, -1 - target, target)
 
 
-def _aligned(other, curves, a, b, edge, passes=3, halvings=36):
+def _aligned(other, curves, a, b, edge, passes=3, halvings=24):
     """Pieces [a, b] of the edges ``edge`` of ``curves`` on each of which pi (onto ``other``) lands on one edge:
     split where that edge changes inside a piece (the crossing found by halving, unless it lies within SPLIT of an
     end: then the end is the crossing), then neighbouring pieces of one edge that land on the same edge joined.  On
@@ -501,12 +506,15 @@ def _aligned(other, curves, a, b, edge, passes=3, halvings=36):
         low, high = a[split] + inside * (b[split] - a[split]), b[split] - inside * (b[split] - a[split])
         first, second = _edge_of(start[split]), _edge_of(stop[split])
         two = first != second  # pi goes from one edge to another: nearer to the first than to the second
-        for _ in range(halvings):
+        on_first, on_second = np.full(int(two.sum()), 0.5), np.full(int(two.sum()), 0.5)
+        for halving in range(halvings):
             middle = 0.5 * (low + high)
             same = np.empty(len(split), dtype=bool)
             xy = curves.at(edge[split][two], middle[two])
-            same[two] = (other.project(first[two], np.full(int(two.sum()), 0.5), xy)[1]
-                         <= other.project(second[two], np.full(int(two.sum()), 0.5), xy)[1])
+            steps = NEWTON_STEPS if halving == 0 else 2  # from the last halving's closest points: near already
+            on_first, near_first = other.project(first[two], on_first, xy, steps)
+            on_second, near_second = other.project(second[two], on_second, xy, steps)
+            same[two] = near_first <= near_second
             same[~two] = _target(other, curves, edge[split][~two], middle[~two]) == start[split][~two]  # an end
             low, high = np.where(same, middle, low), np.where(same, high, middle)
         cut = 0.5 * (low + high)
