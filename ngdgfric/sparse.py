@@ -9,7 +9,7 @@ numpy scatters.
 import ngsolve as ngs
 import numpy as np
 
-__all__ = ["BlockSum", "csr_keys", "direct_inverse", "diagonal"]
+__all__ = ["BlockSum", "csr_keys", "nonzero_keys", "direct_inverse", "diagonal"]
 
 
 def csr_keys(mat, ncols=None):
@@ -18,6 +18,11 @@ def csr_keys(mat, ncols=None):
     rowptr = np.asarray(rowptr, dtype=np.int64)
     rows = np.repeat(np.arange(len(rowptr) - 1, dtype=np.int64), np.diff(rowptr))
     return rows * (ncols or mat.width) + np.asarray(cols, dtype=np.int64)
+
+
+def nonzero_keys(mat, ncols=None):
+    """Sorted int64 keys row * ncols + col of the nonzero entries of an NGSolve sparse matrix."""
+    return csr_keys(mat, ncols)[np.asarray(mat.AsVector().FV().NumPy()) != 0]
 
 
 def _block_keys(groups, n):
@@ -38,13 +43,14 @@ class BlockSum:
     """J = A + K with K restricted to dense blocks ``groups`` x ``groups``.
 
     A: NGSolve sparse matrix; groups: lists of dof numbers; K may be nonzero only inside each
-    group x group (the contact elements' blocks).
+    group x group (the contact elements' blocks).  ``pattern`` instead of groups: a sparse matrix whose nonzero
+    entries are those K may have.
     """
 
-    def __init__(self, A, groups):
+    def __init__(self, A, groups=(), pattern=None):
         n = self.n = A.height
         keys_a = csr_keys(A, n)
-        keys_b = _block_keys(groups, n)
+        keys_b = _block_keys(groups, n) if pattern is None else nonzero_keys(pattern, n)
         _, found = _positions(keys_a, keys_b)
         new = keys_b[~found]
         if len(new) == 0:

@@ -121,8 +121,7 @@ class FloatingSolve:
         self.disc, self.motions = disc, motions
         regions = {name for _, names, _, _ in motions for name in names}
         self.mass = _mass(disc, epsilon * _body_indicator(disc.mesh, regions))
-        groups = [list(disc.V.GetDofNrs(el)) for el in disc.mesh.Elements(ngs.VOL) if el.mat in regions]
-        self.A = BlockSum(disc.A, groups).update(self.mass)
+        self.A = BlockSum(disc.A, pattern=self.mass).update(self.mass)
 
     @classmethod
     def of(cls, disc):
