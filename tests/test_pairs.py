@@ -366,7 +366,7 @@ def test_the_bucket_search_finds_what_a_search_of_every_sample_finds(order):
     from its own nearest sample), to 1e-12: where the nearest sample is an edge's end, the point may lie across
     from the neighbouring edge (a tie of the two edges' end samples went to the lower edge, clamped at its end: on
     flat non-matching sides such points paired with a vertex instead of the edge across, and B's rows repeated)."""
-    from ngdgfric.contact.pairing import SideCurves
+    from ngdgfric.contact.curves import SideCurves
 
     problem = arcs()
     mesh = ndf.netgen_mesh(problem, {"lower": 0.05, "upper": 0.04})
@@ -397,7 +397,8 @@ def test_the_cuts_are_those_of_every_vertex_and_edge():
     """The cuts of the pair's side (the outer arc, curved to degree 2) at the closest points of the other side's
     vertices: the same as projecting every vertex onto every edge (nearest sample, Newton) and keeping those inside
     the edge within reach, to 1e-12."""
-    from ngdgfric.contact.pairing import SideCurves, _breakpoints
+    from ngdgfric.contact.curves import SideCurves
+    from ngdgfric.contact.pairing import _breakpoints
 
     problem = arcs()
     mesh = ndf.netgen_mesh(problem, {"lower": 0.1, "upper": 0.077})
@@ -490,8 +491,8 @@ def test_the_rows_of_a_flat_non_matching_pair_are_independent(order):
     contact = ndf.Contact(disc)
     (_, points, _), = contact.pairs
     piece = points.piece
-    across = ndf.contact.pairing.SideCurves(mesh, "c1").at(piece.other_edge, piece.other_s)
-    assert np.max(np.abs(across - ndf.contact.pairing.SideCurves(mesh, "c2").at(piece.edge, piece.s))) < 1e-12
+    across = ndf.contact.curves.SideCurves(mesh, "c1").at(piece.other_edge, piece.other_s)
+    assert np.max(np.abs(across - ndf.contact.curves.SideCurves(mesh, "c2").at(piece.edge, piece.s))) < 1e-12
     assert independent(NewtonState(disc, contact, contact.traces).reduced.W)
     sol = ndf.solve(problem, mesh, method="sipg", order=order)
     assert not any(step.startswith("proximal") for step in sol.info["steps"])

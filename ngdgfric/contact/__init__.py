@@ -4,6 +4,7 @@ r"""Contact on :math:`\Gamma_C`: normal compliance (1.8) and friction (1.9)-(1.1
 - :mod:`~ngdgfric.contact.boundary`: the edges of a boundary part, the contact Gauss rule and points, the
   multiplier space and multiplier values at the points;
 - :mod:`~ngdgfric.contact.traces`: the traces :math:`B` of :math:`V_h` at the Gauss points and the laws' data there;
+- :mod:`~ngdgfric.contact.curves`: a pair's sides as curves and the closest-point search on them;
 - :mod:`~ngdgfric.contact.pairing`: two bodies in contact (:class:`~ngdgfric.ContactPair`): the closest-point map
   from one side onto the other and the pair's points on the common refinement of the two sides' edges;
 - :mod:`~ngdgfric.contact.pair_traces`: the rows of :math:`B` at those points, for :math:`[u] = u^1 - u^2 \circ \pi`;

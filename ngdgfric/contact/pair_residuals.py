@@ -34,8 +34,8 @@ import ngsolve as ngs
 import numpy as np
 
 from ..problem import pattern
+from .curves import SideCurves
 from .pair_traces import lagrange
-from .pairing import SideCurves
 
 __all__ = ["pair_terms", "side_values", "side_elements"]
 
@@ -43,7 +43,7 @@ __all__ = ["pair_terms", "side_values", "side_elements"]
 def side_values(mesh, side, cf, nodes):
     """The values of the volume CoefficientFunction ``cf`` at the parameters ``nodes`` of every edge of side
     ``side`` (from the element each edge belongs to), shape (edges, len(nodes), cf.dim), edges in the order of
-    the side's boundary elements (that of :class:`~ngdgfric.contact.pairing.SideCurves`)."""
+    the side's boundary elements (that of :class:`~ngdgfric.contact.curves.SideCurves`)."""
     rule = ngs.IntegrationRule(points=[(float(s),) for s in nodes], weights=[1.0] * len(nodes))
     points = mesh.MapToAllElements({ngs.SEGM: rule}, mesh.Boundaries(pattern([side])))
     return np.asarray(ngs.BoundaryFromVolumeCF(cf)(points)).reshape(-1, len(nodes), cf.dim)

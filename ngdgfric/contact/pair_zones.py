@@ -25,9 +25,9 @@ chord: exact on straight sides).
 
 import numpy as np
 
+from .curves import SideCurves
 from .forces import LAM_TOL, SLIP_TOL, constant_vectors, contact_sides, side_of, walk, zone_masks
 from .pair_state import pair_state
-from .pairing import SideCurves
 
 __all__ = ["pair_sides", "all_sides"]
 
