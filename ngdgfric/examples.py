@@ -67,7 +67,7 @@ def example(name):
     name : str
         ``"6.1"`` or ``"6.2"`` (:func:`ngdgfric.example_6_1`, :func:`ngdgfric.example_6_2`), or a shipped scene:
         ``"half_disk"``, ``"block_with_hole"``, ``"two_materials_symmetric"``, ``"indentation"``,
-        ``"rubber_pad"`` (``ngdgfric.examples.SCENES``).
+        ``"rubber_pad"``, ``"two_cylinders"`` (``ngdgfric.examples.SCENES``).
 
     Returns
     -------

@@ -40,8 +40,10 @@ FREE = 1e-9
 """A rigid motion is free when its energy ratio r^T A r / r^T M r is below FREE times the typical A_ii / M_ii."""
 MAX_STEPS = 20
 """The most proximal steps before a motion that keeps drifting is reported free."""
-CONVERGED = 1e-10
-"""The proximal iteration stops when a step changes u by at most CONVERGED relative to u."""
+CONVERGED = 1e-13
+"""The proximal iteration stops when the proximal force eps M_f (u_k+1 - u_k) of a step, the residual of the
+equilibrium its u leaves, is at most CONVERGED times the forces (``FloatingSolve._force_scale``): measured against
+u itself, dominated by the free body's rigid motion, it left equilibrium residuals of 1e-9 to 1e-7."""
 _NAMES = ("translation in x", "translation in y", "rotation")
 
 
@@ -131,6 +133,12 @@ class FloatingSolve:
         motions = free_motions(disc, mass, ratio)
         return cls(disc, motions, EPSILON * ratio) if motions else None
 
+    def _force_scale(self, state):
+        """The size of the forces the equilibrium balances: the load F and the contact forces B^T f (whichever is
+        larger)."""
+        forces = state.traces.apply_transpose(np.asarray(state.f)) if state.f is not None else 0.0
+        return max(float(np.linalg.norm(self.disc.F.FV().NumPy())), float(np.linalg.norm(forces)), 1e-300)
+
     def load(self, u_vec):
         """F + eps M_f u_k as a numpy array."""
         return self.disc.F.FV().NumPy() + _apply(self.mass, u_vec)
@@ -154,7 +162,7 @@ class FloatingSolve:
             history += info["history"]
             u_new = u.vec.FV().NumPy().copy()
             change = u_new - u_k
-            if np.linalg.norm(change) <= CONVERGED * max(np.linalg.norm(u_new), 1e-300):
+            if np.linalg.norm(_apply(self.mass, change)) <= CONVERGED * self._force_scale(state):
                 info.update(proximal_steps=step, iterations=total_iterations, history=history)
                 return u, lam_tau, info
             gap = state.traces.apply(u_new)[:state.traces.M] - state.traces.g_a
