@@ -44,6 +44,9 @@ CONVERGED = 1e-13
 """The proximal iteration stops when the proximal force eps M_f (u_k+1 - u_k) of a step, the residual of the
 equilibrium its u leaves, is at most CONVERGED times the forces (``FloatingSolve._force_scale``): measured against
 u itself, dominated by the free body's rigid motion, it left equilibrium residuals of 1e-9 to 1e-7."""
+STILL = 1e-13
+"""... or when a step changes u by at most STILL relative to u (round-off: the proximal force cannot fall
+further)."""
 _NAMES = ("translation in x", "translation in y", "rotation")
 
 
@@ -162,7 +165,8 @@ class FloatingSolve:
             history += info["history"]
             u_new = u.vec.FV().NumPy().copy()
             change = u_new - u_k
-            if np.linalg.norm(_apply(self.mass, change)) <= CONVERGED * self._force_scale(state):
+            if np.linalg.norm(_apply(self.mass, change)) <= CONVERGED * self._force_scale(state) \
+                    or np.linalg.norm(change) <= STILL * np.linalg.norm(u_new):  # or u no longer moves
                 info.update(proximal_steps=step, iterations=total_iterations, history=history)
                 return u, lam_tau, info
             gap = state.traces.apply(u_new)[:state.traces.M] - state.traces.g_a
