@@ -54,6 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .curves import CHUNK, NEWTON_STEPS, SideCurves, box_distance
+from .pair_traces import lagrange
 
 __all__ = ["PairPoints", "PiecePoints", "pair_points", "OVERHANG"]
 
@@ -210,7 +211,7 @@ def _law_points(curves, other, piece, nodes, weights, pieces, covered, cells):
     first = np.searchsorted(edges, piece.edge[i_whole]) * q  # the edge's law points first .. first + q - 1
     k = position[(first[:, None] + np.arange(q)[None]).ravel()]
     i = np.repeat(i_whole, q)
-    values = (piece.weight[i_whole][:, None] * _lagrange(nodes, piece.s[i_whole])).ravel() / omega[k]
+    values = (piece.weight[i_whole][:, None] * lagrange(nodes, piece.s[i_whole])).ravel() / omega[k]
     k = np.concatenate([k, position[len(edges) * q + np.arange(len(own))]])
     i = np.concatenate([i, own])
     values = np.concatenate([values, np.ones(len(own))])
@@ -221,17 +222,6 @@ def _law_points(curves, other, piece, nodes, weights, pieces, covered, cells):
     return PairPoints(xy=xy, weight=omega, normal=normal, tangent=tangent, gap=gap, edge=law_edge, s=law_s,
                       other_edge=other_edge, other_s=other_s, other_xy=other.at(other_edge, other_s), cell=law_cells,
                       pieces=pieces, piece=piece, projection=(k, i, values))
-
-
-def _lagrange(nodes, s):
-    """The Lagrange basis of ``nodes`` at the points ``s``: shape (len(s), len(nodes))."""
-    s = np.asarray(s, dtype=float)[:, None]
-    values = np.ones((s.shape[0], len(nodes)))
-    for j, node in enumerate(nodes):
-        for m, other in enumerate(nodes):
-            if m != j:
-                values[:, j] *= (s[:, 0] - other) / (node - other)
-    return values
 
 
 def _target(other, curves, edge, s):
