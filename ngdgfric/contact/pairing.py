@@ -17,7 +17,7 @@ with :math:`n` the outward normal of the pair's side: the penetration is :math:`
 :math:`v^2 \circ \pi` is piecewise polynomial on the pair's side with kinks where :math:`\pi` crosses a vertex of the
 other side.  Each edge of the pair's side is cut at the closest points of those vertices, the cuts moved to where
 :math:`\pi` actually crosses a vertex (``_aligned``: on curved sides with a gap the two differ), and every piece gets
-``q`` Gauss points (the pieces' points, :class:`PiecePoints`): integrals over them are exact for piecewise
+``q`` Gauss points (the pieces' points, ``PiecePoints``): integrals over them are exact for piecewise
 polynomials on the common refinement.
 
 **The law's points (mortar).**  The laws act at the ``q`` Gauss points :math:`x_k` (weights :math:`\omega_k`) of
