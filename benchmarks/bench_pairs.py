@@ -1,5 +1,5 @@
 """Pair benchmark: the contact solve of two bodies in contact (a ContactPair) against one linear solve of the same
-mesh, M = 100 ... 5,000 pair points (issue 49).
+mesh, M = 100 ... 5,000 pair points.
 
 The scene: two strips stacked, each 1/16 high, of a length that gives about M pair points (``stacked_strips``):
 the lower strip's bottom held (u_D = 0), the upper strip's top pushed down and along (u_D = (0.0005, -0.002)), the

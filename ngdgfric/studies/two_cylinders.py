@@ -1,4 +1,4 @@
-r"""Hertz's contact of two elastic cylinders (issue 49): two bodies, a contact pair, load control.
+r"""Hertz's contact of two elastic cylinders: two bodies, a contact pair, load control.
 
 The scene (``two_cylinders``): quarter disks of radii :math:`R_1` (below, centre :math:`(0, -R_1)`) and
 :math:`R_2` (above, centre :math:`(0, R_2)`) touching at the origin, plane strain, materials
