@@ -18,14 +18,13 @@ the whole adapt run against adapt on the half-disk pressed onto the rigid plane 
 
 import time
 
-import numpy as np
-from common import command_line, run_script, say, script_parser, write_csv
+from common import best, command_line, run_script, say, script_parser, write_csv
 
 import ngdgfric as ndf
 from ngdgfric.files import write_text
 from ngdgfric.output import figure, markdown_table, write_png
 from ngdgfric.studies.curved import hertz_problem
-from ngdgfric.studies.two_cylinders import DEFAULTS, hertz_cylinders, measures, pair_profile, two_cylinders
+from ngdgfric.studies.two_cylinders import measures, plot_pressure, two_cylinders
 
 # ==============================================================================================================
 # PARAMETERS
@@ -60,32 +59,12 @@ def cylinders_run(problem, P, rtol):
     return run, records, seconds
 
 
-def best_time(repeat, function):
-    """The smallest of ``repeat`` wall times of function() and its last result."""
-    times, result = [], None
-    for _ in range(repeat):
-        start = time.perf_counter()
-        result = function()
-        times.append(time.perf_counter() - start)
-    return min(times), result
-
-
 def draw(path, sol, P):
-    """The pressure along the pair against Hertz's ellipse, and the penetration."""
-    profile = pair_profile(sol)
-    hertz = hertz_cylinders(P, DEFAULTS["R1"], DEFAULTS["R2"], DEFAULTS["E1"], DEFAULTS["nu1"], DEFAULTS["E2"],
-                            DEFAULTS["nu2"])
-    a, p0 = hertz["a"], hertz["p0"]
-    near = profile["x"] <= 2.0 * a
+    """The pressure along the pair against Hertz's ellipse (:func:`ngdgfric.studies.two_cylinders.plot_pressure`)."""
     fig = figure(8, 3.5)
     ax = fig.add_subplot(1, 1, 1)
-    x = np.linspace(0.0, a, 200)
-    ax.plot(x / a, p0 * np.sqrt(1.0 - (x / a) ** 2) / p0, "k-", label="Hertz")
-    ax.plot(profile["x"][near] / a, profile["pressure"][near] / p0, ".", ms=3, label="ngdgfric (pair points)")
-    ax.set_xlabel("x / a (Hertz)")
-    ax.set_ylabel("pressure / p0 (Hertz)")
+    plot_pressure(ax, sol, P)
     ax.set_title("Two cylinders: the pressure along the contact pair")
-    ax.legend()
     write_png(fig, path, dpi=120)
 
 
@@ -95,11 +74,11 @@ def main(argv=None):
     args.out.mkdir(parents=True, exist_ok=True)
     problem, P = two_cylinders()
     say(f"two cylinders, adapt(rtol={settings['rtol']:g}), best of {settings['repeat']}")
-    cylinder_seconds, (run, records, _) = best_time(settings["repeat"],
+    cylinder_seconds, (run, records, _) = best(settings["repeat"],
                                                     lambda: cylinders_run(problem, P, settings["rtol"]))
     final = records[-1]
     half = hertz_problem(0.002, 1e5)
-    half_seconds, half_run = best_time(settings["repeat"], lambda: ndf.adapt(
+    half_seconds, half_run = best(settings["repeat"], lambda: ndf.adapt(
         half, rtol=settings["rtol"], max_ndof=final["ndof"], progress=None))
     write_csv(args.out / "two_cylinders.csv", records, FIELDS)
     draw(args.out / "two_cylinders.png", run.solution, P)

@@ -12,7 +12,7 @@ from test_output import read_vtu
 from test_pairs import C_N, P, patch_problem, stacked
 
 import ngdgfric as ndf
-from ngdgfric.contact.state import rounding_residual
+from ngdgfric.contact.state import rounding_residual, transitions
 from ngdgfric.output import write_contact_png, write_deformed_png, write_vtk
 
 C_TAU = 0.001  # the sliding block: friction c_tau per unit length, 10 times too little to hold it
@@ -188,3 +188,21 @@ def test_both_bodies_are_drawn_and_written(sliding, tmp_path):
     upper = np.array([region == "upper" for region in regions])
     assert np.all(arrays["Points"][cells[upper]][..., 1] >= 1 - 1e-12)
     assert np.all(arrays["Points"][cells[~upper]][..., 1] <= 1 + 1e-12)
+
+
+def test_the_transitions_the_hp_refinement_grades_to_lie_at_the_zones_ends_on_both_sides(tilted_solutions):
+    """``transitions`` (the points hp refinement grades its meshes towards) at the pair's points: on both sides of
+    the tilted press (y = 1 + LIFT and y = 1), each within the mesh size of an end of the contact, stick or slip
+    zones that force_balance finds, and the start of the contact zone among them (measured: 0.47 against 0.48, and
+    the stick/slip boundary 0.80), for the pair and for it swapped."""
+    h = max(H.values())
+    for sol in tilted_solutions:
+        points = transitions(sol)
+        zones = ndf.force_balance(sol).pairs["c2"]
+        ends = np.array([x for zone in (zones.contact, zones.stick, zones.slip) if zone.bounds
+                         for x in zone.bounds[::2]])
+        for y in (1 + LIFT, 1.0):
+            on_side = points[np.abs(points[:, 1] - y) < 1e-9, 0]
+            assert len(on_side) >= 2
+            assert np.min(np.abs(on_side - zones.contact.start[0])) < h
+            assert np.all(np.min(np.abs(on_side[:, None] - ends[None]), axis=1) < h)

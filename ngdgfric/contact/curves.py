@@ -40,8 +40,8 @@ def _chebyshev(count):
 class SideCurves:
     """The edges of one side as curves: ``coefficients`` (edges, 2, degree + 1) of x(s), y(s) (numpy's polyval
     order), ``normal_sign`` per edge (+1 if the outward normal is (y', -x')), ``ends`` (edges, 2, 2) the points at
-    s = 0, 1, ``side_end`` (edges, 2) whether that point is an end of the whole side (no other edge shares it),
-    ``neighbour`` (edges, 2, 2) the edge sharing each of those points and its end there (-1, -1: none),
+    s = 0, 1, ``neighbour`` (edges, 2, 2) the edge sharing each of those points (its mesh vertex) and its end there
+    (-1, -1: none), ``side_end`` (edges, 2) whether that point is an end of the whole side (no neighbour there),
     ``samples`` (edges, 4 * CURVE_SAMPLES, 2) the points at the parameters ``grid`` and their bounding boxes
     ``lower``, ``upper`` (edges, 2)."""
 
@@ -65,8 +65,8 @@ class SideCurves:
         self.samples = self.at(np.repeat(np.arange(count), len(self.grid)),
                                np.tile(self.grid, count)).reshape(count, len(self.grid), 2)
         self.lower, self.upper = self.samples.min(axis=1), self.samples.max(axis=1)
-        self.side_end = _unshared(self.ends)
         self.neighbour = _neighbours(mesh, side, self.ends)
+        self.side_end = self.neighbour[:, :, 0] < 0
         self._buckets = _Buckets(self.lower, self.upper)
 
     def at(self, edge, s):
@@ -220,19 +220,6 @@ def _centroids(mesh, side):
     elements = [mesh[el.edges[0]].elements[0] for el in mesh.Elements(ngs.BND) if el.mat == side]
     return np.array([np.mean([mesh[v].point for v in mesh[element].vertices], axis=0) for element in elements],
                     dtype=float).reshape(-1, 2)
-
-
-def _unshared(ends):
-    """(edges, 2): whether each end point of each edge is shared by no other end (to 1e-9 of the median edge
-    length): the ends of a side's chains; a closed side has none."""
-    points = ends.reshape(-1, 2)
-    size = 1e-9 * max(float(np.median(np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1))), 1e-300)
-    shared = np.zeros(len(points), dtype=bool)
-    for shift in (0.0, 0.5):  # two roundings half a bin apart: points closer than half a bin share a bin in one
-        bins = np.floor(points / size + shift)
-        _, inverse, counts = np.unique(bins, axis=0, return_inverse=True, return_counts=True)
-        shared |= counts[inverse.ravel()] > 1
-    return ~shared.reshape(-1, 2)
 
 
 def box_distance(xy, lower, upper):

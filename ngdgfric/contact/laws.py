@@ -27,7 +27,8 @@ import numpy as np
 __all__ = ["positive_power", "pressure", "bound", "compliance_energy", "friction_energy", "pressure_conjugate",
            "project_unit", "smooth_unit", "positive_power_values", "pressure_values", "pressure_rate_values",
            "bound_rate", "compliance_energy_values", "friction_energy_values", "pressure_conjugate_values",
-           "pressure_inverse_values", "pressure_inverse_rate_values", "project_unit_values", "smooth_unit_values"]
+           "pressure_inverse_values", "pressure_inverse_rate_values", "project_unit_values", "smooth_unit_values",
+           "law_forces"]
 
 
 # ---------------------------------------------------------------------------- CoefficientFunctions
@@ -149,3 +150,16 @@ def smooth_unit_values(z):
     """``smooth_unit`` at points."""
     a = np.minimum(np.abs(z), 1.0)
     return np.where(z > 0, 1.0, -1.0) * (a + a * a - a * a * a)
+
+
+def law_forces(law, w, lam_tau):
+    """The forces of the laws at M points, (N(w_n), beta(w_n) lam_tau): the compliance force (1.8) and the friction
+    force (1.9) at traces w (2 M: normal, then tangential) with multiplier values ``lam_tau`` (projected onto
+    [-1, 1]).  ``law``: the point data ``omega``, ``g_a``, ``c_n``, ``c_tau`` (arrays of length M) and ``m_n``,
+    ``m_t`` (numbers or such arrays), e.g. a :class:`~ngdgfric.contact.traces.ContactTraces`."""
+    M = len(law.omega)
+    m_n, m_t = (np.broadcast_to(np.asarray(m, dtype=float), (M,)) for m in (law.m_n, law.m_t))
+    gap = w[:M] - law.g_a
+    normal = pressure_values(gap, law.omega * law.c_n, m_n)
+    beta = bound_rate(gap, law.omega * law.c_tau, m_t)[0]
+    return np.concatenate([normal, beta * project_unit_values(lam_tau)])

@@ -20,7 +20,7 @@ and the forces act on the pair's side as :math:`-(f_n n + f_t t)` and on the oth
 
 import numpy as np
 
-from .laws import bound_rate, pressure_values
+from .laws import bound_rate, law_forces
 
 __all__ = ["pair_state", "pair_law_term", "PAIR_STATE_KEYS"]
 
@@ -97,16 +97,11 @@ def pair_state(sol):
 
 def pair_law_term(contact, u, lam_tau):
     r""":math:`B^T f` over the pairs' points of a :class:`~ngdgfric.Contact`, the forces :math:`f` of the laws
-    (module docstring) at the traces of the coefficient vector ``u`` (numpy) and the pairs' multiplier values
-    ``lam_tau``: the pairs' term of the residual of (3.3), a vector on :math:`V_h` (numpy)."""
+    (``law_forces`` of :mod:`ngdgfric.contact.laws`, with the pairs' data of the traces) at the traces of the
+    coefficient vector ``u`` (numpy) and the pairs' multiplier values ``lam_tau``: the pairs' term of the residual of
+    (3.3), a vector on :math:`V_h` (numpy)."""
     traces = contact.traces
-    w = traces.apply(u)
-    f = np.zeros(2 * traces.M)
-    start = 0
-    for pair, points, normal, tangential in _slices(contact):
-        penetration = w[normal] - points.gap
-        f[normal] = pressure_values(penetration, points.weight * pair.c_n, pair.m_n)
-        f[tangential] = bound_rate(penetration, points.weight * pair.c_tau, pair.m_t)[0] * lam_tau[
-            start:start + points.M]
-        start += points.M
+    start = traces.foundation
+    f = law_forces(traces, traces.apply(u), np.concatenate([np.zeros(start), lam_tau]))
+    f[:start] = f[traces.M:traces.M + start] = 0.0  # the foundation's points: the forms' own terms
     return traces.apply_transpose(f)

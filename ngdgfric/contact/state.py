@@ -88,17 +88,12 @@ def transitions(sol, tol=1e-8):
 
 def _pair_transitions(sol, tol):
     """The transitions of ``transitions`` at the points of the contact pairs (between neighbouring points of an
-    edge of a pair's side), on the pair's side and their closest points on the other side: an (n, 2) array."""
-    traces, found = sol.contact.traces, [np.empty((0, 2))]
-    start = traces.foundation
-    penetration = traces.apply(sol.u.vec.FV().NumPy())[start:traces.M] - traces.g_a[start:]
-    multiplier = np.asarray(sol.info["pair_multiplier"]) if sol.contact.pairs else None
-    offset = 0
-    for _, points, _ in sol.contact.pairs:
-        here = slice(offset, offset + points.M)
-        offset += points.M
-        in_contact = penetration[here] > 0
-        sticking = (np.abs(multiplier[here]) < 1 - tol) & in_contact
+    edge of a pair's side, :func:`pair_state`), on the pair's side and their closest points on the other side: an
+    (n, 2) array."""
+    found = [np.empty((0, 2))]
+    for state, (_, points, _) in zip(pair_state(sol), sol.contact.pairs, strict=True):
+        in_contact = state["penetration"] > 0
+        sticking = (np.abs(state["lam_tau"]) < 1 - tol) & in_contact
         flips = (points.edge[1:] == points.edge[:-1]) & ((in_contact[1:] != in_contact[:-1])
                                                          | (sticking[1:] != sticking[:-1]))
         k = np.flatnonzero(flips)

@@ -51,12 +51,13 @@ import time
 
 import numpy as np
 
+from ..contact.laws import law_forces
 from ..errors import SolverError, check_deadline, deadline
 from ..threads import threads
 from ..transfer import starting_point
 from .condensation import augmented_matrix
 from .pardiso import Factorization
-from .reduced import law_forces, multiplier_of, pair_forces, point_state, trace_scale
+from .reduced import multiplier_of, pair_forces, point_state, trace_scale
 
 __all__ = ["FullSpace", "FullSpaceState", "applicable", "kkt_residual", "FULL_SPACE_POINTS"]
 

@@ -16,7 +16,7 @@ solver (:mod:`ngdgfric.solvers.newton`).
 The contact pairs (:class:`~ngdgfric.ContactPair`) have no form on :math:`\Gamma_C`: their terms are written at
 their points with the rows of :math:`B` (``ContactTraces.pair_part`` of :mod:`ngdgfric.contact.traces`),
 :math:`B^T f` with the forces :math:`f = (N(B_n u), \omega c_\tau \lambda_\tau)` of the laws
-(``law_forces`` of :mod:`ngdgfric.solvers.reduced`) and the Jacobian :math:`B_n^T \operatorname{diag} N'(B_n u) B_n`
+(``law_forces`` of :mod:`ngdgfric.contact.laws`) and the Jacobian :math:`B_n^T \operatorname{diag} N'(B_n u) B_n`
 (``PairTerms``), whose blocks couple the two bodies.
 """
 
@@ -27,11 +27,10 @@ import numpy as np
 
 from ..contact.boundary import evaluate_on_contact
 from ..contact.forms import compliance_form, friction_force, penetration
-from ..contact.laws import pressure_rate_values
+from ..contact.laws import law_forces, pressure_rate_values
 from ..problem import exponents
 from ..sparse import BlockSum, direct_inverse
 from ..threads import threads
-from .reduced import law_forces
 
 __all__ = ["ContactOperator", "PairTerms", "ReusedFactorization", "multiplier_update", "newton_step",
            "relative_change"]

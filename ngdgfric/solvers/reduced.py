@@ -43,11 +43,11 @@ small step in the kernel.
 
 import numpy as np
 
-from ..contact.laws import bound_rate, pressure_rate_values, pressure_values, project_unit_values
+from ..contact.laws import bound_rate, law_forces, pressure_rate_values, pressure_values, project_unit_values
 from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
 
-__all__ = ["ReducedContact", "PointState", "point_state", "law_forces", "multiplier_of", "trace_scale", "pair_forces",
+__all__ = ["ReducedContact", "PointState", "point_state", "multiplier_of", "trace_scale", "pair_forces",
            "independent", "dense_solve", "EPS"]
 
 EPS = np.finfo(float).eps
@@ -132,17 +132,6 @@ def point_state(law, f, w, r):
     s.sign = np.where(z >= 0, 1.0, -1.0)
     s.G = np.concatenate([f[:M] - s.N, np.where(s.stick, -r * w[M:], f[M:] - s.sign * s.beta)])
     return s
-
-
-def law_forces(law, w, lam_tau):
-    """The forces of the laws at traces w with multiplier values ``lam_tau``: (N(w_n), beta(w_n) lam_tau) (a warm
-    start; ``law`` as in :func:`point_state`)."""
-    M = len(law.omega)
-    m_n, m_t = _exponents(law)
-    gap = w[:M] - law.g_a
-    normal = pressure_values(gap, law.omega * law.c_n, m_n)
-    beta = bound_rate(gap, law.omega * law.c_tau, m_t)[0]
-    return np.concatenate([normal, beta * project_unit_values(lam_tau)])
 
 
 def multiplier_of(s, r):

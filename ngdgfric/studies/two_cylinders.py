@@ -24,21 +24,26 @@ import math
 
 import numpy as np
 
+from ..contact.pair_state import pair_state
 from ..domain import Domain, Loop
 from ..problem import ContactPair, ContactProblem
 
-__all__ = ["two_cylinders", "hertz_cylinders", "pair_profile", "measures", "DEFAULTS"]
+__all__ = ["two_cylinders", "hertz_cylinders", "pair_profile", "plot_pressure", "measures", "DEFAULTS"]
 
 DEFAULTS = dict(R1=1.0, R2=0.5, E1=1.0, nu1=0.3, E2=2.0, nu2=0.2, a=0.02, c_n=1e5)
 """The scene of ``results/two_cylinders.md``: the radii, the materials, the Hertz half-width a the force is chosen
 for (a / R = 0.06 with R the combined radius), the compliance."""
 
 
+def _combined(R1, R2, E1, nu1, E2, nu2):
+    """Hertz's combined radius R and modulus E* of two cylinders (module docstring)."""
+    return 1.0 / (1.0 / R1 + 1.0 / R2), 1.0 / ((1.0 - nu1**2) / E1 + (1.0 - nu2**2) / E2)
+
+
 def hertz_cylinders(P, R1, R2, E1, nu1, E2, nu2):
     """Hertz's half-width a and peak pressure p0 of two cylinders pressed by the force P per unit length (module
     docstring), and the combined R and E*: a dict."""
-    R = 1.0 / (1.0 / R1 + 1.0 / R2)
-    E_star = 1.0 / ((1.0 - nu1**2) / E1 + (1.0 - nu2**2) / E2)
+    R, E_star = _combined(R1, R2, E1, nu1, E2, nu2)
     a = math.sqrt(4.0 * P * R / (math.pi * E_star))
     return dict(a=a, p0=2.0 * P / (math.pi * a), R=R, E_star=E_star)
 
@@ -47,8 +52,7 @@ def two_cylinders(R1=DEFAULTS["R1"], R2=DEFAULTS["R2"], E1=DEFAULTS["E1"], nu1=D
                   nu2=DEFAULTS["nu2"], a=DEFAULTS["a"], c_n=DEFAULTS["c_n"]):
     """The two quarter cylinders of the module docstring, pressed by the force P that gives Hertz's half-width
     ``a``: (ContactProblem, P)."""
-    R = 1.0 / (1.0 / R1 + 1.0 / R2)
-    E_star = 1.0 / ((1.0 - nu1**2) / E1 + (1.0 - nu2**2) / E2)
+    R, E_star = _combined(R1, R2, E1, nu1, E2, nu2)
     P = a**2 * math.pi * E_star / (4.0 * R)
     c = 1.0 / math.sqrt(2.0)
     upper = Loop([(0.0, 0.0), (R2, R2), (0.0, R2)], ("arc2", "top", "axis2"), arcs={0: (R2 * c, R2 * (1 - c))})
@@ -63,17 +67,27 @@ def two_cylinders(R1=DEFAULTS["R1"], R2=DEFAULTS["R2"], E1=DEFAULTS["E1"], nu1=D
 
 
 def pair_profile(sol, index=0):
-    """Along pair ``index`` of a Solution, at its points sorted by x: ``x``, ``penetration`` [u] . n - g (from the
-    traces of u_h) and ``pressure`` (the normal force over the point's weight), a dict of arrays."""
-    traces = sol.contact.traces
-    start = traces.foundation + sum(points.M for _, points, _ in sol.contact.pairs[:index])
-    _, points, _ = sol.contact.pairs[index]
-    here = slice(start, start + points.M)
-    penetration = traces.apply(sol.u.vec.FV().NumPy())[here] - traces.g_a[here]
-    offset = start - traces.foundation
-    pressure = np.asarray(sol.info["pair_forces"])[0, offset:offset + points.M] / points.weight
-    order = np.argsort(points.xy[:, 0], kind="stable")
-    return dict(x=points.xy[order, 0], penetration=penetration[order], pressure=pressure[order])
+    """Along pair ``index`` of a Solution, at its points sorted by x: ``x``, ``penetration`` [u] . n - g and
+    ``pressure`` (the normal force over the point's weight) of :func:`ngdgfric.pair_state`, a dict of arrays."""
+    state = pair_state(sol)[index]
+    order = np.argsort(state["x"], kind="stable")
+    return {name: state[name][order] for name in ("x", "penetration", "pressure")}
+
+
+def plot_pressure(ax, sol, P, **scene):
+    """Draw the pressure along the pair of a Solution of :func:`two_cylinders` (its points up to 2 a) against
+    Hertz's ellipse p0 (1 - x^2 / a^2)^(1/2), both over Hertz's a and p0."""
+    values = {**DEFAULTS, **scene}
+    hertz = hertz_cylinders(P, values["R1"], values["R2"], values["E1"], values["nu1"], values["E2"], values["nu2"])
+    a, p0 = hertz["a"], hertz["p0"]
+    profile = pair_profile(sol)
+    near = profile["x"] <= 2.0 * a
+    x = np.linspace(0.0, 1.0, 200)
+    ax.plot(x, np.sqrt(1.0 - x**2), "k-", label="Hertz")
+    ax.plot(profile["x"][near] / a, profile["pressure"][near] / p0, ".", ms=3, label="ngdgfric (pair points)")
+    ax.set_xlabel("x / a (Hertz)")
+    ax.set_ylabel("pressure / p0 (Hertz)")
+    ax.legend()
 
 
 def measures(sol, P, **scene):
