@@ -15,10 +15,13 @@ parts of a contact solve (assembly, condensation onto the contact points, Newton
 recovery of u) and Newton's iterations.  Writes results/solver_benchmark.md, .csv and .png.
 
 With ``--long-side`` instead: many contact points, M = 1,000 ... 10,000 on a long contact side
-(benchmarks/long_contact_side.py, results/long_contact_side.md).
+(benchmarks/long_contact_side.py, results/long_contact_side.md).  With ``--levels-count``: Newton's iterations and the
+contact solve against the linear solve level by level in adaptive runs (benchmarks/newton_levels.py,
+results/newton_levels.md).
 
     python benchmarks/bench_solvers.py [--quick] [--repeat 2] [--budget SECONDS]
     python benchmarks/bench_solvers.py --long-side [--quick] [--points 2500 5000 10000] [--repeat 2]
+    python benchmarks/bench_solvers.py --levels-count [--quick] [--scenes 6.1 rubber_pad ...] [--repeat 2]
 """
 
 import sys
@@ -40,6 +43,7 @@ from ngdgfric.transfer import WarmStart, multiplier_snapshot
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))  # scripts/common.py, shared
 import long_contact_side  # noqa: E402  (benchmarks/long_contact_side.py, beside this file)
+import newton_levels  # noqa: E402  (benchmarks/newton_levels.py, beside this file)
 from common import best, command_line, contact_free, run_script, save_figure, say, script_parser, write_csv  # noqa: E402
 
 matplotlib.use("Agg")
@@ -58,6 +62,10 @@ def parse(argv=None):
     parser.add_argument("--repeat", type=int, default=2, help="runs per measurement (best is kept)")
     parser.add_argument("--budget", type=float, default=240.0, help="seconds per series before coarser levels stop")
     parser.add_argument("--long-side", action="store_true", help="the long contact side case alone (module docstring)")
+    parser.add_argument("--levels-count", action="store_true",
+                        help="Newton's iterations level by level in adaptive runs (benchmarks/newton_levels.py)")
+    parser.add_argument("--scenes", nargs="+", choices=newton_levels.ALL_SCENES, help="with --levels-count: the scenes "
+                        "(default: all)")
     long_contact_side.add_arguments(parser)
     return parser.parse_args(argv)
 
@@ -143,6 +151,8 @@ def main(argv=None):
     args = parse(argv)
     if args.long_side:
         return long_contact_side.run(args)
+    if args.levels_count:
+        return newton_levels.run(args)
     series = [("6.1", "sipg", 1), ("6.2", "nipg", 1)] if args.quick else SERIES
     levels = [2, 3] if args.quick else args.levels
     rows = []

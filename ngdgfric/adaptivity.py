@@ -58,7 +58,8 @@ class Adaptation:
     ----------
     levels : list of dict
         One record per solved level, with the keys of ``ngdgfric.adaptivity.FIELDS`` (level, DOFs, degrees,
-        :math:`\\eta_h`, iterations, times; the columns of ``adapt``'s CSV) and ``target``: the :math:`\\eta_h` the
+        :math:`\\eta_h`, iterations and the contact points whose state changed from the warm start, times; the
+        columns of ``adapt``'s CSV) and ``target``: the :math:`\\eta_h` the
         level had to reach, the larger of ``tol`` and ``rtol`` :math:`|\\!|\\!| u_h |\\!|\\!|_h`, NaN (a float, as
         the other values) when neither ``tol`` nor ``rtol`` is given.
     solution : Solution
@@ -458,12 +459,15 @@ def write_levels(csv_path, records):
 
 
 def level_line(level_record, solver):
-    """The progress line of a level: DOFs, orders, eta_h, iterations and times."""
+    """The progress line of a level: DOFs, orders, eta_h, iterations (and the contact points whose state changed from
+    the warm start), times."""
     r = level_record
     orders = f"p {r['p_min']}..{r['p_max']}, " if r["p_max"] > r["p_min"] else ""
+    changed = "" if r.get("changed_points") is None else f" ({r['changed_points']} points changed state)"
     return (f"level {r['level']:3d}: {r['ndof']:7d} dofs, {orders}eta_h = {r['eta_h']:.4e}, {solver} "
-            f"{r['iterations']} iterations, {r['solve_seconds']:.2f} s solve ({r['assemble_seconds']:.2f} s of it "
-            f"assembly), {r['estimate_seconds'] + r['mark_refine_seconds']:.2f} s estimate+refine")
+            f"{r['iterations']} iterations{changed}, {r['solve_seconds']:.2f} s solve "
+            f"({r['assemble_seconds']:.2f} s of it assembly), "
+            f"{r['estimate_seconds'] + r['mark_refine_seconds']:.2f} s estimate+refine")
 
 
 def _say_level(say, solver, level_record):

@@ -38,8 +38,8 @@ __all__ = ["AdaptiveLoop", "LoopSettings", "Level", "Seconds", "Marking", "FIELD
            "out_of_time", "settle", "too_large", "timed", "frozen_older_objects"]
 
 FIELDS = ["level", "ndof", "elements", "eta_h", "eta1", "eta2", "eta3", "eta4", "eta5", "eta6", "eta_lin",
-          "iterations", "solve_seconds", "assemble_seconds", "estimate_seconds", "mark_refine_seconds", "h_min",
-          "min_angle", "p_min", "p_max"]
+          "iterations", "changed_points", "solve_seconds", "assemble_seconds", "estimate_seconds",
+          "mark_refine_seconds", "h_min", "min_angle", "p_min", "p_max"]
 
 
 @dataclass(frozen=True)
@@ -225,11 +225,13 @@ class AdaptiveLoop:
 
 def record(level, state):
     """The CSV row of ``level`` (keys ``FIELDS``, and ``target``: its target eta_h, NaN for none); ``state``: the
-    HPState of its mesh, which must not be refined yet."""
+    HPState of its mesh, which must not be refined yet.  ``changed_points``: the contact points whose state (no
+    contact, stick, slip) the solve changed from the warm start (None on the first level, solved from zero)."""
     sol, est, seconds, mesh = level.sol, level.est, level.seconds, level.sol.mesh
     return dict(level=level.number, ndof=sol.ndof, elements=mesh.ne, eta_h=est.eta_h,
                 **{k: math.sqrt(v) for k, v in est.terms_squared.items()}, eta_lin=sol.info.get("linearization", 0.0),
-                iterations=sol.iterations, solve_seconds=seconds.solve, assemble_seconds=sol.timings["assemble"],
+                iterations=sol.iterations, changed_points=sol.info.get("changed_points"), solve_seconds=seconds.solve,
+                assemble_seconds=sol.timings["assemble"],
                 estimate_seconds=seconds.estimate,
                 mark_refine_seconds=seconds.mark_refine, h_min=float(element_diameters(mesh).min()),
                 min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()),

@@ -64,7 +64,10 @@ class Solution:
         Its contact data (:class:`ngdgfric.Contact`: the multiplier space, the contact Gauss points, the
         traces).
     info : dict, optional
-        The solver's diagnostics (e.g. ``"factorizations"``, ``"least_squares_solves"``).  Default: empty.
+        The solver's diagnostics (e.g. ``"factorizations"``, ``"least_squares_solves"``; from a warm start
+        ``"changed_points"``: the contact points whose state -- no contact, stick, slip -- differs between the
+        start and the solution, and ``"start_states"``, ``ngdgfric.Contact.point_states`` at the start).
+        Default: empty.
     state : object, optional
         For an inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
         ``NewtonState`` (:mod:`ngdgfric.solvers.newton`) that :func:`ngdgfric.finish` continues.  Default
@@ -235,13 +238,23 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     if settings.max_seconds is not None:  # the limit counts from here: what assembly took is the solver's no more
         left = settings.max_seconds - (time.perf_counter() - start)
         settings = dataclasses.replace(settings, max_seconds=max(left, 1e-9))
-    u, lam_tau, info = function(disc, contact, settings,
-                                None if start_from is None else initial_guess(start_from, contact))
+    guess = None if start_from is None else initial_guess(start_from, contact)
+    u, lam_tau, info = function(disc, contact, settings, guess)
+    if guess is not None:
+        _count_changes(contact, contact.point_states(*guess), u, lam_tau, info)
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
     return Solution(problem=problem, mesh=disc.mesh, method=disc.method.name, max_order=disc.order, eta=disc.eta,
                     solver=solver, u=u, lam_tau=lam_tau, iterations=info["iterations"], history=info["history"],
                     timings=timings, discretization=disc, contact=contact, info=info, state=info.pop("state", None))
+
+
+def _count_changes(contact, start, u, lam_tau, info):
+    """How far a warm start was: ``info["start_states"]`` = ``start`` (the states of the laws at the starting point,
+    ``Contact.point_states``) and ``info["changed_points"]``: the contact points whose state (no contact, stick,
+    slip) differs at the solution (u, lam_tau)."""
+    end = contact.point_states(u, lam_tau, info.get("pair_multiplier"))
+    info.update(start_states=start, changed_points=int(np.sum(start != end)))
 
 
 def _solver_tol(solver_tol, options):
@@ -305,6 +318,8 @@ def finish(sol, solver_tol=None, energy_tol=None, maxit=100):
     u, lam_tau, info = sol.state.run(options)
     seconds = time.perf_counter() - start
     timings = dict(sol.timings, solve=sol.timings["solve"] + seconds, total=sol.timings["total"] + seconds)
+    if "start_states" in sol.info:
+        _count_changes(sol.contact, sol.info["start_states"], u, lam_tau, info)
     return dataclasses.replace(sol, u=u, lam_tau=lam_tau, iterations=sol.iterations + info["iterations"],
                                history=sol.history + info["history"], timings=timings, info=info,
                                state=info.pop("state", None))

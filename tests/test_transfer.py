@@ -85,3 +85,39 @@ def test_starting_point_copies_and_leaves_the_pair_alone(coarse_solution):
     assert np.abs(sol.u.vec.FV().NumPy()).max() > 0
     zero = starting_point(sol.contact)
     assert not np.any(zero[0].vec.FV().NumPy()) and not np.any(zero[1].vec.FV().NumPy())
+
+
+def _states(sol):
+    """The state of the laws at every contact point of ``sol`` (0 no contact, 1 stick, 2 slip), read from
+    ``contact_state`` (the GridFunctions evaluated at the points), not from the traces B that
+    ``Contact.point_states`` applies."""
+    state = ndf.contact_state(sol)
+    touching = state["gap"] > 0
+    return np.where(touching, np.where(np.abs(state["lam_tau"]) < 1 - 1e-8, 1, 2), 0)
+
+
+def test_the_points_a_warm_start_changes_are_counted():
+    """A start from the solution of another friction bound on the same mesh (its u and lam_tau copied exactly):
+    ``changed_points`` counts the points whose state differs between the two solutions, each state read from
+    ``contact_state``; from the solution itself nothing changes."""
+    problem = ndf.example_6_1()
+    mesh = ndf.uniform_mesh(problem, 0.25)
+    other = ndf.solve(dataclasses.replace(problem, c_tau=0.3 * problem.c_tau), mesh, method="sipg", order=2)
+    sol = ndf.solve(problem, mesh, method="sipg", order=2, initial=other)
+    expected = int(np.sum(_states(other) != _states(sol)))
+    assert expected > 0  # the friction bound moved the stick zone
+    assert sol.info["changed_points"] == expected
+    again = ndf.solve(problem, mesh, method="sipg", order=2, initial=sol)
+    assert again.info["changed_points"] == 0
+    assert "changed_points" not in ndf.solve(problem, mesh, method="sipg", order=2).info  # solved from zero
+
+
+def test_adapt_reports_the_changed_points_per_level():
+    """Every warm-started level records its changed points, the first level (from zero) None, and the progress
+    line says them."""
+    lines = []
+    run = ndf.adapt(ndf.example_6_2(), max_levels=3, progress=lines.append)
+    assert run.levels[0]["changed_points"] is None
+    assert all(isinstance(level["changed_points"], int) for level in run.levels[1:])
+    assert all(f"({level['changed_points']} points changed state)" in line
+               for level, line in zip(run.levels[1:], lines[-2:], strict=True))

@@ -18,7 +18,11 @@ from .pair_traces import SideTraces, pair_rows
 from .pairing import pair_points
 from .traces import ContactTraces
 
-__all__ = ["Contact"]
+__all__ = ["Contact", "STICK_MARGIN"]
+
+STICK_MARGIN = 1e-8
+r"""A point sticks where :math:`|\lambda_\tau| < 1 -` STICK_MARGIN (``Contact.point_states``): the multiplier of a
+slipping point is :math:`\pm 1` to round-off."""
 
 
 class Contact:
@@ -128,6 +132,21 @@ class Contact:
         foundation = self.gauss.dofs.size
         self.gauss.set_values(lam_tau, np.asarray(values)[:foundation].reshape(-1, self.gauss.q))
         return np.asarray(values)[foundation:].copy()
+
+    def point_states(self, u, lam_tau, pair_multiplier=None):
+        r"""The state of the laws at every contact point (``traces`` order) for a displacement GridFunction ``u`` on
+        ``V`` and a multiplier ``lam_tau`` on ``Q`` (``pair_multiplier``: the values at the pairs' points, which
+        lam_tau does not hold; default 0): 0 without contact (:math:`u_n \le g_a`), 1 sticking (in contact,
+        :math:`c_\tau > 0` and :math:`|\lambda_\tau| < 1 - 10^{-8}`), 2 slipping (in contact otherwise, frictionless
+        points included).  ``changed_points`` compares two such states."""
+        traces = self.traces
+        w = traces.apply(u.vec.FV().NumPy())
+        lam = self.multiplier_values(lam_tau)
+        if pair_multiplier is not None and len(pair_multiplier):
+            lam[traces.M - len(pair_multiplier):] = pair_multiplier
+        touching = w[:traces.M] > traces.g_a
+        sticking = touching & (np.asarray(traces.c_tau) > 0) & (np.abs(lam) < 1 - STICK_MARGIN)
+        return np.where(touching, np.where(sticking, 1, 2), 0)
 
     def points(self):
         r"""Mapped Gauss points on :math:`\Gamma_C` (``contact_points`` of :mod:`ngdgfric.contact.boundary`)."""

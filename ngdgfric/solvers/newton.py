@@ -49,6 +49,7 @@ from .floating import FloatingSolve
 from .fullspace import FULL_SPACE_POINTS, FullSpaceState, applicable
 from .options import SolverOptions
 from .reduced import ReducedContact, pair_forces
+from .selection import select
 
 __all__ = ["newton", "NewtonOptions", "NewtonState"]
 
@@ -134,7 +135,7 @@ class NewtonState:
         self.disc, self.contact, self.traces = disc, contact, traces
         self.condensation = Condensation(disc.A if A is None else A, disc.F, traces, disc.symmetric, linear_solver)
         self.reduced = ReducedContact.condensed(self.condensation, traces, disc.symmetric, checked=True)
-        self.f = None
+        self.f = self.predicted = None
         self.condense_seconds = time.perf_counter() - start
 
     def reload(self, F):
@@ -145,9 +146,11 @@ class NewtonState:
 
     def start_from(self, u, lam_tau):
         """f from GridFunctions u on ``disc.V`` and lam_tau on ``contact.Q``: the forces of the laws at u, with
-        lam_tau."""
+        lam_tau; the first Newton step takes the sets of that start (``ReducedContact.predicted``)."""
         w = self.traces.apply(u.vec.FV().NumPy())
-        self.f = self.reduced.forces(w, self.contact.multiplier_values(lam_tau))
+        values = self.contact.multiplier_values(lam_tau)
+        self.f = self.reduced.forces(w, values)
+        self.predicted = self.reduced.predicted(self.f, w, values, self.traces.foundation)
 
     def run(self, options):
         """Newton from the current f (zero if none) with the ``NewtonOptions`` ``options``, then recover
@@ -158,7 +161,7 @@ class NewtonState:
         until = deadline(None if options.max_seconds is None else options.max_seconds - self.condense_seconds)
         f, info, seconds = self._solve_points(options, until)
         f, u_vec, consistency = self._recover(f, info, options, seconds, until)
-        self.f = f
+        self.f = f = select(self.traces, f, self.reduced.evaluate(f))
         u, lam_tau = self._grid_functions(u_vec, f)
         self._diagnose(info, seconds, consistency, self.reduced.diagnostics["least_squares_solves"] - least_squares)
         info["timings"]["total"] = self.condense_seconds + time.perf_counter() - start
@@ -169,7 +172,8 @@ class NewtonState:
         """Step 1: the semismooth Newton iteration on the points from the current f; (f, info, seconds)."""
         start = time.perf_counter()
         f, info = semismooth.solve(self.reduced, self.f, options.solver_tol, options.maxit, options.progress,
-                                   options.energy_tol, until)
+                                   options.energy_tol, until, predicted=self.predicted)
+        self.predicted = None  # a resumed run (ngdgfric.finish, a proximal step of a floating body) goes on from f
         return f, info, dict(newton=time.perf_counter() - start)
 
     def _recover(self, f, info, options, seconds, until):

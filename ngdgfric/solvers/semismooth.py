@@ -79,7 +79,8 @@ INNER, INNER_LOOSEST = 1e-3, 1e-8
 INNER_BUDGET = 5
 
 
-def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None, budget=None):
+def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None, budget=None,
+          predicted=None):
     """Globalised semismooth Newton for the :class:`~ngdgfric.solvers.reduced.ReducedContact` ``problem`` from f0
     (default 0); returns (f, info).
 
@@ -99,10 +100,13 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations, and
     :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
     ``budget``: the continuation's iterations in all, as a multiple of maxit (None: no limit but its step).
+    ``predicted``: for a warm start f0, the state at f0 with the warm start's sets
+    (``ReducedContact.predicted``): the first Newton direction is taken there, and redundant points go through
+    the plain iteration first (the proximal point method if that fails; module docstring).
     """
     f = np.zeros(2 * problem.M) if f0 is None else np.asarray(f0, dtype=float).copy()
     try:
-        return _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol, deadline)
+        return _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol, deadline, predicted=predicted)
     except TimeLimitError:
         raise
     except SolverError as error:
@@ -111,11 +115,26 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
         return _continuation(problem, solver_tol, maxit, progress, error, deadline, budget)
 
 
-def _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol=None, deadline=None, counted=0):
+def _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol=None, deadline=None, counted=0,
+                    predicted=None):
     """:func:`solve` without the continuation: the proximal point method where the forces are not unique and the
     problem is monotone (redundant points, m_t = 0, with or without energy), and if that fails the plain
     :func:`iterate` from f (which solved problems where the proximal subproblems kept failing: random W with
-    3 of 8 points per edge redundant); else :func:`iterate`."""
+    3 of 8 points per edge redundant); else :func:`iterate`.  From a warm start with its sets (``predicted``) the
+    plain iteration comes first and the proximal point method after it: its steps along the forces' kernel cost
+    iterations (a new subproblem's first step raised the KKT residual from 8e-8 to 1e-3 on the rubber pad's hp
+    levels), and which of the forces the iteration ends at no longer matters
+    (:mod:`ngdgfric.solvers.selection`)."""
+    if predicted is not None:
+        try:
+            return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline,
+                           predicted=predicted)
+        except TimeLimitError:
+            raise
+        except SolverError as error:
+            if not problem.redundant or problem.quasi_variational:
+                raise
+            counted += max(len(error.history), 1)
     if problem.redundant and not problem.quasi_variational:
         try:
             return _proximal(problem, problem.project(f) if problem.energy_merit else f, solver_tol, maxit,
@@ -136,12 +155,13 @@ def _info(problem, s, solver_tol, iterations, history, initial, steps):
 
 
 def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None, counted=0, deadline=None,
-            unfinished=False):
+            unfinished=False, predicted=None):
     """The iteration of :func:`solve` from f, with the globalisation of the problem's kind (module docstring).
     ``outer``: the problem whose stopping test also ends it and whose KKT residual is recorded (a
     proximal subproblem's original problem); default ``problem``.  ``counted``: iterations done before
     (for the numbers in the progress messages); ``deadline``: as in :func:`solve`.  ``unfinished``: after
-    ``maxit`` iterations return the last f (``info["converged"]`` False) instead of raising SolverError."""
+    ``maxit`` iterations return the last f (``info["converged"]`` False) instead of raising SolverError.
+    ``predicted``: the state whose Newton direction the first step takes (see :func:`solve`)."""
     if problem.energy_merit:
         f = problem.project(f)
     outer = problem if outer is None else outer
@@ -158,7 +178,8 @@ def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None
         last = history[-1] if history else initial
         check_deadline(deadline, "semismooth Newton on the contact points", history,
                        f"after {counted + k} iterations (relative KKT residual {last:.3e})")
-        f, kind = _step(problem, s, problem.newton_direction(s), memory, k, history, deadline)
+        direction = problem.newton_direction(s if k or predicted is None else predicted)
+        f, kind = _step(problem, s, direction, memory, k, history, deadline)
         s = problem.evaluate(f)
         steps.append(kind)
         history.append(outer.residual(s if outer is problem else outer.evaluate(f)))
