@@ -247,6 +247,7 @@ RESULT_GROUPS = {
         "solver_benchmark": "The contact solve against a linear solve of the same system",
         "equilibration_cost": "The guaranteed bound against a linear solve of the same mesh",
         "long_contact_side": "Many contact points",
+        "newton_levels": "Newton's iterations level by level in adaptive runs",
         "pair_benchmark": "The contact solve of a contact pair against a linear solve of the same system",
         "assembly_benchmark": "The cost of assembling each method",
         "linear_solvers": "Sparse direct solvers that install with pip"},

@@ -33,7 +33,7 @@ from .files import check_writable, write_csv
 from .hp import containing
 from .levels import FIELDS, AdaptiveLoop, LoopSettings, frozen_older_objects, record, timed
 from .marking import dorfler_mark
-from .meshes import grid_mesh, minimum_angle, netgen_mesh, refine
+from .meshes import grid_mesh, minimum_angle, netgen_mesh, refine, snapshot
 from .progress import log, reporter
 from .threads import limited_blas
 
@@ -403,7 +403,9 @@ def initial_mesh(problem, layers=0):
     (``grid_mesh``: uniform h = 1/2 on the paper's examples), else Netgen with maxh = min(1/2,
     a quarter of the domain's diameter, its longest extent); then ``layers`` geometric layers towards the domain's
     corners (the elements containing one bisected twice, ``layers`` times), where the solution is singular whatever
-    the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (why: :ref:`decisions-adaptivity`)."""
+    the data: hp-adaptive runs start with ``INITIAL_LAYERS`` (why: :ref:`decisions-adaptivity`).  With layers the
+    mesh returned is a copy without the refinement history (``snapshot``), on which the loop's warm starts are exact
+    (:ref:`decisions-levels`)."""
     size = problem.geometry.diameter()
     if problem.geometry.is_rectangle:
         mesh = grid_mesh(problem, min(0.5, size / 2))
@@ -411,7 +413,7 @@ def initial_mesh(problem, layers=0):
         mesh = netgen_mesh(problem, min(0.5, size / 4))
     for _ in range(layers):
         refine(mesh, containing(mesh, problem.geometry.corners), bisections=2)
-    return mesh
+    return snapshot(mesh) if layers else mesh  # a mesh without a history: the loop's warm starts are exact on it
 
 
 def _check_arguments(order, settings, gamma_lin):
@@ -463,7 +465,7 @@ def level_line(level_record, solver):
     the warm start), times."""
     r = level_record
     orders = f"p {r['p_min']}..{r['p_max']}, " if r["p_max"] > r["p_min"] else ""
-    changed = "" if r.get("changed_points") is None else f" ({r['changed_points']} points changed state)"
+    changed = f" ({r['changed_points']} points changed state)" if r.get("changed_points") is not None else ""
     return (f"level {r['level']:3d}: {r['ndof']:7d} dofs, {orders}eta_h = {r['eta_h']:.4e}, {solver} "
             f"{r['iterations']} iterations{changed}, {r['solve_seconds']:.2f} s solve "
             f"({r['assemble_seconds']:.2f} s of it assembly), "

@@ -50,6 +50,17 @@ class HPState:
         """dim V_h = sum_T (p_T + 1)(p_T + 2) (two components)."""
         return dg_ndof(self.orders)
 
+    def shared(self, elements):
+        """This state with the degrees of ``elements`` (numbers) raised to the largest among them: the elements along
+        which a friction law acts share one degree (``AdaptiveLoop`` of :mod:`ngdgfric.levels`), so that the contact
+        Gauss rule of that degree (``ngdgfric.Contact``) puts no more points on an edge than its element has trace
+        values: the sticking forces are unique, and the semismooth Newton iteration needs no proximal point method
+        (its iterations per level: :ref:`decisions-hp`)."""
+        orders = self.orders.copy()
+        if len(elements):
+            orders[elements] = orders[elements].max()
+        return HPState(orders, self.predicted)
+
 
 def smooth(indicators, predicted):
     """True where the squared indicator did not exceed its prediction for a smooth u."""

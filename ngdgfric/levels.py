@@ -20,6 +20,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .checks import estimated_bytes
+from .contact.boundary import law_elements
 from .contact.state import transitions
 from .dg.discretization import space
 from .dg.methods import get_method
@@ -142,10 +143,14 @@ class AdaptiveLoop:
         self.state, self.previous, self.predicted, self.sol = HPState.uniform(mesh, settings.order), None, None, None
         self.expected = None  # the eta_h the last marking expected of this level, (1 - theta)^(1/2) eta_h
         self.singular = None  # the points the next hp refinement grades towards (set by solve)
-        # u survives refinement in an autoupdating GridFunction; it must be one space for the whole
-        # loop (a space created on an already refined mesh is prolongated wrongly by NGSolve 6.2.2608)
+        self.frictional = False  # whether a friction law acts somewhere (set by solve; _refine)
+        # u survives refinement in an autoupdating GridFunction; it must be one space for the whole loop, created on a
+        # mesh never refined before (a space created on an already refined mesh is prolongated wrongly by NGSolve
+        # 6.2.2608: by 30 % of u on adapt's hp meshes, whose first mesh had its corner layers; decisions-levels);
+        # on a mesh with a history u is interpolated from the solution's own mesh instead (exact, a point search)
         self.carrier_order = settings.options.max_order if settings.options.hp else settings.order
-        self.carrier = ngs.GridFunction(ngs.L2(mesh, order=self.carrier_order, autoupdate=True) ** 2, autoupdate=True)
+        self.carrier = ngs.GridFunction(ngs.L2(mesh, order=self.carrier_order, autoupdate=True) ** 2, autoupdate=True) \
+            if mesh.levels == 1 else None
 
     def orders(self, state):
         """The degrees of the method's V_h on a mesh of ``state``: its p_T for hp, ``order`` for h."""
@@ -162,6 +167,7 @@ class AdaptiveLoop:
         level = Level(number, sol, None, tol, Seconds(solve=time.perf_counter() - start))
         level = self.settle(level, number == settings.options.max_levels - 1)
         self.sol, self.predicted = level.sol, level.est.eta_h
+        self.frictional = bool(np.any(np.asarray(level.sol.contact.traces.c_tau) > 0))
         # the points the next refinement grades towards (hp_refine): corners and ends of the contact and stick zones
         graded = settings.options.hp and settings.options.layers
         self.singular = np.vstack([self.problem.geometry.corners, transitions(level.sol)]) if graded else None
@@ -206,19 +212,26 @@ class AdaptiveLoop:
     def refine(self, marking):
         """REFINE: carry the solution over, then refine the mesh in place by ``marking`` (h or hp) and update the
         state.  The caller holds no Level of this mesh any more (its solution must go before the mesh changes)."""
-        copy_orders(*discontinuous(self.sol), self.carrier, np.full(self.mesh.ne, self.carrier_order))
-        self.previous = WarmStart(u=self.carrier, mesh=self.mesh, multiplier=multiplier_snapshot(self.sol))
+        if self.carrier is None:
+            self.previous = WarmStart(u=discontinuous(self.sol)[0], mesh=self.sol.mesh,
+                                      multiplier=multiplier_snapshot(self.sol))
+        else:
+            copy_orders(*discontinuous(self.sol), self.carrier, np.full(self.mesh.ne, self.carrier_order))
+            self.previous = WarmStart(u=self.carrier, mesh=self.mesh, multiplier=multiplier_snapshot(self.sol))
         self.sol = None  # compressed spaces on Gamma_C must be gone before the mesh changes;
         gc.collect()  # reference cycles may keep them alive (seen in dask workers); adapt froze the older objects
         self.state = self._refine(self.mesh, self.state, marking)
 
     def _refine(self, mesh, state, marking):
-        """Refine ``mesh`` in place by ``marking`` (h: one bisection; hp: :func:`hp_refine`); returns the new
-        HPState."""
+        """Refine ``mesh`` in place by ``marking`` (h: one bisection; hp: :func:`hp_refine`, then, where friction acts
+        somewhere, the elements along which a contact law acts brought to one degree, ``HPState.shared``: without
+        friction the forces are unique whatever the degrees, and a degree raised at the ends of the contact zone cost
+        accuracy there: Hertz's half-width came out 0.6 % asymmetric); returns the new HPState."""
         options = self.settings.options
         if options.hp:
-            return hp_refine(mesh, state, marking.indicators, marking.marked, options.max_order,
-                             singular=self.singular, layers=options.layers)
+            refined = hp_refine(mesh, state, marking.indicators, marking.marked, options.max_order,
+                                singular=self.singular, layers=options.layers)
+            return refined.shared(law_elements(self.problem, mesh)) if self.frictional else refined
         refine(mesh, marking.marked)
         return HPState.uniform(mesh, self.settings.order)
 
@@ -226,7 +239,7 @@ class AdaptiveLoop:
 def record(level, state):
     """The CSV row of ``level`` (keys ``FIELDS``, and ``target``: its target eta_h, NaN for none); ``state``: the
     HPState of its mesh, which must not be refined yet.  ``changed_points``: the contact points whose state (no
-    contact, stick, slip) the solve changed from the warm start (None on the first level, solved from zero)."""
+    contact, stick, slip) the solve changed from its start (the warm start; zero on the first level)."""
     sol, est, seconds, mesh = level.sol, level.est, level.seconds, level.sol.mesh
     return dict(level=level.number, ndof=sol.ndof, elements=mesh.ne, eta_h=est.eta_h,
                 **{k: math.sqrt(v) for k, v in est.terms_squared.items()}, eta_lin=sol.info.get("linearization", 0.0),

@@ -15,7 +15,7 @@ from .solvers.fixed_point import FixedPointOptions, fixed_point
 from .solvers.newton import NewtonOptions, newton
 from .solvers.uzawa import UzawaOptions, uzawa
 from .threads import limited_blas
-from .transfer import WarmStart, initial_guess
+from .transfer import WarmStart, initial_guess, starting_point
 
 __all__ = ["Solution", "solve", "finish", "SOLVERS", "DEFAULT_SOLVER_TOL"]
 
@@ -64,10 +64,9 @@ class Solution:
         Its contact data (:class:`ngdgfric.Contact`: the multiplier space, the contact Gauss points, the
         traces).
     info : dict, optional
-        The solver's diagnostics (e.g. ``"factorizations"``, ``"least_squares_solves"``; from a warm start
-        ``"changed_points"``: the contact points whose state -- no contact, stick, slip -- differs between the
-        start and the solution, and ``"start_states"``, ``ngdgfric.Contact.point_states`` at the start).
-        Default: empty.
+        The solver's diagnostics (e.g. ``"factorizations"``, ``"least_squares_solves"``; ``"changed_points"``: the
+        contact points whose state -- no contact, stick, slip -- differs between the start, a warm start or zero, and
+        the solution, and ``"start_states"``, ``ngdgfric.Contact.point_states`` at the start).  Default: empty.
     state : object, optional
         For an inexact Newton solve (option ``energy_tol``) that stopped before its tolerance, the
         ``NewtonState`` (:mod:`ngdgfric.solvers.newton`) that :func:`ngdgfric.finish` continues.  Default
@@ -240,8 +239,8 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
         settings = dataclasses.replace(settings, max_seconds=max(left, 1e-9))
     guess = None if start_from is None else initial_guess(start_from, contact)
     u, lam_tau, info = function(disc, contact, settings, guess)
-    if guess is not None:
-        _count_changes(contact, contact.point_states(*guess), u, lam_tau, info)
+    _count_changes(contact, contact.point_states(*(starting_point(contact) if guess is None else guess)), u, lam_tau,
+                   info)
     timings = dict(assemble=disc.timings["assemble"], setup=disc.timings["setup"],
                    solve=info["timings"]["total"], total=time.perf_counter() - start)
     return Solution(problem=problem, mesh=disc.mesh, method=disc.method.name, max_order=disc.order, eta=disc.eta,
@@ -250,9 +249,9 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
 
 
 def _count_changes(contact, start, u, lam_tau, info):
-    """How far a warm start was: ``info["start_states"]`` = ``start`` (the states of the laws at the starting point,
-    ``Contact.point_states``) and ``info["changed_points"]``: the contact points whose state (no contact, stick,
-    slip) differs at the solution (u, lam_tau)."""
+    """How far the start was (a warm start, or zero): ``info["start_states"]`` = ``start`` (the states of the laws
+    at the starting point, ``Contact.point_states``) and ``info["changed_points"]``: the contact points whose state
+    (no contact, stick, slip) differs at the solution (u, lam_tau)."""
     end = contact.point_states(u, lam_tau, info.get("pair_multiplier"))
     info.update(start_states=start, changed_points=int(np.sum(start != end)))
 

@@ -253,6 +253,19 @@ def test_long_contact_side_report_only(tmp_path):
     assert "--report-only" not in written and "| 0.18 (2, 1) |" in written and "| - (-) | - | - / 23 |" in written
 
 
+def test_newton_levels(tmp_path):
+    """Example 6.2, four levels of adapt: a row per level with its iterations and the points changed from the start,
+    the ratio the CSV says, the page with its table."""
+    run("bench_solvers", tmp_path, "--levels-count")
+    rows = read_csv(tmp_path / "newton_levels.csv", labels=("scene", "formulation"))
+    assert [r["level"] for r in rows] == [0, 1, 2, 3]
+    assert all(r["changed_points"] is not None for r in rows)
+    assert all(r["iterations"] <= 8 for r in rows[1:])
+    for row in rows:
+        assert row["ratio"] == pytest.approx(row["contact_seconds"] / row["linear_seconds"], rel=1e-6)
+    assert "| 6.2 | 4 |" in (tmp_path / "newton_levels.md").read_text()
+
+
 def test_bench_pairs(tmp_path):
     """p = 1, M about 100 and 300 pair points on two stacked strips: the rows the CSV holds and their ratios."""
     run("bench_pairs", tmp_path)

@@ -16,8 +16,8 @@ import numpy as np
 from ..problem import pattern
 
 __all__ = ["contact_rule", "contact_measure", "side_measure", "facet_space", "normal_tangent", "boundary_edges",
-           "contact_edges", "contact_elements", "contact_points", "edge_jacobians", "evaluate_on_contact",
-           "multiplier_space", "ContactGauss", "GaussValues"]
+           "contact_edges", "contact_elements", "law_elements", "contact_points", "edge_jacobians",
+           "evaluate_on_contact", "multiplier_space", "ContactGauss", "GaussValues"]
 
 
 def contact_rule(order):
@@ -57,6 +57,13 @@ def contact_edges(problem, mesh):
 def contact_elements(problem, mesh):
     """The numbers of the elements with an edge on Gamma_C."""
     return np.unique(np.array([element.nr for _, element in boundary_edges(problem, mesh)], dtype=np.int64))
+
+
+def law_elements(problem, mesh):
+    """The numbers of the elements with an edge where a contact law acts: on Gamma_C or on a side of a contact pair
+    (their degrees set the contact Gauss rule, ``ngdgfric.Contact``)."""
+    edges = boundary_edges(problem, mesh) + boundary_edges(problem, mesh, "pair")
+    return np.unique(np.array([element.nr for _, element in edges], dtype=np.int64))
 
 
 def contact_points(problem, mesh, order):

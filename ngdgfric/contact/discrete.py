@@ -13,7 +13,7 @@ import ngsolve as ngs
 import numpy as np
 
 from ..threads import threads
-from .boundary import ContactGauss, boundary_edges, contact_measure, contact_points, multiplier_space
+from .boundary import ContactGauss, boundary_edges, contact_measure, contact_points, law_elements, multiplier_space
 from .pair_traces import SideTraces, pair_rows
 from .pairing import pair_points
 from .traces import ContactTraces
@@ -49,9 +49,11 @@ class Contact:
         Whether :math:`V_h` is the conforming baseline's (continuous traces on :math:`\Gamma_C`).
     order
         The degree of the multiplier space and of the contact Gauss rule (``order + 1`` points per edge):
-        the largest :math:`p_T`, one less for the conforming baseline, whose traces on :math:`\Gamma_C` are
-        continuous (``order + 1`` points per edge would make them linearly dependent and the Delassus operator
-        singular).
+        the largest :math:`p_T` of the elements with an edge where a contact law acts (``law_elements`` of
+        :mod:`ngdgfric.contact.boundary`; the Gauss rule is exact for their traces' products, and where they share
+        one degree, as on the meshes of :func:`ngdgfric.adapt`, no edge has more points than trace values), one
+        less for the conforming baseline, whose traces on :math:`\Gamma_C` are continuous (``order + 1`` points per
+        edge would make them linearly dependent and the Delassus operator singular).
     Q
         The multiplier space on :math:`\Gamma_C` (``multiplier_space`` of :mod:`ngdgfric.contact.boundary`).
     dS
@@ -71,7 +73,9 @@ class Contact:
         self.V, self.V_plain, self.orders = disc.V, disc.V_plain, disc.orders
         self.conforming = disc.method.conforming
         self.degree = disc.order
-        self.order = disc.order - 1 if self.conforming else disc.order
+        elements = law_elements(self.problem, self.mesh)
+        top = int(np.max(disc.orders[elements])) if elements.size else disc.order
+        self.order = top - 1 if self.conforming else top
         self.Q = multiplier_space(self.problem, self.mesh, self.order)
         self.dS = contact_measure(self.problem, self.mesh, self.order)
 

@@ -101,8 +101,7 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
     ``budget``: the continuation's iterations in all, as a multiple of maxit (None: no limit but its step).
     ``predicted``: for a warm start f0, the state at f0 with the warm start's sets
-    (``ReducedContact.predicted``): the first Newton direction is taken there, and redundant points go through
-    the plain iteration first (the proximal point method if that fails; module docstring).
+    (``ReducedContact.predicted``): the first Newton direction is taken there.
     """
     f = np.zeros(2 * problem.M) if f0 is None else np.asarray(f0, dtype=float).copy()
     try:
@@ -120,30 +119,19 @@ def _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol=None, de
     """:func:`solve` without the continuation: the proximal point method where the forces are not unique and the
     problem is monotone (redundant points, m_t = 0, with or without energy), and if that fails the plain
     :func:`iterate` from f (which solved problems where the proximal subproblems kept failing: random W with
-    3 of 8 points per edge redundant); else :func:`iterate`.  From a warm start with its sets (``predicted``) the
-    plain iteration comes first and the proximal point method after it: its steps along the forces' kernel cost
-    iterations (a new subproblem's first step raised the KKT residual from 8e-8 to 1e-3 on the rubber pad's hp
-    levels), and which of the forces the iteration ends at no longer matters
-    (:mod:`ngdgfric.solvers.selection`)."""
-    if predicted is not None:
-        try:
-            return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline,
-                           predicted=predicted)
-        except TimeLimitError:
-            raise
-        except SolverError as error:
-            if not problem.redundant or problem.quasi_variational:
-                raise
-            counted += max(len(error.history), 1)
+    3 of 8 points per edge redundant); else :func:`iterate`.  ``predicted``: the first step's state (:func:`solve`),
+    of the first iteration that runs."""
     if problem.redundant and not problem.quasi_variational:
         try:
             return _proximal(problem, problem.project(f) if problem.energy_merit else f, solver_tol, maxit,
-                             progress, energy_tol, deadline, counted)
+                             progress, energy_tol, deadline, counted, predicted)
         except TimeLimitError:
             raise
         except SolverError as error:
             counted += max(len(error.history), 1)
-    return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline)
+            predicted = None
+    return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline,
+                   predicted=predicted)
 
 
 def _info(problem, s, solver_tol, iterations, history, initial, steps):
@@ -327,9 +315,10 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None, bu
     return f, info
 
 
-def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None, counted=0):
+def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None, counted=0, predicted=None):
     """The proximal point method of the module docstring (redundant points, m_t = 0), from f.  ``counted``:
-    iterations done before (for the progress messages)."""
+    iterations done before (for the progress messages); ``predicted``: the first step's state (:func:`solve`; at
+    the anchor f a subproblem's traces are the problem's)."""
     mu, iterations, history, steps = PROXIMAL_START, 0, [], []
     initial = problem.residual(problem.evaluate(f))
     while not problem.done(problem.evaluate(f), solver_tol, energy_tol):
@@ -344,9 +333,10 @@ def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None
             # without energy at most PROXIMAL_BUDGET steps per subproblem; with energy the whole remaining budget
             # (the budget of 10 there made hp SIPG on Example 6.1 pick other forces: eta_h rose to 5e-3 at level 18)
             budget = maxit - iterations if problem.energy_merit else min(PROXIMAL_BUDGET, maxit - iterations)
+            first, predicted = predicted, None
             f, info = iterate(subproblem, f, solver_tol, budget, progress,
                               energy_tol, outer=problem, counted=counted + iterations, deadline=deadline,
-                              unfinished=True)
+                              unfinished=True, predicted=first)
         except TimeLimitError:
             raise
         except SolverError as error:  # its globalisation gave up: restart from the centre, each attempt counted
