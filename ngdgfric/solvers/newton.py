@@ -135,7 +135,7 @@ class NewtonState:
         self.disc, self.contact, self.traces = disc, contact, traces
         self.condensation = Condensation(disc.A if A is None else A, disc.F, traces, disc.symmetric, linear_solver)
         self.reduced = ReducedContact.condensed(self.condensation, traces, disc.symmetric, checked=True)
-        self.f = self.predicted = None
+        self.f = None
         self.condense_seconds = time.perf_counter() - start
 
     def reload(self, F):
@@ -146,11 +146,9 @@ class NewtonState:
 
     def start_from(self, u, lam_tau):
         """f from GridFunctions u on ``disc.V`` and lam_tau on ``contact.Q``: the forces of the laws at u, with
-        lam_tau; the first Newton step takes the sets of that start (``ReducedContact.predicted``)."""
+        lam_tau."""
         w = self.traces.apply(u.vec.FV().NumPy())
-        values = self.contact.multiplier_values(lam_tau)
-        self.f = self.reduced.forces(w, values)
-        self.predicted = self.reduced.predicted(self.f, w, values, self.traces.foundation)
+        self.f = self.reduced.forces(w, self.contact.multiplier_values(lam_tau))
 
     def run(self, options):
         """Newton from the current f (zero if none) with the ``NewtonOptions`` ``options``, then recover
@@ -172,8 +170,7 @@ class NewtonState:
         """Step 1: the semismooth Newton iteration on the points from the current f; (f, info, seconds)."""
         start = time.perf_counter()
         f, info = semismooth.solve(self.reduced, self.f, options.solver_tol, options.maxit, options.progress,
-                                   options.energy_tol, until, predicted=self.predicted)
-        self.predicted = None  # a resumed run (ngdgfric.finish, a proximal step of a floating body) goes on from f
+                                   options.energy_tol, until)
         return f, info, dict(newton=time.perf_counter() - start)
 
     def _recover(self, f, info, options, seconds, until):

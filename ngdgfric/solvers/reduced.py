@@ -43,7 +43,6 @@ small step in the kernel.
 
 import numpy as np
 
-from ..contact.discrete import STICK_MARGIN
 from ..contact.laws import bound_rate, law_forces, pressure_rate_values, pressure_values, project_unit_values
 from ..errors import SolverError, SolverWarning, warn
 from ..threads import dense_threads
@@ -316,27 +315,6 @@ class ReducedContact:
         projected onto K where the iteration descends the energy."""
         f = law_forces(self, w, lam_tau)
         return self.project(f) if self.energy_merit else f
-
-    def predicted(self, f, w, lam_tau, foundation):
-        r"""The state at f with the sets of a warm start instead of those of its own traces w(f) (the first Newton step
-        of :func:`ngdgfric.solvers.semismooth.solve` from a warm start): penetrating where the warm start's traces w
-        penetrate, sticking where its multiplier values ``lam_tau`` say so (:math:`|\lambda_\tau| < 1 -`
-        ``STICK_MARGIN`` at the first ``foundation`` points; the pairs' points, which carry no multiplier, by the law
-        at w), slipping in the direction of lam_tau; G at w(f) with the compliance and the friction bound linearised
-        at w.  The forces of a warm start are those of the laws at its u, whose traces w are accurate, but
-        w(f) = w0 - W f amplifies their error by the stiffness of the compliance (on the rubber pad's levels w(f) put
-        70 % of the points out of contact); the Newton point of these sets is the solution where they are right
-        (m_n = 1, m_t = 0)."""
-        M = self.M
-        at_w = point_state(self, f, w, self.r)
-        w_f = self.traces(f)
-        carried = np.arange(M) < foundation
-        stick = np.where(carried, np.abs(lam_tau) < 1 - STICK_MARGIN, at_w.stick)
-        sign = np.where(carried, np.where(lam_tau >= 0, 1.0, -1.0), at_w.sign)
-        normal = np.where(at_w.penetrating, f[:M] - at_w.N - at_w.dN * (w_f[:M] - w[:M]), f[:M])
-        bound = at_w.beta + at_w.dbeta * (w_f[:M] - w[:M])
-        tangential = np.where(stick, -self.r * w_f[M:], f[M:] - sign * bound)
-        return at_w.replace(w=w_f, stick=stick, sign=sign, G=np.concatenate([normal, tangential]))
 
     def traces(self, f):
         """w(f) = w0 - W f."""

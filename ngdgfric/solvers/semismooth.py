@@ -79,8 +79,7 @@ INNER, INNER_LOOSEST = 1e-3, 1e-8
 INNER_BUDGET = 5
 
 
-def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None, budget=None,
-          predicted=None):
+def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_tol=None, deadline=None, budget=None):
     """Globalised semismooth Newton for the :class:`~ngdgfric.solvers.reduced.ReducedContact` ``problem`` from f0
     (default 0); returns (f, info).
 
@@ -100,12 +99,10 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
     Raises :class:`SolverError` if the stopping test is not met within ``maxit`` iterations, and
     :class:`~ngdgfric.errors.TimeLimitError` once ``time.perf_counter()`` passes ``deadline`` (None: never).
     ``budget``: the continuation's iterations in all, as a multiple of maxit (None: no limit but its step).
-    ``predicted``: for a warm start f0, the state at f0 with the warm start's sets
-    (``ReducedContact.predicted``): the first Newton direction is taken there.
     """
     f = np.zeros(2 * problem.M) if f0 is None else np.asarray(f0, dtype=float).copy()
     try:
-        return _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol, deadline, predicted=predicted)
+        return _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol, deadline)
     except TimeLimitError:
         raise
     except SolverError as error:
@@ -114,24 +111,20 @@ def solve(problem, f0=None, solver_tol=1e-12, maxit=100, progress=None, energy_t
         return _continuation(problem, solver_tol, maxit, progress, error, deadline, budget)
 
 
-def _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol=None, deadline=None, counted=0,
-                    predicted=None):
+def _solve_directly(problem, f, solver_tol, maxit, progress, energy_tol=None, deadline=None, counted=0):
     """:func:`solve` without the continuation: the proximal point method where the forces are not unique and the
     problem is monotone (redundant points, m_t = 0, with or without energy), and if that fails the plain
     :func:`iterate` from f (which solved problems where the proximal subproblems kept failing: random W with
-    3 of 8 points per edge redundant); else :func:`iterate`.  ``predicted``: the first step's state (:func:`solve`),
-    of the first iteration that runs."""
+    3 of 8 points per edge redundant); else :func:`iterate`."""
     if problem.redundant and not problem.quasi_variational:
         try:
             return _proximal(problem, problem.project(f) if problem.energy_merit else f, solver_tol, maxit,
-                             progress, energy_tol, deadline, counted, predicted)
+                             progress, energy_tol, deadline, counted)
         except TimeLimitError:
             raise
         except SolverError as error:
             counted += max(len(error.history), 1)
-            predicted = None
-    return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline,
-                   predicted=predicted)
+    return iterate(problem, f, solver_tol, maxit, progress, energy_tol, counted=counted, deadline=deadline)
 
 
 def _info(problem, s, solver_tol, iterations, history, initial, steps):
@@ -143,13 +136,12 @@ def _info(problem, s, solver_tol, iterations, history, initial, steps):
 
 
 def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None, counted=0, deadline=None,
-            unfinished=False, predicted=None):
+            unfinished=False):
     """The iteration of :func:`solve` from f, with the globalisation of the problem's kind (module docstring).
     ``outer``: the problem whose stopping test also ends it and whose KKT residual is recorded (a
     proximal subproblem's original problem); default ``problem``.  ``counted``: iterations done before
     (for the numbers in the progress messages); ``deadline``: as in :func:`solve`.  ``unfinished``: after
-    ``maxit`` iterations return the last f (``info["converged"]`` False) instead of raising SolverError.
-    ``predicted``: the state whose Newton direction the first step takes (see :func:`solve`)."""
+    ``maxit`` iterations return the last f (``info["converged"]`` False) instead of raising SolverError."""
     if problem.energy_merit:
         f = problem.project(f)
     outer = problem if outer is None else outer
@@ -166,8 +158,7 @@ def iterate(problem, f, solver_tol, maxit, progress, energy_tol=None, outer=None
         last = history[-1] if history else initial
         check_deadline(deadline, "semismooth Newton on the contact points", history,
                        f"after {counted + k} iterations (relative KKT residual {last:.3e})")
-        direction = problem.newton_direction(s if k or predicted is None else predicted)
-        f, kind = _step(problem, s, direction, memory, k, history, deadline)
+        f, kind = _step(problem, s, problem.newton_direction(s), memory, k, history, deadline)
         s = problem.evaluate(f)
         steps.append(kind)
         history.append(outer.residual(s if outer is problem else outer.evaluate(f)))
@@ -315,10 +306,9 @@ def _continuation(problem, solver_tol, maxit, progress, error, deadline=None, bu
     return f, info
 
 
-def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None, counted=0, predicted=None):
+def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None, counted=0):
     """The proximal point method of the module docstring (redundant points, m_t = 0), from f.  ``counted``:
-    iterations done before (for the progress messages); ``predicted``: the first step's state (:func:`solve`; at
-    the anchor f a subproblem's traces are the problem's)."""
+    iterations done before (for the progress messages)."""
     mu, iterations, history, steps = PROXIMAL_START, 0, [], []
     initial = problem.residual(problem.evaluate(f))
     while not problem.done(problem.evaluate(f), solver_tol, energy_tol):
@@ -333,10 +323,9 @@ def _proximal(problem, f, solver_tol, maxit, progress, energy_tol, deadline=None
             # without energy at most PROXIMAL_BUDGET steps per subproblem; with energy the whole remaining budget
             # (the budget of 10 there made hp SIPG on Example 6.1 pick other forces: eta_h rose to 5e-3 at level 18)
             budget = maxit - iterations if problem.energy_merit else min(PROXIMAL_BUDGET, maxit - iterations)
-            first, predicted = predicted, None
             f, info = iterate(subproblem, f, solver_tol, budget, progress,
                               energy_tol, outer=problem, counted=counted + iterations, deadline=deadline,
-                              unfinished=True, predicted=first)
+                              unfinished=True)
         except TimeLimitError:
             raise
         except SolverError as error:  # its globalisation gave up: restart from the centre, each attempt counted
