@@ -103,3 +103,19 @@ def test_forces_whose_least_norm_passes_the_bound_are_kept():
     c = np.linalg.solve(B.T @ (omega[:, None] * B), B.T @ f[3:])
     assert np.any(np.abs(omega * (B @ c)) > state.beta)
     assert np.array_equal(select(traces, f, state), f)
+
+
+def test_each_group_keeps_or_takes_its_own_forces():
+    """Two edges of two elements (no shared unknowns): the first one's least-norm forces keep the bound and are
+    taken, the second one's pass it and that edge keeps its forces; the bound is checked group by group."""
+    first, second = _edge([1.0, 0.2, 0.9]), _edge([-1.0, 1.0, 1.0])
+    t1, t2 = first[0], second[0]
+    traces = SimpleNamespace(M=6, foundation=6, redundant=True, omega=np.concatenate([t1.omega, t2.omega]),
+                             rows=np.concatenate([t1.rows + 3, t2.rows + 6]),
+                             cols=np.concatenate([t1.cols, t2.cols + 2]), values=np.concatenate([t1.values, t2.values]))
+    f = np.concatenate([np.zeros(6), first[1][3:], second[1][3:]])
+    state = SimpleNamespace(stick=np.concatenate([first[2].stick, second[2].stick]),
+                            beta=np.concatenate([first[2].beta, second[2].beta]), w=np.zeros(12))
+    alone = select(first[0], first[1], first[2])[3:]
+    assert not np.allclose(alone, f[6:9])  # the first edge's forces change
+    assert np.allclose(select(traces, f, state)[6:], np.concatenate([alone, f[9:]]), rtol=0, atol=1e-15)

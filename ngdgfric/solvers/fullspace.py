@@ -262,8 +262,9 @@ class FullSpace:
         the multiplier (:func:`~ngdgfric.solvers.reduced.multiplier_of`) and (sum_q d_q G_q^2)^(1/2)
         (:meth:`ngdgfric.solvers.reduced.ReducedContact.linearization` with the Jacobi d_q in place of W_qq)."""
         s, _, _ = self.laws(u, f)
-        f = select(self.traces, f, s)
-        s, _, _ = self.laws(u, f)
+        selected = select(self.traces, f, s)
+        if selected is not f:  # redundant points: the laws at the forces selected
+            f, (s, _, _) = selected, self.laws(u, selected)
         return f, multiplier_of(s, self.r), float(np.sqrt(np.sum(self.scale * s.G * s.G)))
 
 

@@ -56,7 +56,7 @@ def select(traces, f, state):
     """The forces f (length 2 M, ``ContactTraces`` ``traces`` order) with the sticking tangential forces of the
     foundation's points replaced by the least-norm ones of the module docstring; ``state``: the
     :class:`~ngdgfric.solvers.reduced.PointState` of the laws at f (its ``stick`` and ``beta``).  f itself where the
-    points are not redundant."""
+    points are not redundant or none sticks (the same object, so that a caller can tell)."""
     if not traces.redundant:
         return f
     M, foundation = traces.M, traces.foundation
@@ -67,9 +67,10 @@ def select(traces, f, state):
     chosen = np.isin(traces.rows, M + points)
     rows, cols, values = traces.rows[chosen], traces.cols[chosen], traces.values[chosen]
     labels = _groups(rows, cols)
+    order = np.argsort(labels, kind="stable")  # the entries group by group
+    starts = np.flatnonzero(np.diff(labels[order], prepend=-1))
     out = f.copy()
-    for label in np.unique(labels):
-        mine = labels == label
+    for mine in np.split(order, starts[1:]):
         group_rows, row_index = np.unique(rows[mine], return_inverse=True)
         group_cols, col_index = np.unique(cols[mine], return_inverse=True)
         if group_rows.size <= 1:
