@@ -23,7 +23,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .checks import MEMORY_BUDGET, callback, optional, positive_integer, positive_number
+from .checks import MEMORY_BUDGET, callback, nonnegative_number, optional, positive_integer, positive_number
 from .dg.discretization import MAX_DEGREE, check_order, space
 from .dg.material import largest
 from .dg.methods import get_method
@@ -38,7 +38,11 @@ from .progress import log, reporter
 from .threads import limited_blas
 
 __all__ = ["dorfler_mark", "adapt", "AdaptOptions", "Adaptation", "minimum_angle", "choose_method", "initial_mesh",
-           "level_line", "FIELDS", "MAX_ORDER", "LAYERS", "INITIAL_LAYERS"]
+           "level_line", "FIELDS", "MAX_ORDER", "LAYERS", "INITIAL_LAYERS", "DEFAULT_RTOL"]
+
+DEFAULT_RTOL = 1e-3
+"""The accuracy :func:`adapt` stops at when given neither ``tol`` nor ``rtol``: :math:`\\eta_h \\le 10^{-3}
+|\\!|\\!| u_h |\\!|\\!|_h`, 0.1 % of the energy norm (without a target the loop would run on to its budgets)."""
 
 MAX_ORDER = 8
 """The largest degree of hp-adaptivity unless :func:`adapt` is given ``max_order``: no lower cap reaches the same
@@ -60,8 +64,8 @@ class Adaptation:
         One record per solved level, with the keys of ``ngdgfric.adaptivity.FIELDS`` (level, DOFs, degrees,
         :math:`\\eta_h`, iterations and the contact points whose state changed from the warm start, times; the
         columns of ``adapt``'s CSV) and ``target``: the :math:`\\eta_h` the
-        level had to reach, the larger of ``tol`` and ``rtol`` :math:`|\\!|\\!| u_h |\\!|\\!|_h`, NaN (a float, as
-        the other values) when neither ``tol`` nor ``rtol`` is given.
+        level had to reach, the larger of ``tol`` and ``rtol`` :math:`|\\!|\\!| u_h |\\!|\\!|_h` (0 for ``rtol=0``
+        alone: no accuracy target).
     solution : Solution
         The :class:`ngdgfric.Solution` of the last level; its mesh is the final mesh, not refined after the solve.
     estimate : Estimate
@@ -110,8 +114,8 @@ class AdaptOptions:
 
     :func:`adapt` takes them as this object (``settings=``) or as keywords of the same names; the two forms give
     the same run.  The loop stops at the first of: the estimate at or below ``tol`` or ``rtol`` times the energy
-    norm, ``max_levels`` solved levels, a next mesh above ``max_ndof`` DOFs or ``max_bytes`` of memory, a next
-    level that would end after ``max_seconds``.
+    norm (given neither, ``rtol`` is ``DEFAULT_RTOL`` = 1e-3), ``max_levels`` solved levels, a next mesh above
+    ``max_ndof`` DOFs or ``max_bytes`` of memory, a next level that would end after ``max_seconds``.
 
     Parameters
     ----------
@@ -132,7 +136,8 @@ class AdaptOptions:
         Stop when :math:`\eta_h \le` ``tol``.  Default ``None``: no absolute target.
     rtol : float or None, optional
         Stop when :math:`\eta_h \le` ``rtol`` :math:`|\!|\!| u_h |\!|\!|_h` (the energy norm,
-        :func:`ngdgfric.energy_norm`).  Default ``None``: no relative target.
+        :func:`ngdgfric.energy_norm`).  Default ``None``: ``DEFAULT_RTOL`` = 1e-3 if ``tol`` is ``None`` too, else no
+        relative target.  ``rtol=0`` (or ``tol=0``): no accuracy target, the budgets alone end the run.
     max_levels : int, optional
         Solve at most this many levels.  Default ``100``.
     max_ndof : int, optional
@@ -156,8 +161,10 @@ class AdaptOptions:
     Examples
     --------
     >>> settings = ndf.AdaptOptions(tol=1e-2, theta=0.5, max_levels=20)
-    >>> settings.tol, settings.hp
-    (0.01, True)
+    >>> settings.tol, settings.rtol, settings.hp
+    (0.01, None, True)
+    >>> ndf.AdaptOptions().rtol
+    0.001
     >>> ndf.AdaptOptions(theta=0)
     Traceback (most recent call last):
     ...
@@ -194,8 +201,8 @@ class AdaptOptions:
                 raise ValueError(f"{name} must be True or False, got {value!r}")
 
         checks = dict(theta=(fraction, float), hp=(flag, bool), max_order=(optional(hp_order), int),
-                      layers=(optional(layer_count), int), tol=(optional(positive_number), float),
-                      rtol=(optional(positive_number), float), max_levels=(positive_integer, int),
+                      layers=(optional(layer_count), int), tol=(optional(nonnegative_number), float),
+                      rtol=(optional(nonnegative_number), float), max_levels=(positive_integer, int),
                       max_ndof=(positive_integer, int), max_bytes=(positive_number, float),
                       max_seconds=(optional(positive_number), float))
         for name, (check, kind) in checks.items():
@@ -206,52 +213,42 @@ class AdaptOptions:
         for name in ("max_order", "layers"):
             if getattr(self, name) is not None and not self.hp:
                 raise ValueError(f"{name}={getattr(self, name)!r} acts in hp refinement only; hp=False would ignore it")
-
-    @classmethod
-    def merged(cls, settings, keywords):
-        """The settings of ``settings`` (an AdaptOptions or None) and of the keywords that name its fields.
-
-        Parameters
-        ----------
-        settings : AdaptOptions or None
-            The grouped form; ``None``: the defaults.
-        keywords : dict
-            Keyword arguments of :func:`adapt`; those naming a field of this class are taken out of it.
-
-        Returns
-        -------
-        AdaptOptions
-            ``settings``, or the settings the keywords give.
-
-        Raises
-        ------
-        ValueError
-            ``settings`` is not an AdaptOptions, or given together with keywords naming its fields.
-        """
-        if settings is not None and not isinstance(settings, cls):
-            raise ValueError(f"settings must be an AdaptOptions or None, got {settings!r}")
-        names = {field.name for field in dataclasses.fields(cls)}
-        given = {name: keywords.pop(name) for name in list(keywords) if name in names}
-        if settings is None:
-            return cls(**given)
-        if given:
-            raise ValueError(f"{', '.join(sorted(given))} given as keywords together with settings={settings!r}: give "
-                             f"the settings either as an AdaptOptions or as keywords")
-        return settings
+        if self.tol is None and self.rtol is None:
+            object.__setattr__(self, "rtol", DEFAULT_RTOL)
 
 
+SETTINGS = tuple(field.name for field in dataclasses.fields(AdaptOptions))
+"""The keywords of :func:`adapt` that are the fields of :class:`AdaptOptions`."""
+
+
+def _settings_once(function):
+    """``function`` (:func:`adapt`) refusing its settings given both as ``settings=`` and as keywords."""
+    @functools.wraps(function)
+    def checked(*args, **keywords):
+        settings = args[4] if len(args) > 4 else keywords.get("settings")
+        given = sorted(name for name in SETTINGS if name in keywords)
+        if settings is not None and given:
+            raise ValueError(f"{', '.join(given)} given as keywords together with settings={settings!r}: give the "
+                             f"settings either as an AdaptOptions or as keywords")
+        return function(*args, **keywords)
+    return checked
+
+
+@_settings_once
 @limited_blas
-def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator="residual", variant=None,
-          solver="newton", eta=None, solver_tol=None, gamma_lin=None, csv_path=None, progress=log, keep=None,
-          weights=None, **options):
+def adapt(problem, mesh=None, method=None, order=4, settings=None, *, tol=None, rtol=None, theta=0.8, hp=True,
+          max_order=None, layers=None, max_levels=100, max_ndof=10**6, max_bytes=MEMORY_BUDGET, max_seconds=None,
+          estimator="residual", variant=None, solver="newton", eta=None, solver_tol=None, gamma_lin=None,
+          csv_path=None, progress=log, keep=None, weights=None, **options):
     r"""Solve adaptively to a tolerance: SOLVE, ESTIMATE, MARK, REFINE (Section 6), level after level.
 
     Every level solves the contact problem (:func:`ngdgfric.solve`, from the previous level's solution),
     estimates the error (:func:`ngdgfric.estimate`), marks elements by Doerfler's criterion
     (:func:`ngdgfric.dorfler_mark`) and refines them: bisection, or with ``hp`` the hp decision of
-    :func:`ngdgfric.hp_refine`.  It stops as :class:`AdaptOptions` says (``tol``, ``rtol``, ``max_levels``,
-    ``max_ndof``, ``max_bytes``, ``max_seconds``); the refinement of a level that would pass a budget is tried on
-    a copy of the mesh, so the returned solution's mesh is never refined after its solve.
+    :func:`ngdgfric.hp_refine`.  It stops at the first of ``tol``, ``rtol`` (by default
+    :math:`\eta_h \le 10^{-3} |\!|\!| u_h |\!|\!|_h`), ``max_levels``, ``max_ndof``, ``max_bytes``, ``max_seconds``;
+    the refinement of a level that would pass a budget is tried on a copy of the mesh, so the returned solution's
+    mesh is never refined after its solve.
 
     Parameters
     ----------
@@ -270,9 +267,34 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
         The polynomial degree :math:`1 \le p \le 30` of the first level (of every level with ``hp=False``).
         Default ``4``.
     settings : AdaptOptions or None, optional
-        The refinement and stopping settings as one object.  Default ``None``: :class:`AdaptOptions`'
-        defaults, or the keywords of the same names (``theta``, ``hp``, ``max_order``, ``layers``, ``tol``,
-        ``rtol``, ``max_levels``, ``max_ndof``, ``max_bytes``, ``max_seconds``) passed to ``adapt`` itself.
+        The settings ``tol`` ... ``max_seconds`` below as one object (:class:`AdaptOptions`, the same names and
+        defaults); refused together with any of those keywords.  Default ``None``: the keywords.
+    tol : float or None, optional
+        Stop when :math:`\eta_h \le` ``tol`` (an estimate of :math:`|\!|\!| u - u_h |\!|\!|_h`).  Default ``None``:
+        no absolute target.
+    rtol : float or None, optional
+        Stop when :math:`\eta_h \le` ``rtol`` :math:`|\!|\!| u_h |\!|\!|_h` (with ``tol``, whichever is reached
+        first).  Default ``None``: ``DEFAULT_RTOL`` = 1e-3 (0.1 % of the energy norm) if ``tol`` is ``None`` too, and
+        ``adapt`` says so in its first progress line; else no relative target.  ``rtol=0``: no accuracy target, the
+        budgets below alone end the run.
+    theta : float, optional
+        Doerfler's bulk parameter :math:`\theta \in (0, 1]`.  Default ``0.8``; the paper uses ``0.3``.
+    hp : bool, optional
+        ``True`` (default): hp-refinement (:func:`ngdgfric.hp_refine`); ``False``: bisection only, degree ``order``.
+    max_order : int or None, optional
+        The largest degree of hp-refinement.  Default ``None``: ``MAX_ORDER`` = 8.  Refused with ``hp=False``.
+    layers : int or None, optional
+        Geometric layers per hp step towards corners and the ends of the contact and stick zones.  Default
+        ``None``: ``LAYERS`` = 1.  Refused with ``hp=False``.
+    max_levels : int, optional
+        Solve at most this many levels.  Default ``100``.
+    max_ndof : int, optional
+        Stop before a mesh with more DOFs.  Default ``10**6``.
+    max_bytes : float, optional
+        Stop before a mesh whose solve is estimated to need more memory, in bytes.  Default ``8e9``
+        (``MEMORY_BUDGET``).
+    max_seconds : float or None, optional
+        Stop before a level that would end after this many seconds from the start.  Default ``None``: no limit.
     estimator : str, optional
         ``"residual"`` (default; :func:`ngdgfric.estimate`, the estimator of Section 4) or
         ``"equilibrated"`` (the guaranteed bound of :func:`ngdgfric.equilibrate`).  Marking uses its indicators.
@@ -284,7 +306,10 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
         The contact solver of every level: ``"newton"`` (default), ``"uzawa"`` or ``"fixed_point"``
         (:func:`ngdgfric.solve`).
     eta : float or None, optional
-        The penalty parameter of the DG methods.  Default ``None``: the method's default (:math:`30\mu`).
+        The penalty parameter of the DG methods.  Default ``None``: the method's own default
+        (:data:`ngdgfric.METHODS`): ``sipg`` :math:`30\mu`, ``nipg`` :math:`30\mu`, ``bassi`` :math:`6`,
+        ``brezzi`` :math:`1`, ``ldg`` :math:`30\mu`, ``cg`` :math:`30\mu` (:math:`\mu` times a number for the
+        edge penalties, a pure number for the lifting penalties of Bassi et al. and Brezzi et al.).
     solver_tol : float or None, optional
         The solver's tolerance (:func:`ngdgfric.solve`).  Default ``None``: the solver's default.
     gamma_lin : float or None, optional
@@ -302,9 +327,7 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     weights : str or None, optional
         The old name of ``variant`` (DeprecationWarning).
     **options
-        The fields of :class:`AdaptOptions` as keywords (``tol=1e-3``, ``theta=0.5``, ...; refused together
-        with ``settings``), and the solver's options for :func:`ngdgfric.solve` (e.g.
-        ``maxit``; :class:`ngdgfric.NewtonOptions`).
+        The solver's options for :func:`ngdgfric.solve` (e.g. ``maxit``; :class:`ngdgfric.NewtonOptions`).
 
     Returns
     -------
@@ -345,7 +368,11 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     True
     """
     variant = deprecated_weights(variant, weights, "adapt")
-    settings = AdaptOptions.merged(settings, options)
+    if settings is None:
+        settings = AdaptOptions(theta=theta, hp=hp, max_order=max_order, layers=layers, tol=tol, rtol=rtol,
+                                max_levels=max_levels, max_ndof=max_ndof, max_bytes=max_bytes, max_seconds=max_seconds)
+    elif not isinstance(settings, AdaptOptions):
+        raise ValueError(f"settings must be an AdaptOptions or None, got {settings!r}")
     _check_arguments(order, settings, gamma_lin)
     _check_applicable(solver, estimator, variant, gamma_lin)
     if estimator == "equilibrated" and problem.pairs:
@@ -360,6 +387,9 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, estimator=
     method, reason = choose_method(problem, mesh, order) if method is None else (get_method(method).name, "given")
     _check_first_level(problem, mesh, order, get_method(method), settings)
     say(f"method {method}: {reason}")
+    if tol is None and rtol is None and settings.tol is None and settings.rtol == DEFAULT_RTOL:
+        say(f"target: eta_h <= rtol |||u_h|||_h with rtol = {DEFAULT_RTOL:g}, the default (neither tol nor rtol was "
+            f"given; rtol=0 runs on to the budgets)")
     solve_options = MappingProxyType(dict(method=method, eta=eta, solver=solver, solver_tol=solver_tol,
                                           max_bytes=settings.max_bytes, **options))
     loop = AdaptiveLoop(problem, mesh, LoopSettings(

@@ -170,6 +170,12 @@ def positive_number(value, name):
         raise ValueError(f"{name} must be a positive finite number, got {value!r}")
 
 
+def nonnegative_number(value, name):
+    """A finite real number >= 0."""
+    if not isinstance(value, Real) or isinstance(value, bool) or not np.isfinite(value) or value < 0:
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+
+
 def positive_integer(value, name):
     """An integer >= 1."""
     if not isinstance(value, Integral) or isinstance(value, bool) or value < 1:

@@ -32,7 +32,7 @@ import threading
 import warnings
 from pathlib import Path
 
-from .adaptivity import INITIAL_LAYERS, LAYERS, MAX_ORDER, AdaptOptions, adapt
+from .adaptivity import DEFAULT_RTOL, INITIAL_LAYERS, LAYERS, MAX_ORDER, AdaptOptions, adapt
 from .checks import MEMORY_BUDGET, DataError
 from .commands import COMMANDS, DEFAULT_H, NOT_REACHED, NotReached, load, outputs
 from .dg.methods import METHODS
@@ -129,14 +129,14 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _number(kind, low=0.0, high=None, what="positive"):
-    """argparse type: a finite ``kind`` number x with low < x (<= high)."""
+def _number(kind, low=0.0, high=None, what="positive", closed=False):
+    """argparse type: a finite ``kind`` number x with low < x (<= high); low <= x if ``closed``."""
     def convert(text):
         try:
             value = float(text) if kind is float else _integer(text)
         except (ValueError, OverflowError):
             raise argparse.ArgumentTypeError(f"not {'a number' if kind is float else 'an integer'}: {text!r}") from None
-        if not (value > low and (high is None or value <= high) and math.isfinite(value)):
+        if not ((value >= low if closed else value > low) and (high is None or value <= high) and math.isfinite(value)):
             raise argparse.ArgumentTypeError(f"must be {what}, got {text}")
         return value
     return convert
@@ -253,12 +253,13 @@ def _adaptive_parser(commands):
                      help=f"stop before a solve with more DOFs (default: {max_ndof:.0e})")
     sub.add_argument("--max-seconds", type=_number(float), default=default("adapt", "max_seconds"),
                      help="stop before a level that would end after this many seconds (default: no limit)")
-    sub.add_argument("--tol", type=_number(float), default=default("adapt", "tol"),
+    sub.add_argument("--tol", type=_number(float, what=">= 0", closed=True), default=default("adapt", "tol"),
                      help="stop when eta_h <= TOL (an estimate of the energy error |||u - u_h|||_h); a run that "
                           f"stops before exits with code {NOT_REACHED}")
-    sub.add_argument("--rtol", type=_number(float), default=default("adapt", "rtol"),
+    sub.add_argument("--rtol", type=_number(float, what=">= 0", closed=True), default=default("adapt", "rtol"),
                      help="stop when eta_h <= RTOL |||u_h|||_h (a relative tolerance: 1e-3 for 0.1 %% of the energy "
-                          "norm; with --tol, whichever is reached first); exit code as for --tol")
+                          "norm; with --tol, whichever is reached first); exit code as for --tol (default: "
+                          f"{DEFAULT_RTOL:g} when --tol is not given either; 0: no target, the budgets end the run)")
     sub.add_argument("--variant", choices=list(VARIANTS), default=default("adapt", "variant"),
                      help=f"variant of the residual estimator (default: {VARIANTS[0]}): 'energy' (in the units of "
                           "the energy norm) or 'paper' (Section 4 as printed); not with --estimator equilibrated")

@@ -97,7 +97,7 @@ class Level:
     """One level of the loop as it passes from SOLVE and ESTIMATE to MARK and REFINE.
 
     ``number`` counts from 0; ``sol`` and ``est``: its Solution and Estimate (``est`` None until estimated);
-    ``tol``: the eta_h it must reach (:func:`target`; None: no target); ``seconds``: the time of its phases;
+    ``tol``: the eta_h it must reach (:func:`target`); ``seconds``: the time of its phases;
     ``marking``: the refinement that makes the next level (None where the loop stops); ``stopped``: why the loop
     stops here (``"tol"``, ``"max_levels"``, ``"max_seconds"``, ``"max_ndof"``, ``"memory"``; None: it goes on).
     """
@@ -179,7 +179,7 @@ class AdaptiveLoop:
         the loop stops at for a budget is solved to the full tolerance (:meth:`settle`).  ``records``: the rows of
         the levels before (:func:`record`)."""
         options, est = self.settings.options, level.est
-        if level.tol is not None and est.eta_h <= level.tol:
+        if est.eta_h <= level.tol:
             return replace(level, stopped="tol")
         if level.number == options.max_levels - 1:
             return replace(level, stopped="max_levels")
@@ -237,7 +237,7 @@ class AdaptiveLoop:
 
 
 def record(level, state):
-    """The CSV row of ``level`` (keys ``FIELDS``, and ``target``: its target eta_h, NaN for none); ``state``: the
+    """The CSV row of ``level`` (keys ``FIELDS``, and ``target``: its target eta_h); ``state``: the
     HPState of its mesh, which must not be refined yet.  ``changed_points``: the contact points whose state (no
     contact, stick, slip) the solve changed from its start (the warm start; zero on the first level)."""
     sol, est, seconds, mesh = level.sol, level.est, level.seconds, level.sol.mesh
@@ -248,16 +248,15 @@ def record(level, state):
                 estimate_seconds=seconds.estimate,
                 mark_refine_seconds=seconds.mark_refine, h_min=float(element_diameters(mesh).min()),
                 min_angle=minimum_angle(mesh), p_min=int(state.orders.min()), p_max=int(state.orders.max()),
-                target=math.nan if level.tol is None else level.tol)
+                target=level.tol)
 
 
 def target(tolerances, sol):
-    """The eta_h a level must reach for ``tolerances`` (tol, rtol) (either may be None): the larger of tol and
-    rtol |||u_h|||_h (:func:`ngdgfric.energy_norm`), None if both are None."""
+    """The eta_h a level must reach for ``tolerances`` (tol, rtol), at least one of them a number (``AdaptOptions``
+    sees to it; the other None): the larger of tol and rtol |||u_h|||_h (:func:`ngdgfric.energy_norm`); 0 for
+    ``rtol=0`` alone, a target only an exact solution reaches."""
     tol, rtol = tolerances
-    relative = None if rtol is None else rtol * energy_norm(sol)
-    given = [value for value in (tol, relative) if value is not None]
-    return max(given) if given else None
+    return max(value for value in (tol, None if rtol is None else rtol * energy_norm(sol)) if value is not None)
 
 
 def settle(level, estimator, solver_tol, gamma_lin, returned):
@@ -273,7 +272,7 @@ def settle(level, estimator, solver_tol, gamma_lin, returned):
         sol, est = level.sol, level.est
         if sol.state is None:
             break
-        full = not partial or returned or (level.tol is not None and est.eta_h <= level.tol)
+        full = not partial or returned or est.eta_h <= level.tol
         if not full and sol.info["linearization"] <= gamma_lin * est.eta_h:
             break
         sol, solve_seconds = timed(finish, sol, solver_tol=solver_tol,

@@ -130,7 +130,7 @@ def run_task(task):
                 record(level, sol, ndf.estimate(sol), time.perf_counter() - start)
         else:
             ndf.adapt(problem, ndf.uniform_mesh(problem, h0), method=task["method"], order=task["order"], hp=False,
-                      max_levels=task["levels"], theta=0.3, progress=None,
+                      max_levels=task["levels"], rtol=0, theta=0.3, progress=None,
                       keep=lambda level, sol, est: record(level, sol, est, time.perf_counter() - start))
     except ndf.SolverError as error:  # reported, never dropped
         rows.append(dict(task, level=len(rows), ndof=None, error=math.nan, eta_h=math.nan, eta_paper=math.nan,

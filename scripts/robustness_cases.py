@@ -295,11 +295,11 @@ def adapted_mesh(family, hp, levels):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ndf.PenaltyWarning)
         if hp:
-            ndf.adapt(problem, hp=True, order=2, max_order=5, max_levels=levels, variant="paper", theta=0.3,
+            ndf.adapt(problem, hp=True, order=2, max_order=5, max_levels=levels, rtol=0, variant="paper", theta=0.3,
                       progress=None, keep=keep)
         else:
             start = ndf.uniform_mesh(problem, 1 / 4) if problem.geometry.is_rectangle else ndf.netgen_mesh(problem, 0.3)
-            ndf.adapt(problem, mesh=start, order=1, hp=False, max_levels=levels, variant="paper", theta=0.3,
+            ndf.adapt(problem, mesh=start, order=1, hp=False, max_levels=levels, rtol=0, variant="paper", theta=0.3,
                       progress=None, keep=keep)
     return kept["mesh"], kept["orders"].astype(np.int64)
 

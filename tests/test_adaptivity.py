@@ -166,18 +166,20 @@ def test_solver_tol_reaches_every_solve_and_finish(monkeypatch):
     assert {name for name, _ in seen} == {"solve", "finish"} and {tol for _, tol in seen} == {1e-12}
 
 
-def readme_loop():
-    """The code block under "The paper's loop, by hand" in README.md."""
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    section = text.split("## The paper's loop, by hand", 1)[1]
+GUIDE = Path(__file__).resolve().parents[1] / "docs" / "user_guide" / "adaptivity.md"
+
+
+def guide_loop():
+    """The code block under "The paper's loop, by hand" in the user guide's page on adaptivity."""
+    section = GUIDE.read_text().split("## The paper's loop, by hand", 1)[1]
     return section.split("```python\n", 1)[1].split("```", 1)[0]
 
 
-def test_the_hand_written_loop_of_the_readme_runs_and_equals_adapt(capsys):
-    # the README's SOLVE -> ESTIMATE -> MARK -> REFINE loop, as written there, with every Solution kept
+def test_the_hand_written_loop_of_the_guide_runs_and_equals_adapt(capsys):
+    # the guide's SOLVE -> ESTIMATE -> MARK -> REFINE loop, as written there, with every Solution kept
     # across the refinements that follow it (it used to crash: "active_dofs size doesn't match FESpace")
     namespace = {}
-    exec(compile(readme_loop(), "README.md", "exec"), namespace)
+    exec(compile(guide_loop(), str(GUIDE), "exec"), namespace)
     printed = [line.split() for line in capsys.readouterr().out.splitlines()]
     sol, mesh = namespace["sol"], namespace["mesh"]
     assert len(printed) == 8 and mesh.ne > sol.mesh.ne  # refined after the last solve; sol has its own mesh
@@ -261,9 +263,29 @@ def test_progress_goes_to_the_ngdgfric_logger_or_to_a_callable(caplog, capsys):
     logged = [record.getMessage() for record in caplog.records if record.name == "ngdgfric"]
     seen = []
     ndf.adapt(ndf.example_6_2(), progress=seen.append, **options)
-    assert len(logged) == len(seen) == 3 and logged[0] == seen[0] == "method sipg: given"
+    assert len(logged) == len(seen) == 4 and logged[0] == seen[0] == "method sipg: given"
+    assert logged[1] == seen[1]
+    assert seen[1].startswith("target: eta_h <= rtol |||u_h|||_h with rtol = 0.001, the default")
     assert [line.split(",")[:2] for line in logged] == [line.split(",")[:2] for line in seen]  # times differ
-    assert seen[1].startswith("level   0: ") and "eta_h = " in seen[1]
+    assert seen[2].startswith("level   0: ") and "eta_h = " in seen[2]
+
+
+def test_without_tol_or_rtol_adapt_stops_at_the_default_accuracy_and_says_so():
+    problem = ndf.example_6_2()
+    seen = []
+    run = ndf.adapt(problem, progress=seen.append)
+    assert ndf.adaptivity.DEFAULT_RTOL == 1e-3
+    assert run.stopped == "tol" and "rtol = 0.001, the default" in seen[1]
+    norm = ndf.energy_norm(run.solution)
+    assert run.estimate.eta_h <= 1e-3 * norm < run.levels[-2]["eta_h"]  # stopped at the first level below, not later
+    assert ndf.AdaptOptions().rtol == 1e-3 and ndf.AdaptOptions(tol=1e-2).rtol is None
+    assert ndf.AdaptOptions(tol=1e-2, rtol=1e-3).rtol == 1e-3
+    # tol alone: no relative target besides it (the default would stop this run at 0.1 % long before tol = 1e-9)
+    assert ndf.adapt(problem, tol=1e-9, max_levels=8, progress=None).stopped == "max_levels"
+    # rtol = 0: no target, the budgets end the run
+    seen = []
+    assert ndf.adapt(problem, rtol=0, max_levels=3, progress=seen.append).stopped == "max_levels"
+    assert not any(line.startswith("target:") for line in seen)
 
 
 def test_settings_grouped_or_as_keywords_give_the_same_run():
@@ -281,12 +303,15 @@ def test_settings_refused_twice_or_of_the_wrong_type_or_out_of_range():
     problem = ndf.example_6_2()
     with pytest.raises(ValueError, match=r"max_levels given as keywords together with settings="):
         ndf.adapt(problem, settings=ndf.AdaptOptions(tol=1e-2), max_levels=3)
+    with pytest.raises(ValueError, match=r"rtol, theta given as keywords together with settings="):
+        ndf.adapt(problem, None, None, 4, ndf.AdaptOptions(), theta=0.8, rtol=None)  # even at their defaults
     with pytest.raises(ValueError, match=r"settings must be an AdaptOptions or None, got 0.3"):
         ndf.adapt(problem, None, "sipg", 1, 0.3)  # theta where 0.1 took it positionally
     for bad, message in ((dict(theta=1.5), r"theta must be in \(0, 1\], got 1.5"),
                          (dict(hp="yes"), r"hp must be True or False, got 'yes'"),
                          (dict(max_order=0), r"max_order must be an integer in 1..30 .* or None, got 0"),
-                         (dict(tol=-1.0), r"tol must be a positive finite number, got -1.0"),
+                         (dict(tol=-1.0), r"tol must be a finite number >= 0, got -1.0"),
+                         (dict(rtol=float("inf")), r"rtol must be a finite number >= 0, got inf"),
                          (dict(max_seconds=float("nan")), r"max_seconds must be a positive finite number, got nan"),
                          (dict(hp=False, layers=1), r"layers=1 acts in hp refinement only")):
         with pytest.raises(ValueError, match=message):

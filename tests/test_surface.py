@@ -96,11 +96,13 @@ def test_a_poisson_ratio_largest_at_a_vertex_warns_of_locking():
     assert len(locking) == 1 and "nu = 0.49995" in locking[0]
 
 
-def test_the_target_of_a_level_is_nan_without_tol_and_tol_with_it():
-    """The key ``target`` (documented in Adaptation.levels): NaN without tol or rtol, else the eta_h to reach."""
+def test_the_target_of_a_level_is_the_eta_h_to_reach():
+    """The key ``target`` (documented in Adaptation.levels): the default 1e-3 |||u_h|||_h without tol or rtol, tol
+    with it, 0 with rtol = 0 (no target)."""
     problem = ndf.example_6_1()
     runs = [ndf.adapt(problem, method="sipg", order=1, hp=False, max_levels=1, progress=None, **tol)
-            for tol in ({}, dict(tol=1e-3))]
-    assert math.isnan(runs[0].levels[0]["target"]) and runs[1].levels[0]["target"] == 1e-3
+            for tol in ({}, dict(tol=1e-3), dict(rtol=0))]
+    assert runs[0].levels[0]["target"] == pytest.approx(1e-3 * ndf.energy_norm(runs[0].solution), rel=1e-12)
+    assert runs[1].levels[0]["target"] == 1e-3 and runs[2].levels[0]["target"] == 0.0
     assert set(runs[0].levels[0]) == {*ndf.adaptivity.FIELDS, "target"}
     assert "``target``" in ndf.Adaptation.__doc__
