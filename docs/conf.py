@@ -186,6 +186,15 @@ def user_form(value):
     return repr(value)
 
 
+def _constant(obj, default):
+    """The value of a default that ``autodoc_preserve_defaults`` replaced by its source text, where that text names
+    a constant of the function's module (``MEMORY_BUDGET``); other defaults as they are."""
+    text = getattr(default, "name", None)  # sphinx's DefaultValue keeps the text
+    if isinstance(text, str) and text.isidentifier():
+        return getattr(inspect.unwrap(obj), "__globals__", {}).get(text, default)
+    return default
+
+
 def _user_defaults(app, what, name, obj, options, signature, return_annotation):
     """Signatures with defaults as a user writes them: a module constant (``max_bytes=MEMORY_BUDGET``, as
     ``autodoc_preserve_defaults`` shows it) by its value (``max_bytes=8e9``), a dataclass field's factory
@@ -202,7 +211,7 @@ def _user_defaults(app, what, name, obj, options, signature, return_annotation):
         if parameter.name in fields and fields[parameter.name].default_factory is not dataclasses.MISSING:
             shown = f"{fields[parameter.name].default_factory.__name__}()"
         elif parameter.default is not inspect.Parameter.empty:
-            shown = user_form(parameter.default)
+            shown = user_form(_constant(obj, parameter.default))
         if shown is not None:
             pattern = rf"\b{parameter.name}(\s*:\s*[^=,()]+)?\s*=\s*(<factory>|[^,()\[\]\s'\"]+)(?=\s*[,)])"
             signature = re.sub(pattern, lambda match, shown=shown: match.group(0)[:match.start(2) - match.start(0)]

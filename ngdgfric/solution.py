@@ -150,7 +150,10 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
     order : int, optional
         The polynomial degree :math:`1 \le p \le 30` (NGSolve's assembly overflows from 33).  Default ``1``.
     eta : float or None, optional
-        The penalty parameter.  Default ``None``: the method's default (:math:`30\mu`, Section 6).
+        The penalty parameter.  Default ``None``: the method's own default (:data:`ngdgfric.METHODS`): ``sipg``
+        :math:`30\mu`, ``nipg`` :math:`30\mu`, ``bassi`` :math:`6`, ``brezzi`` :math:`1`, ``ldg`` :math:`30\mu`,
+        ``cg`` :math:`30\mu` (:math:`\mu` times a number for the edge penalties, the paper's :math:`30\mu` of
+        Section 6; a pure number for the lifting penalties of Bassi et al. and Brezzi et al.).
     solver : str, optional
         ``"newton"`` (default): the problem condensed onto the contact points and solved there by a
         globalised semismooth Newton method (:mod:`ngdgfric.solvers.newton`), fully coupled for :math:`m_t > 0`;

@@ -116,6 +116,25 @@ def test_api_pages_document_every_public_name(site):
 
 
 @pytest.mark.slow
+def test_the_adapt_entry_names_every_argument_a_user_passes_with_its_default(site):
+    """The rendered entry of ``ngdgfric.adapt``: its signature shows each argument a user passes with the default
+    the function has (numbers as a user writes them), and its Parameters list has an item for each of them."""
+    page = (site / "api" / "estimators.html").read_text()
+    start = page.find('id="ngdgfric.adapt"')
+    entry = page[start:page.find('<dl class="py', start)]  # up to the next entry
+    signature = re.sub(r"\s+", "", page_text(entry[:entry.find("</dt>")]))
+    parameters = inspect.signature(ngdgfric.adapt).parameters
+    shown = {"tol": "None", "rtol": "None", "theta": "0.8", "max_levels": "100", "max_ndof": "10**6", "method": "None",
+             "order": "4", "estimator": "'residual'", "max_bytes": "8e9", "hp": "True"}
+    for name, default in shown.items():
+        assert re.search(rf"\b{name}={re.escape(default)}[,)]", signature), f"{name}={default} not in {signature}"
+        assert eval(default.replace("'", '"')) == parameters[name].default  # the page shows the real default
+        assert re.search(rf"<strong>{name}</strong>", entry), f"{name} has no item in adapt's Parameters"
+    described = page_text(entry)
+    assert re.search(r"DEFAULT_RTOL\s*=\s*1e-3", described) and re.search(r"rtol=0\s*:\s*no accuracy target", described)
+
+
+@pytest.mark.slow
 def test_gallery_has_every_scene_and_notebook(site):
     """One executed page per shipped scene and per notebook: each has at least one figure."""
     pages = {f"gallery/{name}.html" for name in (*SCENES, "example_6_1", "example_6_2")}

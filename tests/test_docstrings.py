@@ -18,6 +18,7 @@ import itertools
 import re
 from pathlib import Path
 
+import numpydoc.docscrape
 import numpydoc.validate
 import pytest
 
@@ -172,3 +173,16 @@ def test_no_docstring_keeps_a_lab_notebook(path):
     """Words of a story of what was tried (``HISTORY``) in no docstring: that story is on the decisions page."""
     found = history_sentences(path)
     assert not found, f"{path.relative_to(PACKAGE)}: move to docs/decisions.md:\n" + "\n".join(found)
+
+
+@pytest.mark.parametrize("function", [ngdgfric.solve, ngdgfric.adapt])
+def test_the_default_penalty_of_every_method_is_told_as_the_method_table_has_it(function):
+    """``eta``'s entry in the Parameters of solve and adapt names each method's default penalty as
+    ``ndf.METHODS`` holds it: a number times mu for the edge penalties, a pure number for the liftings."""
+    text = numpydoc.docscrape.NumpyDocString(inspect.getdoc(function))
+    eta = " ".join(next(p.desc for p in text["Parameters"] if p.name == "eta"))
+    told = dict(re.findall(r"``(\w+)``\s+:math:`([0-9.]+\\mu|[0-9.]+)`", eta))
+    assert set(told) == set(ngdgfric.METHODS), eta
+    for name, method in ngdgfric.METHODS.items():
+        number, unit = (told[name][:-len("\\mu")], "edge") if told[name].endswith("\\mu") else (told[name], "lift")
+        assert (float(number), unit) == (method.default_eta, method.penalty), name
