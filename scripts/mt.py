@@ -222,7 +222,7 @@ def report(zone_h, zone_rows, solver_rows, curves):
          for m_t, records in curves.items()])
     findings = mt_findings(zone_rows, solver_rows)
     return "\n".join([
-        "# Friction bound depending on the penetration: $m_t > 0$ (Example 6.1)", "",
+        "# A friction bound that grows with the penetration (Example 6.1)", "",
         "Beyond the paper: Example 6.1 with a friction bound $c_\\tau (u_n - g_a)_+^{m_t}$ that grows with the "
         "penetration, solved by the coupled semismooth Newton method and by a fixed point on the bound, and "
         "adaptively.  It shows where stick and slip lie for each $m_t$, how much cheaper the coupled Newton "

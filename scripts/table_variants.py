@@ -169,7 +169,7 @@ def report(rows):
                  for r in rows if r["example"] == example]
         tables += [f"### Example {example}", "", markdown_table(header, table), ""]
     return "\n".join([
-        "# Which error measure do Tables 6.1 and 6.2 show? (SIPG, NIPG, $P_1$)", "",
+        "# Which error measure do Tables 6.1 and 6.2 show? (SIPG and NIPG, degree 1)", "",
         "The paper's Tables 6.1 and 6.2 give errors and rates of SIPG and NIPG on uniform meshes without saying "
         "against what the error is measured.  We recomputed them under every plausible reading (two comparisons, "
         "four norms, both mesh diagonals, two penalties, two readings of the traction $g$) and compared each with "

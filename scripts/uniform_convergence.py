@@ -105,7 +105,8 @@ def report(args, results):
     names = ", ".join(m.upper() for m in methods)
     observed = [r["true_rate"] for m in methods for r in results[m] if r["true_rate"] is not None]
     ratios = [r["ratio"] for m in methods for r in results[m] if r["ratio"] is not None]
-    lines = [f"# Table {args.example}: DG methods on uniform meshes, $P_{args.order}$, $\\eta = 30\\mu$", "",
+    # no TeX in the title: the navigation shows it as plain text
+    lines = [f"# Table {args.example}: DG methods on uniform meshes, degree {args.order}, penalty η = 30μ", "",
              f"Example {args.example} solved by {names} on uniform meshes $h = {mesh_size(first[0]['k'])[1:-1]}, "
              f"\\dots, {mesh_size(first[-1]['k'])[1:-1]}$ with the penalty $\\eta = 30\\mu$.  The first error is "
              f"the true one, the relative energy error {ENERGY_ERROR} against the hp reference solution "
