@@ -21,6 +21,7 @@ need.  Writes results/linear_solvers.md and .csv.
 
 import importlib
 import importlib.metadata
+import re
 import sys
 import time
 from pathlib import Path
@@ -219,28 +220,31 @@ def main(argv=None):
 def report(rows, packages, imports):
     def summary(kind, name):
         subset = [r for r in rows if r["solver"].startswith(name) and r["symmetric"] == (kind == "symmetric")]
-        return ", ".join(f"{r['ratio']:.2f} ({r['method']} P{r['order']}, {r['ndof']} dofs)" for r in subset) or "-"
+        return ", ".join(f"{r['ratio']:.2f} ({r['method']} $P_{r['order']}$, {r['ndof']} DOFs)" for r in subset) or "-"
 
     lines = ["# Sparse direct solvers for the contact solver", "",
-             f"Regenerate: `{command_line()}` (run alone: timings on a busy machine are meaningless).", "",
-             "Matrices A of Example 6.1 (uniform meshes, eta = 30 mu).  Times: best of the runs in one process, "
-             "2 cores; 'ratio' is factor + one solve over NGSolve's fastest (sparsecholesky for the symmetric "
-             "SIPG matrix, umfpack for NIPG).  'Schur' rows also give the Delassus operator W of the 2M "
-             "contact unknowns (`contact unknowns`); the back-substitution row is the path without mkl "
-             "(64 columns timed, scaled to 2M).", "",
+             "Which sparse direct solvers that install with pip can factorise the matrices of the contact solver, "
+             "at what cost against NGSolve's own, and which of them give the Schur complement on the contact "
+             "unknowns the contact solver needs.", "",
+             "Matrices $A$ of Example 6.1 (uniform meshes, $\\eta = 30\\mu$).  Times: best of the runs in one "
+             "process, 2 cores; 'ratio' is factorisation and one solve over NGSolve's fastest (sparsecholesky for the "
+             "symmetric SIPG matrix, umfpack for NIPG).  'Schur' rows also give the Delassus operator $W$ of the "
+             "$2M$ contact unknowns (`contact unknowns`); the back-substitution row is the path without mkl "
+             "(64 columns timed, scaled to $2M$).", "",
              "## Summary (computed)", "",
              "- PARDISO factorisation with the Schur complement (what the contact solver needs), relative to "
-             f"NGSolve's fastest plain factorisation + solve: symmetric {summary('symmetric', 'PARDISO + Schur')}; "
+             f"NGSolve's fastest plain factorisation and solve: symmetric {summary('symmetric', 'PARDISO + Schur')}; "
              f"nonsymmetric {summary('nonsymmetric', 'PARDISO + Schur')}.",
-             f"- The same W by back-substitutions: symmetric {summary('symmetric', 'W by')}; nonsymmetric "
+             f"- The same $W$ by back-substitutions: symmetric {summary('symmetric', 'W by')}; nonsymmetric "
              f"{summary('nonsymmetric', 'W by')}.",
              f"- NGSolve's PARDISO interface (plain): symmetric {summary('symmetric', 'NGSolve pardiso')}; "
              f"nonsymmetric {summary('nonsymmetric', 'NGSolve pardiso')}.",
              f"- scipy SuperLU: symmetric {summary('symmetric', 'scipy')}; "
              f"nonsymmetric {summary('nonsymmetric', 'scipy')}.",
-             "", markdown_table(["method", "p", "h", "DOFs", "contact unknowns", "solver", "factor s", "solve s",
-                                 "ratio", "Schur / W"],
-                                [[r["method"], r["order"], r["h"], r["ndof"], r["contact_unknowns"], r["solver"],
+             "", markdown_table(["method", "$p$", "$h$", "DOFs", "contact unknowns", "solver", "factorisation s",
+                                 "solve s", "ratio", "Schur / $W$"],
+                                [[r["method"], r["order"], re.sub(r"2\^-(\d+)", r"$2^{-\1}$", str(r["h"])), r["ndof"],
+                                  r["contact_unknowns"], r["solver"],
                                   f"{r['factor']:.3f}", f"{r['solve']:.4f}", f"{r['ratio']:.2f}",
                                   "yes" if r["schur"] else "no"] for r in rows]), "",
              "## What each needs (measured in this environment)", "",
@@ -256,7 +260,8 @@ def report(rows, packages, imports):
              "- MUMPS (Schur complement via ICNTL(19)): on PyPI only python-mumps 0.0.2 has a wheel, built "
              "against NumPy 1.x (it does not import with the NumPy 2 that ngsolve uses; see the import table); "
              "python-mumps 0.0.3/0.0.4 are source distributions that need a MUMPS library to build, and mumpspy "
-             "loads a system libdmumps through ctypes and needs mpi4py: neither installs with pip alone.", ""]
+             "loads a system libdmumps through ctypes and needs mpi4py: neither installs with pip alone.", "",
+             f"Regenerate: `{command_line()}` (run alone: timings on a busy machine are meaningless).", ""]
     return "\n".join(lines)
 
 

@@ -164,22 +164,45 @@ def _f(row, key, spec=".2f"):
     return "-" if value is None or value != value else format(value, spec)
 
 
+SETTING = """\
+The scene: a strip $8 \\times 1/16$ (`long_strip`) pressed down and sheared by its top ($u_D = (0.002, -0.001)$,
+$E = 2500$, $\\nu = 0.2$) onto a compliant foundation along its long side ($c_n = 10^4$, $m_n = 1$, $g_a = 0$, Tresca
+friction $c_\\tau = 25$: stick in the middle, slip towards the ends), conforming $P_4$ (adapt's default
+discretisation; $p = 4$ contact points per edge) on grid meshes with $8 / h = M / 4$ cells along $\\Gamma_C$.  Per
+$M$: the contact solve from zero (cold) and from the solution at $M / 2$ prolongated as `adapt` starts a level
+(warm); the linear solve of the same matrix without the contact terms by the same PARDISO, end to end as the contact
+solves; and the Delassus solver (`formulation=\"condensed\"`) up to `--condensed-max` points, for the cross-over.
+Best of `--repeat` runs in one process, with PARDISO's peak memory of the factorisation and the Delassus operator's
+$32 M^2$ bytes."""
+"""The setting of the page (Markdown)."""
+
+
 def report(rows, command=None):
     """The Markdown of ``rows``; ``command``: the one to name as regenerating it (default: this process's)."""
+    ratios = [r["cold_ratio"] for r in rows]
     lines = ["# Many contact points: contact solve against linear solve on a long contact side", "",
-             f"Regenerate: `{command or command_line()}` (run alone: timings on a busy machine are meaningless).", "",
-             __doc__.split("\n\n")[1], "",
-             f"The default formulation switches to the full space from FULL_SPACE_POINTS = {FULL_SPACE_POINTS} "
+             f"The contact solve on one long contact side with $M$ = {min(r['points'] for r in rows)} to "
+             f"{max(r['points'] for r in rows)} contact points against the linear solve of the same matrix: it takes "
+             f"{min(ratios):.2f} to {max(ratios):.2f} times the linear solve's seconds from zero, and its "
+             "factorisation needs about the memory of the linear one, while the dense Delassus "
+             "operator's grows like $M^2$.", "",
+             SETTING, "",
+             f"The default formulation switches to the full space from `FULL_SPACE_POINTS` = {FULL_SPACE_POINTS} "
              "contact points.  Times in seconds, end to end (assembly included); ratios: contact / linear; memory "
-             "in MB.", ""]
+             "in MB.", "",
+             "## Contact against linear", ""]
     lines += [markdown_table(
-        ["M", "DOFs", "solver", "contact s (its, factorisations)", "warm s (its, factorisations)", "linear s",
-         "of it factorisation + solve", "cold / linear", "warm / linear", "condensed s (its)",
-         "condensed vs default (energy, relative)", "PARDISO MB contact / linear", "W would need MB"],
+        ["$M$", "DOFs", "solver", "contact s (iterations, factorisations)", "warm s (iterations, factorisations)",
+         "linear s", "of it factorisation and solve", "cold / linear", "warm / linear"],
         [[r["points"], r["ndof"], r["formulation"], f"{r['cold']:.2f} ({r['cold_its']}, {r['cold_factorizations']})",
           f"{_f(r, 'warm')} ({r.get('warm_its', '-')}, {r.get('warm_factorizations', '-')})", f"{r['linear']:.2f}",
-          f"{r['linear_solver_only']:.2f}", f"{r['cold_ratio']:.2f}", _f(r, "warm_ratio"),
-          f"{_f(r, 'condensed')} ({r.get('condensed_its', '-')})", _f(r, "difference", ".1e"),
+          f"{r['linear_solver_only']:.2f}", f"{r['cold_ratio']:.2f}", _f(r, "warm_ratio")] for r in rows]), "",
+        "## The condensed formulation and the memory", "",
+        markdown_table(
+        ["$M$", "condensed s (iterations)", "condensed against the default (energy, relative)",
+         "PARDISO MB, contact / linear", "$W$ would need MB"],
+        [[r["points"], f"{_f(r, 'condensed')} ({r.get('condensed_its', '-')})", _f(r, "difference", ".1e"),
           f"{_f({'v': r['contact_bytes'] / 1e6}, 'v', '.0f')} / {r['linear_bytes'] / 1e6:.0f}",
-          f"{r['delassus_bytes'] / 1e6:.0f}"] for r in rows]), ""]
+          f"{r['delassus_bytes'] / 1e6:.0f}"] for r in rows]), "",
+        f"Regenerate: `{command or command_line()}` (run alone: timings on a busy machine are meaningless).", ""]
     return "\n".join(lines)

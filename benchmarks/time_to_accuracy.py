@@ -269,12 +269,51 @@ def _fastest(rows):
     return min(rows, key=lambda r: r["seconds"]) if rows else None
 
 
+SETTING = """\
+The cases: Examples 6.1 and 6.2 (true errors against the stored hp references of
+[the reference solutions](reference.md); absolute targets $10^{-1}, \\dots, 10^{-4}$) and the scenes of
+[the scenes page](scenes.md) that have an hp reference and that the baseline can solve (straight contact sides,
+$m_t = 0$: l-shape, hertz, wedge; targets relative to $|\\!|\\!| u_\\mathrm{ref} |\\!|\\!|$: $10^{-1}, \\dots, 10^{-3}$,
+the references of `python scripts/scenes.py`).  Runs per case, one process, alternating, best of `--repeat` (2):
+
+- `adapt`: `ndf.adapt(problem)` with its defaults (the method it chooses), its tolerance far below the targets, the
+  true error of every level measured outside the timing;
+- the conforming baseline (`benchmarks/conforming.py`: $H^1$ of fixed degree $p = 3$ and 4, exact friction by
+  semismooth Newton, ZZ estimator, Dörfler $\\theta = 0.5$, `mesh.Refine`), the best $p$ per target;
+- every DG method's own `adapt(problem, method=m)` (one run each), the best method per target.
+
+Time to a target: the cumulative seconds (solve, estimate, mark and refine of the levels before, solve and estimate
+of the level itself) to the first level whose true error is at or below it; DOFs and levels of that level.  Then the
+stopping runs: what `adapt(problem, tol=t)` with its defaults delivers against $t$ (the method it chooses, `cg`
+here; hp from $p = 4$ up to 8, Dörfler $\\theta = 0.8$, geometric layers, the estimator in energy units) for
+$t = 10^{-1}, 10^{-2}, 10^{-3}, 5 \\cdot 10^{-4}$ and $10^{-5}$ on both examples, with the residual estimator and
+with the guaranteed bound (`estimator=\"equilibrated\"`): levels, DOFs, the loop's seconds, one linear solve of its
+final mesh (`ndf.solve` of the problem without contact, same method and orders, best of 3), their ratio, $\\eta_h$,
+the true error $|\\!|\\!| u - u_h |\\!|\\!|_h$ of the answer, error / $t$ and $\\eta_h$ / error.  Timings on a shared
+2-core machine."""
+"""What the page measured, how (Markdown)."""
+
+
+def headline(verdicts):
+    """The page's opening: what is compared and, from the ratios, what it shows (Markdown)."""
+    text = ("The seconds `ndf.adapt` needs to reach a true error, with its defaults and with each DG method, against "
+            "a plain conforming code with its own adaptive loop (the baseline), on the paper's examples and three "
+            "scenes.")
+    adapt = sorted(v[2] for v in verdicts if math.isfinite(v[2]))
+    dg = sorted(v[3] for v in verdicts if math.isfinite(v[3]))
+    if adapt:
+        text += (f"  With its defaults `adapt` takes {adapt[len(adapt) // 2]:.2f} times the baseline's seconds "
+                 f"(median over {len(adapt)} targets; at most {adapt[-1]:.2f})")
+        text += (f", the best DG method {dg[len(dg) // 2]:.2f} times (at most {dg[-1]:.2f})." if dg else ".")
+    return text
+
+
 def report(rows, stops, out):
-    lines = ["# Time to an answer: adapt against a conforming baseline", "",
-             __doc__.split("\n\n")[1].replace("\n", " "), "", "![seconds to each true error](time_to_accuracy.png)", ""]
     table, verdicts = comparison(rows)
+    lines = ["# Time to an answer: adapt against a conforming baseline", "", headline(verdicts), "", SETTING, "",
+             "![seconds to each true error](time_to_accuracy.png)", ""]
     lines += findings(rows, verdicts)
-    lines += [markdown_table(["case", "target", "adapt s (DOFs, levels)", "baseline: best p, s (DOFs, levels)",
+    lines += [markdown_table(["case", "target", "adapt s (DOFs, levels)", "baseline: best $p$, s (DOFs, levels)",
                               "best DG method, s (DOFs, levels)", "sipg", "bassi", "adapt / baseline",
                               "DG / baseline", "SIPG / baseline", "Bassi / SIPG"], table), ""]
     lines += stopping_section(stops)
@@ -302,7 +341,7 @@ def findings(rows, verdicts):
                          f"pairs; median {sorted(v[column] for v in finite)[len(finite) // 2]:.2f}.")
     missing = [f"{method} on {name}" for name in dict.fromkeys(r["case"] for r in rows) for method in ndf.DG_METHODS
                if not any(r["case"] == name and r["run"] == method for r in rows)]
-    lines.append(f"- DG runs without a result at any target (not run, see --dg, or their solver failed before the "
+    lines.append(f"- DG runs without a result at any target (not run, see `--dg`, or their solver failed before the "
                  "first target: a SolverError, named in the run's output): "
                  f"{', '.join(missing) if missing else 'none'}.")
     return lines + [""] if len(lines) > 2 else []
@@ -312,42 +351,44 @@ def stopping_section(stops):
     """The Markdown lines of the stopping runs: what adapt(problem, tol=t) delivers against t, and its cost."""
     if not stops:
         return []
-    lines = ["## Stopping at a tolerance: adapt(problem, tol)", ""]
+    lines = ["## Stopping at a tolerance: `adapt(problem, tol)`", ""]
     for estimator, (low, word) in zip(ESTIMATORS, ((0.1, "1/10"), (0.5, "1/2")), strict=True):
         resolved = [s["error_over_tol"] for s in stops if s["tol"] >= RESOLVED and "error_over_tol" in s
                     and s.get("estimator", "residual") == estimator]
         if resolved:
-            lines.append(f"- {estimator} estimator: true error / t = {min(resolved):.2f} - {max(resolved):.2f} over "
-                         f"the {len(resolved)} runs with t >= {RESOLVED:g} "
+            lines.append(f"- {estimator} estimator: true error / $t$ = {min(resolved):.2f} - {max(resolved):.2f} "
+                         f"over the {len(resolved)} runs with $t \\ge {RESOLVED:g}$ "
                          f"({'all' if all(low <= q <= 1 for q in resolved) else 'not all'} within [{word}, 1]).")
     pairs = [(s, r) for s in stops for r in stops if s.get("estimator") == "equilibrated"
              and r.get("estimator") == "residual" and (s["case"], s["tol"]) == (r["case"], r["tol"])
              and "ndof" in s and "ndof" in r]
     if pairs:
         ratios = [s["ndof"] / r["ndof"] for s, r in pairs]
-        lines.append(f"- DOFs of the equilibrated run / the residual run's at the same t: {min(ratios):.2f} - "
+        lines.append(f"- DOFs of the equilibrated run / the residual run's at the same $t$: {min(ratios):.2f} - "
                      f"{max(ratios):.2f}.")
-    lines += ["", markdown_table(["case", "estimator", "tol", "method", "levels", "DOFs", "p max", "stopped",
-                                  "loop s", "linear s",
-                              "loop / linear", "DOF growth (mean, last)", "eta_h", "true error", "error / t",
-                              "eta_h / error"],
+    lines += ["", "The runs:", "",
+              markdown_table(["case", "estimator", "$t$", "method", "levels", "DOFs", "$p$ max", "stopped",
+                              "DOF growth (mean, last)"],
                              [[s["case"], s.get("estimator", "residual"), f"{s['tol']:g}", s.get("method", "-"),
-                               s.get("levels", "-"),
-                               s.get("ndof", "-"), s.get("p_max", "-"), s["stopped"],
+                               s.get("levels", "-"), s.get("ndof", "-"), s.get("p_max", "-"), s["stopped"],
+                               f"{fmt(s.get('mean_growth'), '.2f')}, {fmt(s.get('last_growth'), '.2f')}"]
+                              for s in stops]), "",
+              "Their cost and accuracy:", "",
+              markdown_table(["case", "estimator", "$t$", "loop seconds", "linear solve seconds", "loop / linear",
+                              "$\\eta_h$", "true error", "error / $t$", "$\\eta_h$ / error"],
+                             [[s["case"], s.get("estimator", "residual"), f"{s['tol']:g}",
                                fmt(s["loop_seconds"], ".2f"), fmt(s.get("linear_seconds"), ".3f"),
-                               fmt(s.get("ratio"), ".1f"),
-                               f"{fmt(s.get('mean_growth'), '.2f')}, {fmt(s.get('last_growth'), '.2f')}",
-                               fmt(s.get("eta_h"), ".3e"), fmt(s.get("error"), ".3e"),
+                               fmt(s.get("ratio"), ".1f"), fmt(s.get("eta_h"), ".3e"), fmt(s.get("error"), ".3e"),
                                fmt(s.get("error_over_tol"), ".2f"), fmt(s.get("effectivity"), ".2f")]
                               for s in stops]), ""]
     floors = {s["case"]: s["error"] for s in stops if s["tol"] == min(STOP_TOLERANCES) and "error" in s
               and s.get("estimator", "residual") == "residual"}
     if floors:
-        lines += ["At tol = 1e-5 the true errors (" + ", ".join(f"{error:.2e} on {name}" for name, error in
-                                                        sorted(floors.items())) +
+        lines += ["At $t = 10^{-5}$ the true errors (" + ", ".join(f"{error:.2e} on {name}" for name, error in
+                                                              sorted(floors.items())) +
                   ") are those of the stored references (every method's runs stall there alike, "
-                  "results/reference.md): what these runs show is eta_h <= tol, not the true error, which the "
-                  "references cannot resolve.", ""]
+                  "[the reference solutions](reference.md)): what these runs show is $\\eta_h \\le t$, not the true "
+                  "error, which the references cannot resolve.", ""]
     return lines
 
 

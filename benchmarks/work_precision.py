@@ -242,8 +242,8 @@ def run_name(row):
     if row["method"] == DEFAULT:
         return f"tol = {row['tol']:g}, {row['strategy']}"
     if row["method"] == BASELINE:
-        return f"p = {row['p']}"
-    return f"{STRATEGY_NAMES[row['strategy']]}, p = {row['p']}"
+        return f"$p = {row['p']}$"
+    return f"{STRATEGY_NAMES[row['strategy']]}, $p = {row['p']}$"
 
 
 def summary(rows):
@@ -264,10 +264,56 @@ def summary(rows):
     return table
 
 
+SETTING = """\
+What is measured: for each example and each method of `ngdgfric.METHODS` (the five DG methods of Section 3 and the
+conforming `cg`), with Newton's solver (the default), one run at a time in one process:
+
+- uniform meshes $h = 2^{-1}, 2^{-2}, \\dots$ in degree $p = 1, \\dots, 4$, $h$ halved while the method's space
+  $V_h$ stays within the DOF budget; seconds: the cold solve on that mesh alone (a user who knows $h$ solves once);
+- h-adaptive: `adapt(problem, method=m, hp=False, order=p)` for $p = 1, 2, 3$, its other defaults;
+- hp-adaptive: `adapt(problem, method=m)` with its defaults (hp from $p = 4$ up to 8, $\\theta = 0.8$).
+
+The adaptive runs stop at the DOF budget or at $\\eta_h \\le 10^{-4}$ (the smallest target; $\\eta_h$, the default
+estimator in energy units, is above the true error), and their seconds are the cumulative solve, estimate, mark and
+refine up to the level (`ngdgfric.studies.strategy_run`).  Beside them: the conforming baseline
+`benchmarks/conforming.py` (its own $H^1$ code, $p = 3$ and 4, up to twice the budget: of fixed degree, it needs
+more DOFs for $10^{-4}$), and what `ndf.adapt(problem, tol=t)` with every default delivers for
+$t = 10^{-1}, \\dots, 10^{-4}$ (the seconds of the whole loop, the true error of its answer).  The true error
+$|\\!|\\!| u_\\mathrm{ref} - u_h |\\!|\\!|_h$ (`ndf.energy_error`) is measured against the hp references of
+[the reference solutions](reference.md), outside the timing.  Seconds are wall seconds; a run that took under
+`CHEAP` seconds is repeated up to `--repeat` times and each level keeps its fastest.  A run whose solver fails is
+recorded as failed, not fatal."""
+"""What the page measured, how (Markdown)."""
+
+
+def headline(study_rows):
+    """The page's opening: what is compared and, computed from the cheapest runs, what it shows (Markdown)."""
+    dg, cg, strategies = [], [], set()
+    for rows in study_rows.values():
+        for target in TARGETS:
+            found = {name: cheapest(mine, target) for name, mine in groups(rows).items()}
+            base = found[BASELINE]
+            for name, row in found.items():
+                if row is None or name in (BASELINE, DEFAULT):
+                    continue
+                strategies.add(STRATEGY_NAMES[row["strategy"]])
+                if base is not None:
+                    (cg if name == "cg" else dg).append(row["seconds"] / base["seconds"])
+    text = ("The seconds each method needs to reach a true error of $10^{-1}, \\dots, 10^{-4}$ on Examples "
+            f"{' and '.join(study_rows)}, over uniform, h-adaptive and hp-adaptive runs of every degree, against a "
+            "plain conforming code (the baseline).")
+    if len(strategies) == 1:
+        text += f"  Every method's cheapest run to every target is its {strategies.pop()} run."
+    if dg:
+        text += (f"  The DG methods need {min(dg):.2f} to {max(dg):.2f} times the baseline's seconds"
+                 + (f", the conforming `cg` of ngdgfric {min(cg):.2f} to {max(cg):.2f} times." if cg else "."))
+    return text
+
+
 def report(study_rows, failures, args, argv, load):
-    lines = ["# Accuracy against run time", "", *[paragraph + "\n" for paragraph in __doc__.split("\n\n")[1:4]],
-             f"DOF budget {args.budget} ({BASELINE_BUDGET} x for the baseline), best of {args.repeat} for runs under "
-             f"{CHEAP:g} s.  The whole run: "
+    lines = ["# Accuracy against run time", "", headline(study_rows), "", SETTING, "",
+             f"DOF budget {args.budget} ({BASELINE_BUDGET} times that for the baseline), best of {args.repeat} for "
+             f"runs under {CHEAP:g} s.  The whole run: "
              f"{load['wall'] / 60:.1f} min of wall time and {load['cpu'] / 60:.1f} min of CPU time (this process) "
              f"on {os.cpu_count()} cores, load average {load['start']:.1f} at the start and {load['end']:.1f} at the "
              "end (other work on the machine slows every run alike).", "",
@@ -276,8 +322,8 @@ def report(study_rows, failures, args, argv, load):
         lines += [f"## Example {example}", "",
                   "The cheapest run of each method to each true error (its first level at or below it; "
                   "seconds as in the chart), and its seconds over the baseline's:", "",
-                  markdown_table(["true error <=", "method", "cheapest run", "s", "DOFs", "s / baseline"],
-                                 summary(rows)), ""]
+                  markdown_table(["true error $\\le$", "method", "cheapest run", "seconds", "DOFs",
+                                  "seconds / baseline's"], summary(rows)), ""]
     lines += [f"Failed runs: {'; '.join(failures) if failures else 'none'}.", "",
               f"Regenerate: `{shlex.join(['python', 'benchmarks/work_precision.py', *argv])}`", ""]
     write_text(args.out / "work_precision.md", "\n".join(lines))

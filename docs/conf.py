@@ -241,7 +241,7 @@ RESULT_GROUPS = {
         "table_investigation": "Which error measure the paper's tables show",
         "reference": "The hp reference solutions the true errors are measured against"},
     "Accuracy: where the methods work and where they fail": {
-        "locking": "Volumetric locking of every method and degree as nu -> 1/2",
+        "locking": r"Volumetric locking of every method and degree as $\nu \to 1/2$",
         "stability": "Where each method fails: penalties, meshes, materials",
         "effectivity": "The estimators against the true error",
         "hp": "hp-adaptivity against h and uniform refinement",
@@ -249,7 +249,7 @@ RESULT_GROUPS = {
         "hertz": "A Hertz contact against Hertz's theory",
         "two_cylinders": "Two elastic cylinders (two bodies, a contact pair, load control) against Hertz",
         "scenes": "Nine user scenes and a rubber pad",
-        "mt": "A friction bound that depends on the penetration (m_t > 0)"},
+        "mt": "A friction bound that depends on the penetration ($m_t > 0$)"},
     "Speed": {
         "time_to_accuracy": "Seconds to a true error: adapt against a plain conforming code and every DG method",
         "work_precision": "True error against run time, every method",
@@ -263,7 +263,7 @@ RESULT_GROUPS = {
 }
 """The results pages of the site's main path, by topic, with the line each shows in the index."""
 VERIFICATION = {
-    "fuzz": "Every bad input of tests/data/fuzz through the API and the command line, each ending in a named error",
+    "fuzz": "Every bad input of the fuzz data through the API and the command line, each ending in a named error",
     "solver_robustness": "The default contact solver over 232 cases drawn over the data",
 }
 """Test logs: on a page of their own, out of the main path."""
@@ -284,8 +284,8 @@ def _results_pages():
     for name in names:
         _write_if_changed(folder / f"{name}.md", f"```{{include}} ../../results/{name}.md\n:relative-images:\n```\n")
 
-    def listing(pages):
-        return "\n".join(f"- {{doc}}`{text} <{name}>`" for name, text in pages.items())
+    def listing(pages):  # Markdown links, whose text may hold $...$ mathematics (a {doc} role's may not)
+        return "\n".join(f"- [{text}]({name}.md)" for name, text in pages.items())
 
     sections = "\n\n".join(f"## {title}\n\n{listing(pages)}" for title, pages in RESULT_GROUPS.items())
     main = "\n".join(name for pages in RESULT_GROUPS.values() for name in pages)

@@ -169,11 +169,12 @@ def diagnosis_report(rows):
                     row and previous) else None
                 cells += [_cell(row["error"] if row else None, ".3e"), _cell(rate, ".2f")]
             table.append(cells)
-    header = ["p", "level", "DOFs", "straight", "rate", "straight, g with chords' normal", "rate", "curved", "rate"]
+    header = ["$p$", "level", "DOFs", "straight", "rate", "straight, $g$ with the chords' normal", "rate", "curved",
+              "rate"]
     lines = ["## Straight edges: where the order goes", "",
              "SIPG on the same meshes: straight boundary edges with the data of the circle (the traction with the "
-             "circle's normal (x, y) / r, as in the tables above), straight edges with the traction computed with the "
-             "chords' own normal (consistent with the polygon: only the change of domain is left), and curved "
+             "circle's normal $(x, y) / r$, as in the tables above), straight edges with the traction computed with "
+             "the chords' own normal (consistent with the polygon: only the change of domain is left), and curved "
              "elements.  Rates between consecutive meshes.", "", markdown_table(header, table), ""]
     last = {}
     for row in table:
@@ -182,17 +183,19 @@ def diagnosis_report(rows):
         errors = [float(row[k]) if row[k] != "-" else None for k in (3, 5, 7)]
         if None in errors:
             continue
-        lines.append(f"- P{p}, finest mesh: rates {row[4]} (straight), {row[6]} (chords' normal), {row[8]} (curved); "
-                     f"errors {errors[0] / errors[2]:.1f} and {errors[1] / errors[2]:.1f} times the curved one.")
-    lines += ["", "Reading: on a chord the circle's normal turns by the chord's angle (about h / R), so the traction "
-              "data of the circle are off by O(h) on every straight edge (with zero mean over it), a perturbation of "
-              "order h^(3/2) in the energy norm; made consistent with the chords, what is left is the change of domain "
-              "(chord against arc, O(h^2) apart), of order h^2.  A straight-sided mesh thus caps the rate at about 3/2 "
-              "with the circle's data and at 2 with consistent data (P3 and P4 above).  P2 shows neither on these "
-              "meshes: its straight-edged errors equal the curved ones within a few per cent (ratios above), although "
-              "on the same meshes the data term costs P3 and P4 far more than P2's whole error difference; the size of "
-              "that term depends on p (on how the degree-p traces take up the O(h) oscillation of the data along an "
-              "edge), which we have not analysed further.", ""]
+        lines.append(f"- $P_{p}$, finest mesh: rates {row[4]} (straight), {row[6]} (chords' normal), {row[8]} "
+                     f"(curved); errors {errors[0] / errors[2]:.1f} "
+                     f"and {errors[1] / errors[2]:.1f} times the curved one.")
+    lines += ["", "Reading: on a chord the circle's normal turns by the chord's angle (about $h / R$), so the traction "
+              "data of the circle are off by $O(h)$ on every straight edge (with zero mean over it), a perturbation"
+              " of order $h^{3/2}$ in the energy norm; made consistent with the chords, what is left is the change "
+              "of domain (chord against arc, $O(h^2)$ apart), of order $h^2$.  A straight-sided mesh thus caps the "
+              "rate at about $3/2$ with the circle's data and at 2 with consistent data ($P_3$ and $P_4$ above).  "
+              "$P_2$ shows neither on these meshes: its straight-edged errors equal the curved ones within a few "
+              "per cent (ratios above), although on the same meshes the data term costs $P_3$ and $P_4$ far more "
+              "than $P_2$'s whole error difference; the size of that term depends on $p$ (on how the degree-$p$ "
+              "traces take up the $O(h)$ oscillation of the data along an edge), which we have not analysed "
+              "further.", ""]
     return lines
 
 
@@ -200,13 +203,38 @@ def _cell(value, spec):
     return "-" if value is None else format(value, spec)
 
 
+SUMMARY = """\
+The five DG methods on an annulus with curved (isoparametric) elements, on the same meshes with straight boundary
+edges, and on a square, against a smooth manufactured solution.  On curved elements and on the square the energy
+error and the estimator $\\eta_h$ converge at the optimal order $h^p$ ($p = 1, 2, 3$); with straight boundary
+edges the order stops at about $3/2$ for $p \\ge 3$, the cost of the circle's traction data on the chords (the
+diagnosis below)."""
+"""What the page measured and what it shows (Markdown)."""
+SETTING = """\
+The setting: the smooth manufactured solution of `ngdgfric.studies.curved.annulus_problem` on the annulus
+$1/2 < r < 1$, $u = (r^2 - 1/4)^2 (\\sin(2x + y), \\cos(x - 2y)) / 4$; $\\Gamma_D$ the upper half of the outer circle
+with $u_D = u$, $\\Gamma_F$ its lower half with $g = \\sigma(u) n$, $n = (x, y) / r$, $\\Gamma_C$ the inner circle,
+where $\\sigma(u) n = 0$ and a gap of $10^3$ keeps it open; $f = -\\operatorname{div} \\sigma(u)$; $E = 1$,
+$\\nu = 0.3$.  The same construction on the unit square ($u = y^2 (\\dots)$,
+`ngdgfric.studies.curved.square_problem`).  Meshes: Netgen, maxh $= 1/2$ (annulus) or $1/4$ (square), then uniform
+refinement (each triangle into four, new boundary points on the circles).  Every solve curves the annulus mesh to
+the solution's degree $p$ (`mesh.Curve(p)`; $p = 1$ is straight).  \"Straight edges\": the same meshes rebuilt without
+geometry (`ngdgfric.studies.curved.inscribed`), the domain the inscribed polygons, with the same data (the traction
+with the circle's normal).  Per mesh: $|\\!|\\!| u - u_h |\\!|\\!|_h$ against the exact $u$
+({func}`ngdgfric.energy_norm`), $\\eta_h$ ({func}`ngdgfric.estimate`), and the observed orders in $h$.  A diagnosis
+(SIPG) separates the two changes of the straight meshes: the data (the traction with the circle's normal on the
+chords) and the domain."""
+"""The setting of the page (Markdown)."""
+
+
 def report(rows, table, diagnosis):
     lines = ["# Convergence rates on a curved domain (annulus) against straight meshes", "",
-             __doc__.split("\n\n")[1].replace("\n", " "), "", f"Regenerate: `{command_line()}`", "",
+             SUMMARY, "", SETTING, "",
              "## Observed rates", "",
-             f"Orders in h: -2 x the least-squares slopes of log(error) and log(eta_h) against log(DOFs) over the "
-             f"last {FIT} meshes (N ~ h^-2; expected: p for both); effectivity eta_h / error on the finest mesh.", ""]
-    header = ["geometry", "method", "p", "meshes", "DOFs (finest)", "error (finest)", "error rate", "eta_h rate",
+             f"Orders in $h$: $-2$ times the least-squares slopes of $\\log$ error and $\\log \\eta_h$ against "
+             f"$\\log N$ ($N$ the DOFs, $N \\sim h^{{-2}}$) over the last {FIT} meshes; expected: $p$ for both.  "
+             "Effectivity: $\\eta_h$ / error on the finest mesh.", ""]
+    header = ["geometry", "method", "$p$", "meshes", "DOFs (finest)", "error (finest)", "error rate", "$\\eta_h$ rate",
               "expected", "effectivity", "status"]
     lines += [markdown_table(header, [[r["geometry"], r["method"], r["p"], r["meshes"], _cell(r["ndof"], "d"),
                                        _cell(r["error"], ".3e"), _cell(r["rate"], ".2f"), _cell(r["eta_rate"], ".2f"),
@@ -216,11 +244,12 @@ def report(rows, table, diagnosis):
     lines += ["## Findings", ""] + findings(table) + [""]
     lines += diagnosis_report(diagnosis)
     lines += ["## Every mesh", ""]
-    header = ["geometry", "method", "p", "level", "elements", "h", "DOFs", "error", "eta_h", "seconds"]
+    header = ["geometry", "method", "$p$", "level", "elements", "$h$", "DOFs", "error", "$\\eta_h$", "seconds"]
     lines += [markdown_table(header, [[r["geometry"], r["method"], r["p"], r["level"], r["elements"],
                                        f"{r['h']:.4f}", r.get("ndof", "-"), _cell(r.get("error"), ".4e"),
                                        _cell(r.get("eta_h"), ".4e"), _cell(r.get("seconds"), ".1f")]
                                       for r in rows if r["status"] == "solved"]), ""]
+    lines += [f"Regenerate: `{command_line()}`", ""]
     return "\n".join(lines)
 
 
@@ -236,21 +265,21 @@ def findings(table):
         if ok:
             worst = max(ok, key=lambda r: abs(r["rate"] - r["p"]))
             worst_eta = max(ok, key=lambda r: abs(r["eta_rate"] - r["p"]))
-            out.append(f"- {geometry}: {len(ok)} (method, p) pairs solved; the error rates differ from p by at most "
-                       f"{abs(worst['rate'] - worst['p']):.2f} ({worst['method']} P{worst['p']}: "
+            out.append(f"- {geometry}: {len(ok)} (method, $p$) pairs solved; the error rates differ from $p$ by at "
+                       f"most {abs(worst['rate'] - worst['p']):.2f} ({worst['method']} $P_{worst['p']}$: "
                        f"{worst['rate']:.2f}), the estimator's by at most "
-                       f"{abs(worst_eta['eta_rate'] - worst_eta['p']):.2f} ({worst_eta['method']} P{worst_eta['p']}: "
-                       f"{worst_eta['eta_rate']:.2f}).")
+                       f"{abs(worst_eta['eta_rate'] - worst_eta['p']):.2f} "
+                       f"({worst_eta['method']} $P_{worst_eta['p']}$: {worst_eta['eta_rate']:.2f}).")
     failed = [r for r in table if r["status"] != "solved"]
     for r in failed:
-        out.append(f"- {r['geometry']}, {r['method']} P{r['p']}: {r['status']}")
+        out.append(f"- {r['geometry']}, {r['method']} $P_{r['p']}$: {r['status']}")
     straight = rates("annulus, straight edges")
     for r in straight:
         curved = [c for c in rates("annulus, curved") if c["method"] == r["method"] and c["p"] == r["p"]]
         if curved:
-            out.append(f"- Without curving, {r['method']} P{r['p']}: error rate {r['rate']:.2f} instead of "
+            out.append(f"- Without curving, {r['method']} $P_{r['p']}$: error rate {r['rate']:.2f} instead of "
                        f"{curved[0]['rate']:.2f}, finest error {r['error']:.2e} against {curved[0]['error']:.2e} "
-                       f"(x{r['error'] / curved[0]['error']:.1f}); eta_h rate {r['eta_rate']:.2f}.")
+                       f"({r['error'] / curved[0]['error']:.1f} times); $\\eta_h$ rate {r['eta_rate']:.2f}.")
     return out
 
 

@@ -179,15 +179,23 @@ def report(rows, seconds):
     lo, hi, q = spread(scope)
     plo, phi, pq = spread(scope, "effectivity_paper")
     ulo, uhi, uq = spread([r for r in scope if not (r["family"] == "6.1" and r["method"] == "sipg")])
-    lines = ["# Effectivity of the a posteriori estimator", "", f"Regenerate: `{command_line()}` ({seconds:.0f} s)", "",
-             "eta_h / |||u - u_h|||_h with the default estimator (`ndf.estimate(sol)`, residual terms divided by "
-             "2 mu: energy units) and with the paper's (`variant=\"paper\"`).  True errors: against the exact "
-             "solution (manufactured) or the hp reference solutions (Examples 6.1, 6.2; rows with error "
-             f"< {MIN_EXAMPLE_ERROR:g} left out).  One constant is calibrated: the default estimator's factor "
-             "p_T^(-1/2), chosen on Example 6.1 with SIPG (`ngdgfric.estimator.estimate`); every other row checks "
+    guaranteed = sum(bool(r["guaranteed"]) for r in rows)
+    lines = ["# Effectivity of the a posteriori estimator", "",
+             f"How far the estimators are from the true error over {len(rows)} uniform and adaptive levels (the five "
+             "DG methods and `cg`, $p = 1, \\dots, 4$, manufactured solutions and the paper's examples): the "
+             f"effectivity $\\eta_h / |\\!|\\!| u - u_h |\\!|\\!|_h$ of the default estimator stays within {lo:.2f} "
+             f"to {hi:.2f} wherever no method locks, and the equilibrated bound is guaranteed on {guaranteed} of the "
+             f"{len(rows)} levels.", "",
+             "![effectivity](effectivity.png)", "",
+             "The default estimator is `ndf.estimate(sol)`, its residual terms divided by $2\\mu$ (energy units); the "
+             "paper's is `variant=\"paper\"`.  True errors: against the exact solution (manufactured) or the hp "
+             "reference solutions ([reference solutions](reference.md), Examples 6.1 and 6.2; rows with an error "
+             f"below {MIN_EXAMPLE_ERROR:g} left out).  One constant is calibrated: the default estimator's factor "
+             "$p_T^{-1/2}$, chosen on Example 6.1 with SIPG (`ngdgfric.estimator.estimate`); every other row checks "
              "it.", "",
              "## Summary", "",
-             f"- Robustness scope (every case but the locking ones and the lam-scaled solution, {len(scope)} levels): "
+             f"- Robustness scope (every case but the locking ones and the $\\lambda$-scaled solution, {len(scope)} "
+             "levels): "
              f"effectivity {lo:.2f} - {hi:.2f}, max/min {q:.2f}; the paper's weights {plo:.3g} - {phi:.3g}, "
              f"max/min {pq:.3g}.",
              f"- The same without the calibration cases (Example 6.1, SIPG): effectivity {ulo:.2f} - {uhi:.2f}, "
@@ -197,9 +205,9 @@ def report(rows, seconds):
                        f"{r['level']}: {r['failure']}" for r in failures) + ".", ""]
     groups = {}
     for r in rows:
-        name = r["family"] if r["family"] in ("6.1", "6.2", "lam-scaled") else f"{r['family']}, nu = {r['nu']:g}"
+        name = r["family"] if r["family"] in ("6.1", "6.2", "lam-scaled") else f"{r['family']}, $\\nu = {r['nu']:g}$"
         groups.setdefault((name, r["method"]), []).append(r)
-    header = ["case", "method", "locks (error / best)", "levels", "effectivity min - max (p = 1..4)",
+    header = ["case", "method", "locks (error / best)", "levels", "effectivity min - max ($p = 1, \\dots, 4$)",
               "by p (mean)", "paper's weights", "equilibrated min - max"]
     table = []
     for (name, method), group in sorted(groups.items()):
@@ -220,10 +228,10 @@ def report(rows, seconds):
     for r in rows:
         if r["family"] == "divergence-free":
             by_E.setdefault(r["E"], []).append(r["effectivity"])
-    lines += ["## Scale of E (divergence-free, all methods, p, nu, levels)", "",
-              markdown_table(["E", "levels", "effectivity min - max"],
+    lines += ["## Scale of $E$ (divergence-free, all methods, $p$, $\\nu$, levels)", "",
+              markdown_table(["$E$", "levels", "effectivity min - max"],
                              [[f"{E:g}", len(v), f"{min(v):.3f} - {max(v):.3f}"] for E, v in sorted(by_E.items())]),
-              ""]
+              "", f"Regenerate: `{command_line()}` ({seconds:.0f} s)", ""]
     return "\n".join(lines)
 
 
@@ -236,11 +244,12 @@ def equilibrated_report(rows):
              f"- Every level ({len(rows)}): guaranteed on {len(rows) - len(unguaranteed)}; effectivity "
              f"{min(values):.2f} - {max(values):.2f}, mean {sum(values) / len(values):.2f}; below 1 on {len(below)}; "
              f"its cost {min(r['eq_over_solve'] for r in rows):.2f} - {max(r['eq_over_solve'] for r in rows):.2f} "
-             "of the level's solve (benchmarks/bench_equilibration.py measures it against the linear solve).", ""]
+             "of the level's solve ([the equilibration cost](equilibration_cost.md) measures it against the linear "
+             "solve).", ""]
     data = [r for r in rows if r["family"] == "any data"]
     if not data:
         return lines
-    header = ["E", "nu", "method", "levels", "min - max", "max / min", "mean", "by p (max / min over h)"]
+    header = ["$E$", "$\\nu$", "method", "levels", "min - max", "max / min", "mean", "by $p$ (max / min over $h$)"]
     table, bounded = [], [r for r in data if r["nu"] <= 0.45]
     for (E, nu, method), group in sorted(_groups(data, ("E", "nu", "method")).items()):
         lo, hi, q = spread(group, "effectivity_eq")
@@ -250,11 +259,11 @@ def equilibrated_report(rows):
     per_method = {m: spread(g, "effectivity_eq") for (m,), g in _groups(bounded, ("method",)).items()}
     mean = sum(r["effectivity_eq"] for r in bounded) / len(bounded)
     over_h = max(spread(g, "effectivity_eq")[2] for g in _groups(bounded, ("E", "nu", "method", "order")).values())
-    lines += ["### Any data (f, g, g_a, c_tau not polynomials; contact and separation, stick and slip)", "",
-              f"- nu = 0.3, 0.45, E = 1, 1e3, p = 1..4, h = 1/4..1/32 ({len(bounded)} levels): mean {mean:.2f}; "
-              f"max / min over E, nu, h and p per method: "
+    lines += ["### Any data ($f$, $g$, $g_a$, $c_\\tau$ not polynomials; contact and separation, stick and slip)", "",
+              "- $\\nu = 0.3, 0.45$, $E = 1, 10^3$, $p = 1, \\dots, 4$, $h = 1/4, \\dots, 1/32$ "
+              f"({len(bounded)} levels): mean {mean:.2f}; max / min over $E$, $\\nu$, $h$ and $p$ per method: "
               + ", ".join(f"{m} {q:.2f}" for m, (_, _, q) in sorted(per_method.items()))
-              + f" (target <= {BOUNDED:g}); over h alone (p, E, nu fixed): {over_h:.2f} at most.", "",
+              + f" (target $\\le {BOUNDED:g}$); over $h$ alone ($p$, $E$, $\\nu$ fixed): {over_h:.2f} at most.", "",
               markdown_table(header, table), ""]
     return lines
 

@@ -440,11 +440,13 @@ def report(results, args, seconds):
     lines = [
         "# Fuzzing ngdgfric with bad input",
         "",
-        "Regenerate with `python scripts/fuzz.py` (scripts/fuzz.py; its docstring says what is checked; the cases: "
-        "tests/data/fuzz/, one file per family).",
+        "Every bad input of the fuzz data given to the API and to the command line, each in its own process: a "
+        "case passes when it ends in an error that names the bad datum; a signal, a hang, a silent answer or a "
+        "traceback is a failure.",
         "",
         f"{len(results)} cases ({api_count} API, {len(results) - api_count} CLI; "
-        f"{sum(r.case.issue for r in results)} from the issue), each in its own process: timeout {args.timeout:g} s, "
+        f"{sum(r.case.issue for r in results)} listed in the request for fuzzing), each in its own process: "
+        f"timeout {args.timeout:g} s, "
         + (f"address space capped at {args.memory:g} GB" if args.memory else "address space not capped")
         + f", {args.workers} in parallel; {seconds:.0f} s in all.",
     ]
@@ -484,13 +486,15 @@ def report(results, args, seconds):
         f"*{CHANGED}*: a rerun modified an earlier result.  Both: *signal*: killed by a signal; *hang*: "
         "no exit within the timeout (process group killed).",
         "",
-        "| case | interface | issue case | input | what happened | verdict |",
+        "| case | interface | listed in the request | input | what happened | verdict |",
         "|---|---|---|---|---|---|",
     ]
     for r in results:
         verdict = r.verdict if r.verdict == NAMED else f"**{r.verdict}**"
         lines.append(f"| `{r.case.id}` | {r.case.interface} | {'yes' if r.case.issue else ''} | {shown_input(r.case)} "
                      f"| {_cell(r.happened)} | {verdict} |")
+    lines += ["", "Regenerate: `python scripts/fuzz.py` (its docstring says what is checked; the cases: "
+              "`tests/data/fuzz/`, one file per family)."]
     return "\n".join(lines) + "\n"
 
 

@@ -245,33 +245,67 @@ def _f(value, spec=".4e"):
     return "-" if value is None or (isinstance(value, float) and math.isnan(value)) else format(value, spec)
 
 
+SETTING = r"""
+The setting: the half-disk of radius $R = 1$, centre $(0, R)$, pressed onto the rigid plane $y = 0$ by a prescribed
+displacement $u_D = (0, -\delta)$ of its flat top; $\Gamma_C$ the lower half circle with the gap
+$g_a = y R / (R - y)$ along its normal, frictionless, $m_n = 1$, a stiff compliance $c_n$ (the Signorini limit is
+$c_n \to \infty$); plane strain, $E = 1$, $\nu = 0.3$ (`ngdgfric.studies.curved.hertz_problem`).  hp-adaptive
+SIPG (`ndf.adapt`, $p$ from 2 to 8) on curved elements.  Hertz (Johnson, *Contact Mechanics*, 1985, Section 4.2):
+for the force $F$ per unit length, $a = (4 F R / (\pi E^*))^{1/2}$, $p_0 = 2 F / (\pi a)$, $E^* = E / (1 - \nu^2)$.
+$F$ is the vertical resultant of the contact pressure by the discrete contact rule; $a$ is where $u_n - g_a$ changes
+sign, found on 33 points per contact edge on the curved edges (a zero of the straight line between the two points
+around the sign change); $p_0$ the pressure at $x = 0$ (a mesh vertex: the mean of its two edges).  Energy error:
+$2 (J_h(u_h) - J_h(u_\mathrm{ref}))$ with the energy $J_h$ the discrete solution minimises
+(`ngdgfric.studies.curved.discrete_energy`), $u_\mathrm{ref}$ the last level of an hp run to a much smaller
+tolerance; checked against $|\!|\!| u_h - u_\mathrm{ref} |\!|\!|_h$ by point evaluation of $u_\mathrm{ref}$
+(`ngdgfric.studies.curved.reference_error`).  The polygon: the same problem on inscribed polygons with 64 and
+256 straight sides, errors against the curved reference (the true solution) and against its own last level.
+""".strip()
+"""The setting of the page, in Markdown."""
+
+
+NORM = r"$|\!|\!| u_h - u_\mathrm{ref} |\!|\!|_h$"
+ENERGY = r"$(2 (J_h(u_h) - J_h(u_\mathrm{ref})))^{1/2}$"
+"""The two measures of the energy error against the reference."""
+PROFILE = r"$\max \lvert p - p_H \rvert / p_{0,H}$"
+"""The largest deviation of the pressure from Hertz's, relative to Hertz's peak (a table header)."""
+
+
 def report(results, settings):
     ref = results["reference"]
     modulus = E / (1 - NU**2)
-    lines = ["# Hertz's line contact on a curved half-disk", "", " ".join(__doc__.split("\n\n")[1].split()), "",
-             f"Regenerate: `{command_line()}`", "",
+    worst = max(abs(ref["rel_a"]), abs(ref["rel_p0"]))
+    curved = results["fits"].get("curved")
+    kind = ("exponentially, like $e^{-b N^{1/3}}$ in the number $N$ of DOFs," if curved and
+            curved["exponential"][1] < curved["algebraic"][1] else "like a power of the number $N$ of DOFs")
+    lines = ["# Hertz's line contact on a curved half-disk", "",
+             "An elastic half-disk pressed onto a rigid plane, solved by hp-adaptive SIPG on curved elements and "
+             f"compared with Hertz's theory of line contact: the half-width $a$ and the peak pressure $p_0$ are within "
+             f"{worst:.2%} of Hertz's.  On curved elements the energy error falls {kind} while on polygons with "
+             "straight sides it stops at the error of the geometry.", "", SETTING, "",
              "## Hertz against the hp solution", "",
-             f"delta = {DELTA:g}, c_n = {C_N:g} (c_n a / E* = {C_N * ref['a'] / modulus:.0f}), the last level of the "
-             f"reference run: {ref['ndof']} DOFs, eta_h = {ref['eta_h']:.2e} ({ref['eta_h'] / ref['norm']:.1e} of "
-             f"|||u_h|||_h).", ""]
-    lines += [markdown_table(["F", "F_n (pressure integral)", "a", "a Hertz", "a / a_H - 1", "p0", "p0 Hertz",
-                              "p0 / p0_H - 1", "a / R", "max abs(p - p_H) / p0_H"],
+             f"$\\delta = {DELTA:g}$, $c_n = {C_N:g}$ ($c_n a / E^* = {C_N * ref['a'] / modulus:.0f}$), the last "
+             f"level of the reference run: {ref['ndof']} DOFs, $\\eta_h$ = {ref['eta_h']:.2e} "
+             f"({ref['eta_h'] / ref['norm']:.1e} of $|\\!|\\!| u_h |\\!|\\!|_h$).", ""]
+    lines += [markdown_table(["$F$", "$F_n$ (pressure integral)", "$a$", "$a_H$ (Hertz)", "$a / a_H - 1$", "$p_0$",
+                              "$p_{0,H}$ (Hertz)", "$p_0 / p_{0,H} - 1$", "$a / R$", PROFILE],
                              [[_f(ref["F"]), _f(ref["F_n"]), _f(ref["a"], ".6f"), _f(ref["a_hertz"], ".6f"),
                                _f(ref["rel_a"], "+.3%"), _f(ref["p0"], ".5e"), _f(ref["p0_hertz"], ".5e"),
                                _f(ref["rel_p0"], "+.3%"), _f(ref["a"] / R, ".4f"), _f(ref["profile"], ".3f")]]), ""]
     within = abs(ref["rel_a"]) < 0.01 and abs(ref["rel_p0"]) < 0.01
     lines += [f"Both within 1 % of Hertz: {'yes' if within else 'no'}.  The pressure profile (figure, left) follows "
-              "Hertz's ellipse; its largest deviation is at the ends x = +-a, where Hertz's profile has an infinite "
-              "slope and a shift of a by a fraction s moves p there by about (2 s)^(1/2) p0.", "",
+              "Hertz's ellipse; its largest deviation is at the ends $x = \\pm a$, where Hertz's profile has an "
+              "infinite slope and a shift of $a$ by a fraction $s$ moves $p$ there by about $(2 s)^{1/2} p_0$.", "",
               "Convergence of the measured quantities over the levels of the reference run (every third level of the "
               "fitted range and the last):", ""]
     shown = results["fit_levels"][::3] + [ref]
-    lines += [markdown_table(["DOFs", "eta_h", "F", "a", "a / a_H - 1", "p0", "p0 / p0_H - 1"],
+    lines += [markdown_table(["DOFs", "$\\eta_h$", "$F$", "$a$", "$a / a_H - 1$", "$p_0$", "$p_0 / p_{0,H} - 1$"],
                              [[r["ndof"], _f(r["eta_h"], ".2e"), _f(r["F"], ".6e"), _f(r["a"], ".6f"),
                                _f(r["rel_a"], "+.3%"), _f(r["p0"], ".5e"), _f(r["rel_p0"], "+.3%")]
                               for r in shown]), ""]
     lines += sweep_report(results["sweeps"], settings["sweep_rtol"])
     lines += convergence_report(results, settings)
+    lines += [f"Regenerate: `{command_line()}`", ""]
     return "\n".join(lines)
 
 
@@ -279,11 +313,11 @@ def sweep_report(rows, rtol):
     if not rows:
         return []
     lines = ["## Finite body and finite compliance", "",
-             f"Each row an hp run to eta_h <= {rtol:g} |||u_h|||_h; a / R measures how far the half-disk is from "
-             "Hertz's half-space, c_n a / E* how stiff the compliance is against the elastic stiffness of the contact "
-             "zone.", ""]
-    header = ["varied", "delta", "c_n", "nu", "DOFs", "F", "a / R", "c_n a / E*", "a / a_H - 1", "p0 / p0_H - 1",
-              "max abs(p - p_H) / p0_H"]
+             f"Each row an hp run to $\\eta_h \\le {rtol:g}\\,|\\!|\\!| u_h |\\!|\\!|_h$; $a / R$ measures how far the "
+             "half-disk is from Hertz's half-space, $c_n a / E^*$ how stiff the compliance is against the elastic "
+             "stiffness of the contact zone.", ""]
+    header = ["varied", "$\\delta$", "$c_n$", "$\\nu$", "DOFs", "$F$", "$a / R$", "$c_n a / E^*$", "$a / a_H - 1$",
+              "$p_0 / p_{0,H} - 1$", PROFILE]
     lines += [markdown_table(header, [[r["vary"], f"{r['delta']:g}", f"{r['c_n']:g}", f"{r['nu']:g}", r["ndof"],
                                        _f(r["F"]), _f(r["a_over_R"], ".4f"), _f(r["compliance"], ".0f"),
                                        _f(r["rel_a"], "+.3%"), _f(r["rel_p0"], "+.3%"), _f(r["profile"], ".3f")]
@@ -292,46 +326,48 @@ def sweep_report(rows, rtol):
     if len(deltas) >= 2:
         slope = np.polyfit(np.log([r["a_over_R"] for r in deltas]), np.log([abs(r["rel_a"]) for r in deltas]), 1)[0]
         mismatch = max(abs(r["rel_p0"] + r["rel_a"]) for r in deltas)
-        lines += [f"Finite body (delta varied, c_n = {C_N:g}): |a / a_H - 1| grows like (a / R)^{slope:.2f} "
+        lines += [f"Finite body ($\\delta$ varied, $c_n = {C_N:g}$): $\\lvert a / a_H - 1 \\rvert$ grows like "
+                  f"$(a / R)^{{{slope:.2f}}}$ "
                   f"(least squares over the {len(deltas)} rows), between first order (the tilted normal, see the "
-                  f"Poisson ratio below) and second order (the finite body).  In these rows p0 / p0_H - 1 = "
-                  f"-(a / a_H - 1) to {mismatch:.2%}, as for an elliptic profile of the measured width carrying F "
-                  "(p0 = 2 F / (pi a)): the discrete contact is Hertzian in shape, with a width that differs from "
+                  f"Poisson ratio below) and second order (the finite body).  In these rows $p_0 / p_{{0,H}} - 1 = "
+                  f"-(a / a_H - 1)$ to {mismatch:.2%}, as for an elliptic profile of the measured width carrying $F$ "
+                  "($p_0 = 2 F / (\\pi a)$): the discrete contact is Hertzian in shape, with a width that differs from "
                   "Hertz's.", ""]
     c_ns = sorted((r for r in rows if r["vary"] == "c_n"), key=lambda r: r["c_n"])
     if len(c_ns) >= 3:
         limit = c_ns[-1]
         shifts = [(r, r["rel_a"] - limit["rel_a"]) for r in c_ns[:-1]]
-        text = ", ".join(f"{shift:+.2%} at c_n a / E* = {r['compliance']:.0f}" for r, shift in shifts)
+        text = ", ".join(f"{shift:+.2%} at $c_n a / E^* = {r['compliance']:.0f}$" for r, shift in shifts)
         small = [r["compliance"] for r, shift in shifts if abs(shift) < 1e-3]
-        lines += [f"Compliance (c_n varied, delta = {DELTA:g}): against the stiffest run (c_n = {limit['c_n']:g}, "
-                  f"c_n a / E* = {limit['compliance']:.0f}, taken for the Signorini limit) the half-width moves by "
+        lines += [f"Compliance ($c_n$ varied, $\\delta = {DELTA:g}$): against the stiffest run "
+                  f"($c_n = {limit['c_n']:g}$, $c_n a / E^* = {limit['compliance']:.0f}$, taken for the Signorini "
+                  f"limit) the half-width moves by "
                   f"{text}: the compliant foundation lets the body penetrate and widens the contact"
-                  + (f"; below 0.1 % from c_n a / E* = {min(small):.0f} on." if small else ".") + "", ""]
+                  + (f"; below 0.1 % from $c_n a / E^* = {min(small):.0f}$ on." if small else ".") + "", ""]
     nus = sorted((r for r in rows if r["vary"] == "nu"), key=lambda r: r["nu"])
     if len(nus) >= 2:
-        text = ", ".join(f"{r['rel_a']:+.2%} at nu = {r['nu']:g} ((1 - 2 nu) / (1 - nu) = "
-                         f"{(1 - 2 * r['nu']) / (1 - r['nu']):.2f})" for r in nus)
+        text = ", ".join(f"{r['rel_a']:+.2%} at $\\nu = {r['nu']:g}$ ($(1 - 2\\nu) / (1 - \\nu) = "
+                         f"{(1 - 2 * r['nu']) / (1 - r['nu']):.2f}$)" for r in nus)
         shrinking = all(abs(b["rel_a"]) < abs(a["rel_a"]) for a, b in zip(nus[:-1], nus[1:], strict=True))
-        lines += [f"Poisson ratio (delta = {DELTA:g}, c_n = {C_N:g}): a / a_H - 1 = {text}."]
+        lines += [f"Poisson ratio ($\\delta = {DELTA:g}$, $c_n = {C_N:g}$): $a / a_H - 1$ = {text}."]
         if shrinking:
-            lines += ["The deviation shrinks as nu -> 1/2, where the tangential surface displacement u_x of the "
-                      "contact zone vanishes (it is proportional to (1 - 2 nu) for a half-space): the compliance law "
-                      "measures the penetration along the body's normal, u . n - g_a with n tilted by x / R, so "
-                      "u_x x / R enters it; relative to the gap x^2 / (2 R) this is of order (1 - 2 nu) / (1 - nu) "
-                      "a / R, first order in a / R.  Hertz's theory takes the normal vertical (small slopes) and drops "
-                      "that term: part of the deviation is Hertz's small-slope assumption, the rest (what remains as "
-                      "nu -> 1/2) the finite body."]
+            lines += ["The deviation shrinks as $\\nu \\to 1/2$, where the tangential surface displacement $u_x$ of the"
+                      " contact zone vanishes (it is proportional to $1 - 2\\nu$ for a half-space): the compliance law "
+                      "measures the penetration along the body's normal, $u \\cdot n - g_a$ with $n$ tilted by $x / R$,"
+                      " so $u_x x / R$ enters it; relative to the gap $x^2 / (2 R)$ this is of order $(1 - 2\\nu) / (1 "
+                      "- \\nu) \\cdot a / R$, first order in $a / R$.  Hertz's theory takes the normal vertical (small "
+                      "slopes) and drops that term: part of the deviation is Hertz's small-slope assumption, the rest "
+                      "(what remains as $\\nu \\to 1/2$) the finite body."]
         lines += [""]
     return lines
 
 
 def convergence_report(results, settings):
     lines = ["## Energy error: curved elements against a polygon", "",
-             f"Reference: the last level of the hp run ({results['reference']['ndof']} DOFs, eta_h = "
-             f"{results['eta_ref']:.2e}).  Error of a level: (2 (J_h(u_h) - J_h(u_ref)))^(1/2) (the discrete energy, "
-             "exact for nested hp levels of one run up to the reference's own error); check: |||u_h - u_ref|||_h by "
-             "point evaluation of u_ref on a second run's levels.  Polygons: the error against the curved "
+             f"Reference: the last level of the hp run ({results['reference']['ndof']} DOFs, $\\eta_h$ = "
+             f"{results['eta_ref']:.2e}).  Error of a level: {ENERGY} (the discrete energy, exact for nested hp "
+             f"levels of one run up to the reference's own error); check: {NORM} by point evaluation of "
+             "$u_\\mathrm{ref}$ on a second run's levels.  Polygons: the error against the curved "
              "reference (the true problem, on the polygon's domain) and against the polygon's own last level "
              "(its discretisation error only).", ""]
     lines += fits_table(results)
@@ -340,25 +376,27 @@ def convergence_report(results, settings):
         half = len(local) // 2
         first = fit_algebraic([r["ndof"] for r in local[:half + 1]], [r["error_J"] for r in local[:half + 1]])[0]
         second = fit_algebraic([r["ndof"] for r in local[half:]], [r["error_J"] for r in local[half:]])[0]
-        lines += [f"Curved: the algebraic slope s grows along the fitted range ({first:.2f} on its first half, "
-                  f"{second:.2f} on its second): faster than any fixed power of N, as exponential convergence is.", ""]
+        lines += [f"Curved: the algebraic slope $s$ grows along the fitted range ({first:.2f} on its first half, "
+                  f"{second:.2f} on its second): faster than any fixed power of $N$, as exponential convergence "
+                  "is.", ""]
     check = fit_range(results["check"], results["eta_ref"])
     if check:
         ratio = [r["error_interp"] / r["error_J"] for r in check]
-        lines += [f"The two error measures agree: |||u_h - u_ref|||_h / (2 (J_h - J_ref))^(1/2) in "
+        lines += [f"The two error measures agree: {NORM[:-1]} / {ENERGY[1:]} in "
                   f"[{min(ratio):.3f}, {max(ratio):.3f}] on the {len(check)} levels of the check run in the fitted "
                   "range.", ""]
     lines += polygon_floors(results)
     spikes = [r for r in results["levels"][:-1] if r["error_J"] > 0 and r["eta_h"] > 10 * r["error_J"]]
     effectivity = [r["eta_h"] / r["error_J"] for r in results["fit_levels"]]
     if spikes:
-        lines += [f"eta_h / error exceeds 10 on levels {', '.join(str(r['level']) for r in spikes)} (at most "
-                  f"{max(r['eta_h'] / r['error_J'] for r in spikes):.0f}): there eta_6 = "
-                  "||sigma_n(u_h) + c_n (u_hn - g_a)_+||, which carries c_n, is nearly all of it (eta_6 / eta_h >= "
-                  f"{min(r['eta6'] / r['eta_h'] for r in spikes):.4f}).  While the mesh does not "
-                  "resolve the contact zone (a ~ 0.03 against coarse edges) the compliance residual is of size c_n "
-                  "times an error of the penetration: the residual estimator is not robust in c_n there"
-                  + (f" (on the fitted levels eta_h / error is {min(effectivity):.1f}-{max(effectivity):.1f})."
+        lines += [f"$\\eta_h$ / error exceeds 10 on levels {', '.join(str(r['level']) for r in spikes)} (at most "
+                  f"{max(r['eta_h'] / r['error_J'] for r in spikes):.0f}): there "
+                  "$\\eta_6 = \\lVert \\sigma_n(u_h) + c_n (u_{h,n} - g_a)_+ \\rVert$, which carries $c_n$, is nearly "
+                  f"all of it ($\\eta_6 / \\eta_h \\ge {min(r['eta6'] / r['eta_h'] for r in spikes):.4f}$).  While "
+                  "the mesh does not resolve the contact zone ($a \\approx 0.03$ against coarse edges) the compliance "
+                  "residual is of size $c_n$ times an error of the penetration: the residual estimator is not robust "
+                  "in $c_n$ there"
+                  + (f" (on the fitted levels $\\eta_h$ / error is {min(effectivity):.1f}-{max(effectivity):.1f})."
                      if effectivity else "."), ""]
     lines += level_tables(results)
     return lines
@@ -377,13 +415,14 @@ def fits_table(results):
         better += ", levels off" if fit["fall"] >= 1.5 and fit["end"] < 1.05 else ""
         rows.append([name, f"{fit['first']}-{fit['last']} ({fit['points']} levels)", f"{fit['fall']:.3g}",
                      f"{b:.4f}", f"{rms_e:.3f}", f"{s:.3f}", f"{rms_a:.3f}", better])
-    lines += ["Least-squares fits of log(error): log e = c - b N^(1/3) (exponential) and log e = c - s log N "
-              "(algebraic); rms: root mean square residual in log e; \"falls by\": first / last error of the range.  "
-              "\"curved\": the energy error, \"curved_eta\": eta_h, over the levels with eta_h below "
-              f"{FIT_RANGE[0]:g} |||u_h|||_h and above {FIT_RANGE[1]:g} eta_h of the reference; polygons: the error "
+    lines += ["Least-squares fits of the error $e$: $\\log e = c - b N^{1/3}$ (exponential) and "
+              "$\\log e = c - s \\log N$ (algebraic); rms: root mean square residual in $\\log e$; \"falls by\": "
+              "first / last error of the range.  \"curved\": the energy error, \"curved_eta\": $\\eta_h$, over the "
+              f"levels with $\\eta_h$ below {FIT_RANGE[0]:g} $|\\!|\\!| u_h |\\!|\\!|_h$ and above {FIT_RANGE[1]:g} "
+              "$\\eta_h$ of the reference; polygons: the error "
               "against the curved reference over the same DOF range (\"levels off\": its last two values differ by "
               "less than 5 %).", "",
-              markdown_table(["error", "DOFs fitted", "falls by", "b", "rms (exp)", "s", "rms (alg)", "better fit"],
+              markdown_table(["error", "DOFs fitted", "falls by", "$b$", "rms (exp)", "$s$", "rms (alg)", "better fit"],
                              rows), ""]
     return lines
 
@@ -406,11 +445,11 @@ def polygon_floors(results):
     if len(floors) >= 2:
         (n0, f0), (n1, f1) = floors[0], floors[-1]
         order = math.log(f0 / f1) / math.log(n1 / n0)
-        lines += [f"The floor falls like (number of sides)^-{order:.2f} from {n0} to {n1} sides, i.e. like the side "
-                  f"length to the power {order:.2f}"
+        lines += [f"The floor falls like $n^{{-{order:.2f}}}$ in the number $n$ of sides from {n0} to {n1} sides, "
+                  f"i.e. like the side length to the power {order:.2f}"
                   + (": close to the order 3/2 that straight boundary edges with the circle's data leave on the "
-                     "annulus (results/curved.md, \"Straight edges\"), where the polygon is refined with the mesh and "
-                     "the error falls algebraically at that order; a fixed polygon does not converge at all."
+                     "annulus ([curved meshes](curved.md), \"Straight edges\"), where the polygon is refined with the "
+                     "mesh and the error falls algebraically at that order; a fixed polygon does not converge at all."
                      if 1.2 <= order <= 2.0 else ".")]
     lines += [""] if results["polygons"] else []
     return lines
@@ -420,21 +459,21 @@ def level_tables(results):
     """Markdown lines: the levels of the reference run, the check run and every polygon's run."""
     lines = []
     lines += ["Levels of the reference run (curved):", ""]
-    lines += [markdown_table(["level", "DOFs", "N^(1/3)", "eta_h", "error (energy)", "eta_h / error"],
+    lines += [markdown_table(["level", "DOFs", "$N^{1/3}$", "$\\eta_h$", "error (energy)", "$\\eta_h$ / error"],
                              [[r["level"], r["ndof"], f"{r['ndof'] ** (1 / 3):.2f}", _f(r["eta_h"], ".3e"),
                                _f(r["error_J"], ".3e"), _f(r["eta_h"] / r["error_J"] if r["error_J"] else None, ".2f")]
                               for r in results["levels"][:-1]]), ""]
     lines += ["Check run (curved), errors by point evaluation of the reference:", ""]
-    lines += [markdown_table(["level", "DOFs", "eta_h", "|||u_h - u_ref|||_h", "(2 (J_h - J_ref))^(1/2)"],
+    lines += [markdown_table(["level", "DOFs", "$\\eta_h$", "error by point evaluation", "error by the energy"],
                              [[r["level"], r["ndof"], _f(r["eta_h"], ".3e"), _f(r["error_interp"], ".3e"),
                                _f(r["error_J"], ".3e")] for r in results["check"]]), ""]
     for sides, polygon in results["polygons"].items():
         m = polygon["measures"]
         lines += [f"Polygon with {sides} sides (side {2 * R * math.sin(math.pi / (2 * sides)):.4f}, "
                   f"sagitta {R * (1 - math.cos(math.pi / (2 * sides))):.1e}); stopped: {polygon['stopped']}; last "
-                  f"level: F = {m['F']:.4e}, a = {_f(m['a'], '.5f')} ({_f(m['rel_a'], '+.2%')} against Hertz), p0 = "
-                  f"{m['p0']:.4e} ({m['rel_p0']:+.1%}):", ""]
-        lines += [markdown_table(["level", "DOFs", "eta_h", "error against the curved reference",
+                  f"level: $F$ = {m['F']:.4e}, $a$ = {_f(m['a'], '.5f')} ({_f(m['rel_a'], '+.2%')} against Hertz), "
+                  f"$p_0$ = {m['p0']:.4e} ({m['rel_p0']:+.1%}):", ""]
+        lines += [markdown_table(["level", "DOFs", "$\\eta_h$", "error against the curved reference",
                                   "error against its own last level"],
                                  [[r["level"], r["ndof"], _f(r["eta_h"], ".3e"), _f(r["error_interp"], ".3e"),
                                    _f(r["error_own"], ".3e")] for r in polygon["records"]]), ""]

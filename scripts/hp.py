@@ -133,14 +133,14 @@ def main(argv=None):
     args = parse(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     budget = dict(max=4000, hp=2000) if args.quick else dict(max=args.max_ndof, hp=args.hp_max_ndof)
-    lines = ["# hp-adaptivity", "",
-             f"SIPG, eta = 30 mu, semismooth Newton, Doerfler theta = {THETA}, no geometric layers.  hp: p from 2 "
-             f"up to {args.max_order}, marked elements refined in p where the estimator fell as predicted for a smooth "
-             "solution and in h (two bisections) elsewhere (Melenk & Wohlmuth 2001, `ngdgfric.hp`).  True errors "
-             "|||u_ref - u_h|||_h against the hp reference solutions of `reference.md` (made by the same hp loop "
-             "with the paper's estimator, so the meshes here are not nested in theirs).  eta_h is the default "
-             "estimator (energy units, `ndf.estimate`; results/effectivity.md).  Timings: 2-core machine, one run "
-             "at a time.", ""]
+    setting = (f"SIPG, $\\eta = 30\\mu$, semismooth Newton, Dörfler $\\theta = {THETA}$, no geometric layers.  hp: "
+               f"$p$ from 2 up to {args.max_order}, marked elements refined in $p$ where the estimator fell as "
+               "predicted for a smooth solution and in $h$ (two bisections) elsewhere (Melenk & Wohlmuth 2001, "
+               "`ngdgfric.hp`).  True errors $|\\!|\\!| u_\\mathrm{ref} - u_h |\\!|\\!|_h$ against the hp reference "
+               "solutions of [the reference page](reference.md) (made by the same hp loop with the paper's estimator, "
+               "so the meshes here are not nested in theirs).  $\\eta_h$ is the default estimator (energy units, "
+               "`ndf.estimate`; [its effectivity](effectivity.md)).  Timings: 2-core machine, one run at a time.")
+    lines, factors = [], {}
     for example in args.example:
         runs, final, reference = run_example(example, args, budget)
         rows = [dict(run=name, **r) for name, records in runs.items() for r in records]
@@ -150,25 +150,32 @@ def main(argv=None):
         target = runs["h-adaptive P1"][-1]
         needed = dofs_to_reach(runs["hp-adaptive"], target["error"])
         factor = target["ndof"] / needed if needed else None
+        factors[example] = factor
         table = [[name, len(records), records[-1]["ndof"], f"{records[-1]['eta_h']:.3e}", f"{records[-1]['error']:.3e}",
                   f"{records[-1]['seconds']:.1f}"] for name, records in runs.items()]
         lines += [f"## Example {example}", "",
                   f"![estimator and error](hp_{example.replace('.', '_')}.png)", "",
-                  markdown_table(["run", "levels", "final DOFs", "final eta_h", "final error", "seconds"], table), "",
-                  f"- The h-adaptive P1 run (the loop of Figure 6.{1 if example == '6.1' else 3}, default estimator) "
-                  f"ends with error "
+                  markdown_table(["run", "levels", "final DOFs", "final $\\eta_h$", "final error", "seconds"], table),
+                  "", f"- The h-adaptive $P_1$ run (the loop of Figure 6.{1 if example == '6.1' else 3}, default "
+                  f"estimator) ends with error "
                   f"{target['error']:.3e} at {target['ndof']} DOFs; hp reaches that error with "
                   + (f"{needed:.0f} DOFs: **{factor:.0f} times fewer** (goal: 10)." if needed else
                      "- (not reached within its DOF budget)."),
-                  f"- log eta_h against N^(1/3) over the last five hp levels: slope {b:.3f}, largest fit residual "
-                  f"{residual:.3f} (in log eta_h): a straight line, i.e. exponential convergence "
-                  f"eta_h ~ exp({b:.3f} N^(1/3)).",
-                  f"- eta_h / true error over the levels with error >= 1e-3 (30 times the reference's estimated "
-                  f"error): {effectivity_range(runs)}.",
+                  f"- $\\log \\eta_h$ against $N^{{1/3}}$ over the last five hp levels: slope {b:.3f}, largest fit "
+                  f"residual {residual:.3f} (in $\\log \\eta_h$): a straight line, i.e. exponential convergence "
+                  f"$\\eta_h \\sim \\exp({b:.3f} N^{{1/3}})$.",
+                  f"- $\\eta_h$ / true error over the levels with error $\\ge 10^{{-3}}$ (30 times the reference's "
+                  f"estimated error): {effectivity_range(runs)}.",
                   f"- Reference: {reference.description}.", "",
                   f"![exponential convergence](hp_exponential_{example.replace('.', '_')}.png)", "",
                   f"![final hp mesh](hp_mesh_{example.replace('.', '_')}.png)", ""]
-    lines += [f"Regenerate: `{command_line()}` (after `python scripts/reference.py`)", ""]
+    fewer = [f"{factor:.0f}" for factor in factors.values() if factor]
+    headline = ("hp-adaptivity against h-adaptive and uniform refinement of every degree on the paper's examples "
+                f"({', '.join(factors)}), measured by the true error"
+                + (f": hp reaches the final error of the paper's h-adaptive $P_1$ loop with {' and '.join(fewer)} "
+                   "times fewer DOFs, and its estimator falls exponentially in $N^{1/3}$." if fewer else "."))
+    lines = ["# hp-adaptivity", "", headline, "", setting, "", *lines,
+             f"Regenerate: `{command_line()}` (after `python scripts/reference.py`)", ""]
     write_text(args.out / "hp.md", "\n".join(lines))
     say("\n".join(lines))
 

@@ -135,9 +135,10 @@ def warning_check(rows):
                                       if (r["method"], r["order"], r["nu"]) == c)}
     locking = {(m, p, nu) for m, p, nu in cases if (threshold(rows, m, p) or 1.0) <= nu}
     differ = sorted(warned ^ locking)
-    return (f"`ndf.solve` issued a LockingWarning in {len(warned)} of the {len(cases)} (method, p, nu) cases; this "
+    return (f"`ndf.solve` issued a LockingWarning in {len(warned)} of the {len(cases)} (method, $p$, $\\nu$) cases; "
+            f"this "
             f"study finds locking in {len(locking)}; they differ in "
-            + (", ".join(f"{m} P{p} nu = {nu:g}" for m, p, nu in differ) if differ else "none") + ".")
+            + (", ".join(f"{m} $P_{p}$ $\\nu = {nu:g}$" for m, p, nu in differ) if differ else "none") + ".")
 
 
 def pairs(rows):
@@ -166,31 +167,59 @@ def _growth_and_rate(rows, method, order, nu):
 def nu_table(rows, measure, spec):
     """One line per (method, p), one column per nu: ``measure(rows, method, order, nu)`` formatted."""
     nus = sorted({r["nu"] for r in rows})
-    return markdown_table(["method", "p"] + [f"{nu:g}" for nu in nus],
+    return markdown_table(["method", "$p$", f"$\\nu = {nus[0]:g}$"] + [f"{nu:g}" for nu in nus[1:]],
                           [[m, p] + [fmt(measure(rows, m, p, nu), spec) for nu in nus] for m, p in pairs(rows)])
+
+
+def headline(rows):
+    """The page's opening: what was measured, and which methods lock from which $\\nu$ (Markdown, computed)."""
+    nus = sorted({r["nu"] for r in rows})
+    free, locking = [], []
+    for method in dict.fromkeys(r["method"] for r in rows):
+        orders = sorted({r["order"] for r in rows if r["method"] == method})
+        found = {p: threshold(rows, method, p) for p in orders}
+        if all(nu is None for nu in found.values()):
+            free.append(method.upper())
+            continue
+        by_nu = {}
+        for p, nu in found.items():
+            if nu is not None:
+                by_nu.setdefault(nu, []).append(str(p))
+        locking.append(f"{method.upper()} (" + "; ".join(f"$p = {', '.join(ps)}$ from $\\nu = {nu:g}$"
+                                                          for nu, ps in sorted(by_nu.items())) + ")")
+    text = ("Every method and degree on a contact solution that stays smooth and divergence-free as "
+            f"$\\nu \\to 1/2$, for $\\nu$ from {nus[0]:g} to {nus[-1]:g}: a method that does not lock keeps its error "
+            "and its rate, one that locks does not.")
+    if free:
+        text += f"  {', '.join(free)} do{'es' * (len(free) == 1)} not lock on this grid"
+        text += (f"; {', '.join(locking)} lock." if locking else ".")
+    elif locking:
+        text += f"  {', '.join(locking)} lock."
+    return text
 
 
 def report(rows, quick):
     nus, failed = sorted({r["nu"] for r in rows}), [r for r in rows if r["status"] != "solved"]
-    meshes = ", ".join(f"P{p}: h = " + ", ".join(f"1/{round(1 / h)}" for h in sorted(
+    meshes = ", ".join(f"$P_{p}$: $h$ = " + ", ".join(f"1/{round(1 / h)}" for h in sorted(
         {r["h"] for r in rows if r["order"] == p}, reverse=True)) for p in sorted({r["order"] for r in rows}))
     lines = [f"# Volumetric locking: where each method and degree locks{' (quick run)' * quick}", "",
-             f"Regenerate: `{command_line()}`", "",
-             "The divergence-free contact solution of "
-             f"`ngdgfric.studies.manufactured.incompressible_contact_manufactured` (E = {E:g}, c_n = 10; its "
-             "stresses and data stay bounded as nu -> 1/2), every method with its default penalty and the default "
-             "solver, uniform meshes "
-             f"({meshes}).  Relative energy error |||u - u_h|||_h / |||u|||; growth: the error at nu divided by the "
-             f"error at nu = {nus[0]:g} on the same mesh; rate: observed order in h over the two finest meshes "
-             "(expected: p, the kinks of u lie on mesh lines).", "",
-             f"**Locks from nu** is the first nu of the grid from which on the growth exceeds {GROWTH:g} on some mesh "
-             f"or the rate falls below p - {RATE_DROP:g} (or a solve fails); `-`: not up to nu = {nus[-1]:g}.  "
-             "These are the numbers of `ngdgfric.dg.methods.LOCKING`, which `ndf.solve` warns with (LockingWarning) "
-             f"and `adapt` chooses its method by.  {len(rows)} solves, {len(failed)} failed.", "",
+             headline(rows), "",
+             "The setting: the divergence-free contact solution of "
+             f"`ngdgfric.studies.manufactured.incompressible_contact_manufactured` ($E = {E:g}$, $c_n = 10$; its "
+             "stresses and data stay bounded as $\\nu \\to 1/2$), every method with its default penalty and the "
+             f"default solver, uniform meshes ({meshes}).  Relative energy error "
+             "$|\\!|\\!| u - u_h |\\!|\\!|_h / |\\!|\\!| u |\\!|\\!|$; growth: the error at $\\nu$ divided by the "
+             f"error at $\\nu = {nus[0]:g}$ on the same mesh; rate: observed order in $h$ over the two finest meshes "
+             "(expected: $p$, the kinks of $u$ lie on mesh lines).", "",
+             f"**Locks from $\\nu$** is the first $\\nu$ of the grid from which on the growth exceeds {GROWTH:g} on "
+             f"some mesh or the rate falls below $p - {RATE_DROP:g}$ (or a solve fails); `-`: not up to "
+             f"$\\nu = {nus[-1]:g}$.  These are the numbers of `ngdgfric.dg.methods.LOCKING`, which `ndf.solve` warns "
+             f"with (LockingWarning) and `adapt` chooses its method by.  {len(rows)} solves, {len(failed)} failed.", "",
              "## Where each method locks", "",
-             markdown_table(["method", "p", f"error at nu = {nus[0]:g} (finest h)", f"rate at nu = {nus[0]:g}",
-                             "locks from nu", "growth there (max over h)", "rate there",
-                             f"growth at nu = {nus[-1]:g}", f"rate at nu = {nus[-1]:g}"], summary_rows(rows)), "",
+             markdown_table(["method", "$p$", f"error at $\\nu = {nus[0]:g}$ (finest $h$)",
+                             f"rate at $\\nu = {nus[0]:g}$", "locks from $\\nu$", "growth there (max over $h$)",
+                             "rate there", f"growth at $\\nu = {nus[-1]:g}$", f"rate at $\\nu = {nus[-1]:g}$"],
+                            summary_rows(rows)), "",
              "## Error growth (largest over the meshes)", "",
              nu_table(rows, lambda *a: (growth(*a) or (None,))[0], ".2f"), "",
              "## Error growth on the finest mesh", "",
@@ -199,7 +228,7 @@ def report(rows, quick):
              nu_table(rows, rate, ".2f"), "",
              "## Relative error on the finest mesh", "",
              nu_table(rows, lambda *a: finest(*a, "relative_error"), ".2e"), "",
-             "## Estimator effectivity eta_h / error on the finest mesh", "",
+             "## Estimator effectivity $\\eta_h$ / error on the finest mesh", "",
              "The default estimator (`ndf.estimate`, in the units of the energy norm).  It sees the stresses, so it "
              "also shows where the stresses lock while the displacement does not.", "",
              nu_table(rows, lambda *a: finest(*a, "effectivity"), ".2f"), "",
@@ -209,6 +238,7 @@ def report(rows, quick):
         lines += ["## Failed solves", "", markdown_table(["method", "p", "nu", "h", "status"],
                                                          [[r["method"], r["order"], r["nu"], r["h"], r["status"]]
                                                           for r in failed]), ""]
+    lines += [f"Regenerate: `{command_line()}`", ""]
     return "\n".join(lines)
 
 

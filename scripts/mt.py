@@ -199,14 +199,14 @@ def main(argv=None):
 
 def report(zone_h, zone_rows, solver_rows, curves):
     zone_table = markdown_table(
-        ["m_t", "DOFs", "Newton its", "max penetration", "max bound", "stick", "slip", "no contact",
-         "max KKT residual"],
+        ["$m_t$", "DOFs", "Newton iterations", "max. penetration", "max. bound", "stick", "slip", "no contact",
+         "max. KKT residual"],
         [[f"{r['m_t']:g}", r["ndof"], r["iterations"], f"{r['max_penetration']:.4f}", f"{r['max_bound']:.1f}",
           r["stick"], r["slip"], r["free"], f"{r['kkt']:.1e}"] for r in zone_rows])
     solver_table = markdown_table(
-        ["m_t", "c_tau", "h", "DOFs", "Newton its (factorisations)", "Newton s",
-         "fixed point its (inner Newton its, factorisations)", "fixed point s", "contraction factor",
-         "max rel. difference"],
+        ["$m_t$", "$c_\\tau$", "$h$", "DOFs", "Newton iterations (factorisations)", "Newton seconds",
+         "fixed point iterations (inner Newton iterations, factorisations)", "fixed point seconds",
+         "contraction factor", "max. relative difference"],
         [[f"{r['m_t']:g}", f"{r['c_tau']:g}", f"1/{round(1 / r['h'])}", r["ndof"], r["newton"],
           f"{r['newton_seconds']:.2f}", r["fixed"], f"{r['fixed_seconds']:.2f}",
           "-" if np.isnan(r["contraction"]) else f"{r['contraction']:.2f}",
@@ -214,44 +214,51 @@ def report(zone_h, zone_rows, solver_rows, curves):
     slopes = {m_t: slope([r["ndof"] for r in records[-10:]], [r["eta_h"] for r in records[-10:]])
               for m_t, records in curves.items()}
     adaptive_table = markdown_table(
-        ["m_t", "levels", "final DOFs", "final eta_h", "eta_4 (final)", "slope (last 10)", "Newton its per level"],
+        ["$m_t$", "levels", "final DOFs", "final $\\eta_h$", "$\\eta_4$ (final)", "slope (last 10)",
+         "Newton iterations per level"],
         [[f"{m_t:g}", len(records), records[-1]["ndof"], f"{records[-1]['eta_h']:.4e}",
           f"{records[-1]['eta4']:.3e}", f"{slopes[m_t]:.3f}",
           f"{min(r['iterations'] for r in records)}-{max(r['iterations'] for r in records)}"]
          for m_t, records in curves.items()])
     findings = mt_findings(zone_rows, solver_rows)
     return "\n".join([
-        "# Friction bound depending on the penetration: m_t > 0 (Example 6.1)", "",
-        f"Regenerate: `{command_line()}`", "",
-        "The paper analyses the reduced law m_t = 0 and leaves m_t > 0 to future work (Section 7).  With "
-        "j_tau(u, v) = int c_tau (u_n - g_a)_+^{m_t} |v_tau| ds, problem (1.4) is a quasi-variational "
-        "inequality: the friction bound is zero where there is no contact and grows with the penetration.  "
-        "Example 6.1 (c_tau = 450 unless stated), SIPG, P1, eta = 30 mu, default tolerances (Newton: "
-        "relative KKT residual 1e-13; fixed point: change 1e-8 in the relative max norm).", "",
+        "# A friction bound that grows with the penetration (Example 6.1)", "",
+        "Beyond the paper: Example 6.1 with a friction bound $c_\\tau (u_n - g_a)_+^{m_t}$ that grows with the "
+        "penetration, solved by the coupled semismooth Newton method and by a fixed point on the bound, and "
+        "adaptively.  It shows where stick and slip lie for each $m_t$, how much cheaper the coupled Newton "
+        "method is, and that the adaptive loop keeps its optimal rate.", "",
+        "The paper analyses the reduced law $m_t = 0$ and leaves $m_t > 0$ to future work (Section 7).  With "
+        "$j_\\tau(u, v) = \\int c_\\tau (u_n - g_a)_+^{m_t} \\lvert v_\\tau \\rvert \\, ds$, problem (1.4) is a "
+        "quasi-variational inequality: the friction bound is zero where there is no contact and grows with the "
+        "penetration.  Example 6.1 ($c_\\tau = 450$ unless stated), SIPG, $P_1$, $\\eta = 30\\mu$, default "
+        "tolerances (Newton: relative KKT residual $10^{-13}$; fixed point: change $10^{-8}$ in the relative max "
+        "norm).", "",
         "![zones and adaptivity](mt.png)", "",
-        f"## Contact, stick and slip along Gamma_C (uniform h = 1/{round(1 / zone_h)})", "",
-        "Zones are runs of contact Gauss points (x intervals): contact where u_n - g_a > 0, slip where "
-        "|u_tau| > 1e-8 max|u_h|.  The KKT residual is the largest of |l| - 1, the complementarity "
-        "l u_tau = |u_tau| and the equilibrium (3.3) with the bound at u_h.", "",
+        f"## Contact, stick and slip along $\\Gamma_C$ (uniform $h = 1/{round(1 / zone_h)}$)", "",
+        "Zones are runs of contact Gauss points ($x$ intervals): contact where $u_n - g_a > 0$, slip where "
+        "$\\lvert u_\\tau \\rvert > 10^{-8} \\max \\lvert u_h \\rvert$.  The KKT residual is the largest of "
+        "$\\lvert l \\rvert - 1$, the complementarity $l u_\\tau = \\lvert u_\\tau \\rvert$ and the equilibrium (3.3) "
+        "with the bound at $u_h$.", "",
         zone_table, "",
         "## Coupled semismooth Newton against the fixed point on the friction bound", "",
-        "Newton: `ndf.solve(problem, mesh)` (the bound is linearised in u_n inside the Newton system).  "
+        "Newton: `ndf.solve(problem, mesh)` (the bound is linearised in $u_n$ inside the Newton system).  "
         "Fixed point: `ndf.solve(problem, mesh, solver=\"fixed_point\")`, each outer iteration a reduced-law "
         "solve (inner semismooth Newton, warm-started) with the bound frozen at the previous iterate.  The "
         "contraction factor is the geometric mean ratio of consecutive fixed-point changes.", "",
         solver_table, "",
         "## Adaptive convergence", "",
-        "`ndf.adapt` with Doerfler theta = 0.3, estimator of Section 4 with eta_4 = "
-        "||sigma_tau(u_h) + c_tau (u_hn - g_a)_+^{m_t} lam_tau|| (bound at u_h); optimal slope -1/2.", "",
+        "`ndf.adapt` with Dörfler $\\theta = 0.3$, estimator of Section 4 with $\\eta_4 = \\lVert \\sigma_\\tau(u_h) + "
+        "c_\\tau (u_{h,n} - g_a)_+^{m_t} \\lambda_\\tau \\rVert$ (bound at $u_h$); optimal slope $-1/2$.", "",
         adaptive_table, "",
         "## Findings", "",
         *findings,
-        "* The fixed point's contraction factor grows roughly in proportion to c_tau (and to m_t times the "
-        "penetration to the power m_t - 1): the outer map is a contraction only while the bound varies slowly "
-        "with u_n compared with the stiffness of the body.  Beyond that it stalls (its changes stop decreasing).  "
+        "- The fixed point's contraction factor grows roughly in proportion to $c_\\tau$ (and to $m_t$ times the "
+        "penetration to the power $m_t - 1$): the outer map is a contraction only while the bound varies slowly "
+        "with $u_n$ compared with the stiffness of the body.  Beyond that it stalls (its changes stop decreasing).  "
         "Times are wall-clock on two cores; the factorisation counts are the robust measure: the coupled Newton "
-        "factorises once (the condensation onto Gamma_C), the fixed point once per outer iteration (each inner "
-        "solve condenses its own frozen-bound problem).", ""])
+        "factorises once (the condensation onto $\\Gamma_C$), the fixed point once per outer iteration (each inner "
+        "solve condenses its own frozen-bound problem).", "",
+        f"Regenerate: `{command_line()}`", ""])
 
 
 
@@ -259,19 +266,19 @@ def mt_findings(zone_rows, solver_rows):
     """Markdown bullets: the two solvers for m_t > 0 compared, and the friction bounds and stick zones."""
     coupled = [r for r in solver_rows if r["m_t"] > 0]
     speedups = [r["fixed_seconds"] / r["newton_seconds"] for r in coupled if r["difference"] is not None]
-    failed = ", ".join(f"m_t = {r['m_t']:g} with c_tau = {r['c_tau']:g}" for r in coupled
+    failed = ", ".join(f"$m_t = {r['m_t']:g}$ with $c_\\tau = {r['c_tau']:g}$" for r in coupled
                        if r["fixed"].startswith("failed"))
     newton_failed = [r for r in coupled if r["newton"] == "failed"]
     findings = [
-        f"* The coupled Newton failed in {len(newton_failed)} of {len(coupled)} cases with m_t > 0; its "
+        f"- The coupled Newton failed in {len(newton_failed)} of {len(coupled)} cases with $m_t > 0$; its "
         f"iterations (factorisations): {', '.join(sorted({r['newton'] for r in coupled}))}.",
-        f"* Where both converged, the fixed point took {min(speedups):.1f}-{max(speedups):.1f} times as long "
-        "as the coupled Newton." if speedups else "* The fixed point never converged.",
-        f"* The fixed point failed for {failed}." if failed else "* The fixed point converged in every case.",
-        "* Largest friction bound on Gamma_C: " + ", ".join(f"{r['max_bound']:.1f} (m_t = {r['m_t']:g})"
-                                                          for r in zone_rows)
-        + ".  The penetrations stay below 1, so (u_n - g_a)_+^{m_t} weakens the friction; stick zones: "
-        + ", ".join(f"{r['stick']} (m_t = {r['m_t']:g})" for r in zone_rows) + ".",
+        f"- Where both converged, the fixed point took {min(speedups):.1f}-{max(speedups):.1f} times as long "
+        "as the coupled Newton." if speedups else "- The fixed point never converged.",
+        f"- The fixed point failed for {failed}." if failed else "- The fixed point converged in every case.",
+        "- Largest friction bound on $\\Gamma_C$: " + ", ".join(f"{r['max_bound']:.1f} ($m_t = {r['m_t']:g}$)"
+                                                                for r in zone_rows)
+        + ".  The penetrations stay below 1, so $(u_n - g_a)_+^{m_t}$ weakens the friction; stick zones: "
+        + ", ".join(f"{r['stick']} ($m_t = {r['m_t']:g}$)" for r in zone_rows) + ".",
     ]
     return findings
 

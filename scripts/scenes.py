@@ -185,13 +185,15 @@ def run_pad(quick):
 def pad_section(pad):
     """The report's section of :func:`run_pad`."""
     total = {key: sum(level[key] for level in pad["levels"]) for key in ("assemble", "solve", "estimate", "refine")}
+    reason = pad["reason"].replace("results/locking.md", "[locking](locking.md)")  # the library's words, with a link
     return ["## rubber-pad: `adapt(problem, rtol)` on a scene where DG is the right tool", "",
             f"`ngdgfric adaptive rubber_pad.toml --rtol {pad['rtol']:g}` (the shipped scene, `ndf.example_file("
-            f"\"rubber_pad\")`): {pad['method']} ({pad['reason']}); stopped on {pad['stopped']} after "
+            f"\"rubber_pad\")`): {pad['method']} ({reason}); stopped on {pad['stopped']} after "
             f"{len(pad['levels'])} levels, {pad['ndof']} DOFs, {pad['seconds']:.1f} s; true error "
-            f"{pad['relative']:.3g} |||u||| against adapt's solution with rtol / 10 ({pad['finer_ndof']} DOFs), "
+            f"{pad['relative']:.3g} $|\\!|\\!| u |\\!|\\!|$ against adapt's solution with rtol / 10 "
+            f"({pad['finer_ndof']} DOFs), "
             f"error / tol = {pad['relative'] / pad['rtol']:.3g}.  Seconds per level:", "",
-            markdown_table(["level", "DOFs", "p max", "assembly", "contact solve", "estimate", "mark + refine"],
+            markdown_table(["level", "DOFs", "$p$ max", "assembly", "contact solve", "estimate", "mark + refine"],
                            [(r["level"], r["ndof"], r["p_max"], f"{r['assemble']:.2f}", f"{r['solve']:.2f}",
                              f"{r['estimate']:.2f}", f"{r['refine']:.2f}") for r in pad["levels"]]), "",
             f"In all: assembly {total['assemble']:.1f} s, contact solve (factorisation included) {total['solve']:.1f} "
@@ -218,14 +220,13 @@ def hertz_comparison(scene, solution):
 
 
 # ============================================================================ REPORT
-INTRO = ("Scenes of `ngdgfric.studies.scenes` beyond the paper's rectangles, each solved by the five DG methods "
-         "and the conforming baseline cg at p = 1, 2, 3 on a family of meshes (the default solver), then by "
-         "`ndf.adapt(problem, tol)` with its "
-         "defaults.  Errors are true energy errors |||u - u_h|||_h against the exact solution or an hp reference "
-         "(hp-adaptive SIPG far below the errors studied), relative to |||u_h|||_h; the rate is the observed "
-         "order in h over the last two meshes (\"exact\": the solution lies in V_h and every level is at "
-         "round-off); eta_h / error is the effectivity of the default estimator where the error is above "
-         "round-off.")
+INTRO = ("Each scene is solved by the five DG methods and the conforming baseline `cg` at $p = 1, 2, 3$ on a "
+         "family of meshes (the default solver), then by `ndf.adapt(problem, tol)` with its defaults.  Errors are "
+         "true energy errors $|\\!|\\!| u - u_h |\\!|\\!|_h$ against the exact solution or an hp reference "
+         "(hp-adaptive SIPG far below the errors studied), relative to $|\\!|\\!| u_h |\\!|\\!|_h$; the rate is "
+         "the observed order in $h$ over the last two meshes (\"exact\": the solution lies in $V_h$ and every "
+         "level is at round-off); $\\eta_h$ / error is the effectivity of the default estimator where the error is"
+         " above round-off.")
 def rate(rows):
     """The observed rate in h from the last two solved levels, -2 d log(error) / d log(DOFs), formatted;
     "exact" where every level is at round-off (relative error <= :data:`ROUND_OFF`)."""
@@ -256,7 +257,7 @@ def scene_table(name, rows):
                           else "-", max((r["iterations"] for r in solved), default="-"),
                           fmt(sum(r["seconds"] for r in solved), ".2f"), fmt(ratio, ".2g"),
                           len(case) - len(solved)))
-    header = ["method", "p", "relative errors (levels)", "rate", "eta_h / error", "Newton its", "seconds",
+    header = ["method", "$p$", "relative errors (levels)", "rate", "$\\eta_h$ / error", "Newton iterations", "seconds",
               "equilibrium / round-off", "failures"]
     return markdown_table(header, lines)
 
@@ -267,11 +268,19 @@ def write_report(out, rows, adapts, references, quick, pad):
     worst_kkt = max(r["equilibrium"] / max(r["rounding"], 1e-14) for r in solved)
     worst_lam = max(r["lam_excess"] for r in solved)
     worst_comp = max(r["complementarity"] for r in solved)
-    lines = [f"# User scenes{' (quick run)' * quick}", "", f"Regenerate with `{command_line()}`.", "",
+    names = list(dict.fromkeys(r["scene"] for r in rows))
+    lines = [f"# User scenes{' (quick run)' * quick}", "",
+             f"{len(names)} scenes of `ngdgfric.studies.scenes` beyond the paper's rectangles (material jumps, a "
+             "re-entrant corner, a Hertz contact, near incompressibility, a friction bound that depends on the "
+             "penetration, a thin wedge), each measured by its true error, and a rubber pad on which `adapt` "
+             f"chooses a DG method.  {len(rows)} solves, {len(failures)} of them failed"
+             + ("; the KKT conditions of Lemma 3.1 hold to round-off on every solution." if worst_kkt <= 10
+                and worst_lam <= 1e-12 and worst_comp <= 1e-8 else "."), "",
              INTRO, "",
-             f"**{len(rows)} solves, {len(failures)} failures**; KKT residuals of Lemma 3.1: |lam_tau| - 1 <= "
-             f"{worst_lam:.1e}, complementarity <= {worst_comp:.1e}, equilibrium at most {worst_kkt:.2g} times the "
-             "round-off floor (the equilibrium residual of u_h rounded once more).", "",
+             f"**{len(rows)} solves, {len(failures)} failures**; KKT residuals of Lemma 3.1: "
+             f"$\\lvert \\lambda_\\tau \\rvert - 1 \\le$ {worst_lam:.1e}, complementarity $\\le$ {worst_comp:.1e}, "
+             f"equilibrium at most {worst_kkt:.2g} times the round-off floor (the equilibrium residual of $u_h$ "
+             "rounded once more).", "",
              "## The scenes", "",
              markdown_table(["scene", "what", "measured against"],
                             [(name, SCENES[name]().description, references[name]) for name in
@@ -280,28 +289,31 @@ def write_report(out, rows, adapts, references, quick, pad):
         lines += [f"## {name}", "", SCENES[name]().description + ".", "",
                   scene_table(name, [r for r in rows if r["scene"] == name]), ""]
     lines += ["## `adapt(problem, tol)` with its defaults", "",
-              "tol = rtol |||u||| (rtol = 1e-2; 1e-1 for the jump that cuts elements, where every method converges "
-              "like h^(1/2)); the method is the library's choice.", "",
-              markdown_table(["scene", "method", "tol", "stopped", "levels", "DOFs", "p max", "seconds", "eta_h",
-                              "true error", "error / tol", "in [tol/10, tol]"],
+              "tol $= \\mathrm{rtol}\\, |\\!|\\!| u |\\!|\\!|$ (rtol $= 10^{-2}$; $10^{-1}$ for the jump that cuts "
+              "elements, where every method converges like $h^{1/2}$); the method is the library's choice.", "",
+              markdown_table(["scene", "method", "tol", "stopped", "levels", "DOFs", "$p$ max", "seconds", "$\\eta_h$",
+                              "true error", "error / tol", "in [tol / 10, tol]"],
                              [(a["scene"], a["method"], fmt(a["tol"]), a["stopped"], a["levels"], a["ndof"],
                                a["p_max"], f"{a['seconds']:.1f}", fmt(a["eta_h"]), fmt(a["error"]),
                                f"{a['error_over_tol']:.3g}", "exact" if a["exact"] else "yes" if a["in_band"]
                                else "no") for a in adapts]), "",
-              "\"exact\": the solution lies in V_h, the first mesh gives it to round-off and eta_h is at round-off "
-              "too, so the loop stops at once (below tol / 10: nothing to adapt).", ""]
+              "\"exact\": the solution lies in $V_h$, the first mesh gives it to round-off and $\\eta_h$ is at "
+              "round-off too, so the loop stops at once (below tol / 10: nothing to adapt).", ""]
     lines += pad_section(pad)
     hertz_rows = [a["hertz"] for a in adapts if "hertz" in a]
     if hertz_rows:
         h = hertz_rows[0]
         lines += ["## Hertz", "", "The contact of the hp reference against Hertz's line contact of a rigid cylinder "
-                  "(R = 1) on an elastic half-space in plane strain for the same total force P (Johnson, Contact "
-                  "Mechanics, Section 4.2); the block is finite (2 x 1, clamped on top) and the contact compliant "
-                  "(c_n = 1e3 E), so a few per cent are expected; the pressure differs most at the ends x = +-a of "
-                  "the contact, where Hertz's profile has an infinite slope and the compliance smooths it.", "",
-                  markdown_table(["P", "half-width a", "Hertz a", "peak p0", "Hertz p0", "max abs(p - p_Hertz) / p0"],
+                  "($R = 1$) on an elastic half-space in plane strain for the same total force $P$ (Johnson, *Contact "
+                  "Mechanics*, Section 4.2); the block is finite ($2 \\times 1$, clamped on top) and the contact "
+                  "compliant ($c_n = 10^3 E$), so a few per cent are expected; the pressure differs most at the ends "
+                  "$x = \\pm a$ of the contact, where Hertz's profile has an infinite slope and the compliance smooths "
+                  "it.  (A curved body against Hertz: [the Hertz page](hertz.md).)", "",
+                  markdown_table(["$P$", "half-width $a$", "Hertz's $a$", "peak $p_0$", "Hertz's $p_0$",
+                                  "$\\max \\lvert p - p_\\mathrm{Hertz} \\rvert / p_0$"],
                                  [(fmt(h["force"], ".4e"), fmt(h["a"], ".4f"), fmt(h["a_hertz"], ".4f"),
                                    fmt(h["p0"], ".4e"), fmt(h["p0_hertz"], ".4e"), f"{h['profile']:.3f}")]), ""]
+    lines += [f"Regenerate: `{command_line()}`", ""]
     write_text(out / "scenes.md", "\n".join(lines))
 
 

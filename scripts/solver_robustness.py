@@ -108,18 +108,19 @@ def report(rows, total, seconds, interrupted, budget):
         return f"{r[name]:.2e} ({r['id']})"
 
     lines = ["# Robustness of the default solver (semismooth Newton)", "",
-             f"Regenerate: `{command_line()}`", "",
-             "Cases drawn over the ranges of the data (module docstring of",
-             "`scripts/solver_robustness.py`; fixed seed) plus named hard cases, each solved with the default",
-             "solver.  A case passes iff the solve raises nothing, lam_excess <= 1e-14, complementarity <= 1e-12,",
-             "equilibrium <= 10 max(rounding, 1e-14) (rounding: the equilibrium residual of u (1 +- eps)) and,",
-             f"for m_t = 0 and ndof <= {robustness.UZAWA_MAX_NDOF} where Uzawa (solver_tol = 1e-11, maxit = 20000) "
-             "converges,",
-             "max|u_newton - u_uzawa| / max|u_uzawa| <= 1e-7.  Uzawa is stopped after a time budget of "
-             f"{budget:g} s (wall",
-             "time; 12 ms per iteration where its inner Newton for m_n > 1 is busy).  Adapted meshes come from",
-             "`ndf.adapt` on the family's base problem (hp: order 2 up to 5; h: P1 from h = 1/4), used with the",
-             "case's data and method.  One case again: `python scripts/solver_robustness.py --only ID --out DIR`.", ""]
+             "The default contact solver on cases drawn over the ranges of the data (fixed seed) and on named hard "
+             "cases: each solution is checked against the KKT conditions and, where Uzawa's method converges, "
+             "against Uzawa's solution.", "",
+             "A case passes iff the solve raises nothing, lam_excess $\\le 10^{-14}$, complementarity "
+             "$\\le 10^{-12}$, equilibrium $\\le 10 \\max(\\mathrm{rounding}, 10^{-14})$ (rounding: the equilibrium "
+             "residual of $u (1 \\pm \\epsilon)$) and, for $m_t = 0$ and at most "
+             f"{robustness.UZAWA_MAX_NDOF} DOFs where Uzawa (solver_tol $= 10^{{-11}}$, maxit $= 20000$) converges, "
+             "$\\max \\lvert u_\\mathrm{Newton} - u_\\mathrm{Uzawa} \\rvert / \\max \\lvert u_\\mathrm{Uzawa} \\rvert "
+             f"\\le 10^{{-7}}$.  Uzawa is stopped after a time budget of {budget:g} s (wall time; 12 ms per "
+             "iteration where its inner Newton for $m_n > 1$ is busy).  Adapted meshes come from `ndf.adapt` on "
+             "the family's base problem (hp: order 2 up to 5; h: $P_1$ from $h = 1/4$), used with the case's data "
+             "and method.  The ranges are in the module docstring of `scripts/solver_robustness.py`; one case "
+             "again: `python scripts/solver_robustness.py --only ID --out DIR`.", ""]
     if interrupted:
         lines += [f"**Interrupted: {len(rows)} of {total} cases done.**", ""]
     lines += ["## Summary", "",
@@ -205,6 +206,7 @@ def report(rows, total, seconds, interrupted, budget):
     named = [r for r in rows if r["name"]]
     if named:
         lines += ["Named cases: " + "; ".join(f"{r['id']} {r['name']}" for r in named) + ".", ""]
+    lines += [f"Regenerate: `{command_line()}`", ""]
     return "\n".join(lines)
 
 

@@ -112,6 +112,23 @@ def failures_section(results):
     return lines
 
 
+def headline(results):
+    """The page's opening: what was measured and, computed from the rows, the thresholds and whose failures."""
+    sipg1 = [r for r in results["threshold"] if r["method"] == "sipg" and r["order"] == 1]
+    rows = [failure(section, r, results[section]) for section in ("penalty", "locking", "compliance", "friction", "rho")
+            for r in results[section]]
+    method, solver = sum(f.startswith("method") for f in rows), sum(f.startswith("solver") for f in rows)
+    text = ("Where each DG method and each solver fails: the penalty $\\eta$ below the coercivity threshold, "
+            "near incompressibility ($\\nu \\to 1/2$), a stiff compliance $c_n$, extreme friction $c_\\tau$ and "
+            "Uzawa's step $\\rho$.")
+    if sipg1:
+        text += ("  SIPG with $P_1$ needs $\\eta$ above " + " and ".join(
+            f"${r['threshold_mu']:.3g}\\mu$ (Example {r['example']})" for r in sipg1)
+            + "; the paper's $30\\mu$ clears it.")
+    return text + (f"  Of {len(rows)} cases, {method} fail because of the method (not coercive, or locking) and "
+                   f"{solver} because of the solver.")
+
+
 def _label(row):
     """A case's parameters in a few words."""
     keys = ("method", "order", "ratio", "nu", "c_n", "c_tau", "solver", "factor")
@@ -119,9 +136,9 @@ def _label(row):
 
 
 def report(results, speedup):
-    lines = ["# Stability: where each method fails", "",
-             "Example 6.1 unless said otherwise; uniform meshes; P1-P3; Newton unless said otherwise.  Every number",
-             "below comes from `stability_<section>.csv`.  ![stability](stability.png)", ""]
+    lines = ["# Stability: where each method fails", "", headline(results), "",
+             "Example 6.1 unless said otherwise; uniform meshes; $P_1$ to $P_3$; Newton unless said otherwise.  Every",
+             "number below comes from `stability_<section>.csv`.", "", "![stability](stability.png)", ""]
     lines += thresholds_section(results["threshold"]) + penalty_section(results["penalty"])
     lines += locking_section(results["locking"]) + extremes_section(results) + failures_section(results)
     if speedup:
@@ -139,19 +156,22 @@ def thresholds_section(thresholds):
     lines = []
     sipg1 = [r for r in thresholds if r["method"] == "sipg" and r["order"] == 1]
     lines += ["## Penalty: coercivity thresholds", "",
-              "Smallest eta/mu (lifting methods: the dimensionless eta multiplying (C r_e, r_e)) for which the linear",
-              "part is coercive, min B_h(v, v)/|||v|||_h^2 > 0 (dense generalised eigenvalue problem, h = 1/4; the",
-              "value does not change from h = 1/4 to 1/8), by bisection on [1e-2, 1e3].  0.01 means: coercive",
-              "over the whole range.", "",
-              markdown_table(["example", "method", "p", "threshold eta/mu", "eta/(2mu+lam)", "theory"],
+              "Smallest $\\eta / \\mu$ (lifting methods: the dimensionless $\\eta$ multiplying $(C r_e, r_e)$) for",
+              "which the linear part is coercive, $\\min B_h(v, v) / |\\!|\\!| v |\\!|\\!|_h^2 > 0$ (dense generalised",
+              "eigenvalue problem, $h = 1/4$; the value does not change from $h = 1/4$ to $1/8$), by bisection on",
+              "$[10^{-2}, 10^3]$.  0.01 means: coercive over the whole range.", "",
+              markdown_table(["example", "method", "$p$", "threshold $\\eta / \\mu$", "$\\eta / (2\\mu + \\lambda)$",
+                              "theory"],
                              [[r["example"], r["method"], r["order"], fmt(r["threshold_mu"]),
                                fmt(r["threshold_2mu_lam"]), THEORY[r["method"]]] for r in thresholds]), "",
-              "SIPG's threshold is a constant times 2 mu + lam (at p = 1: " + ", ".join(
-                  f"Example {r['example']} {r['threshold_2mu_lam']:.2f}" for r in sipg1) + "), falling with p because",
-              f"the penalty carries p^2; the library warns below {SIPG_THRESHOLD} x (2 mu + lam)",
-              "(`ngdgfric.dg.methods.SIPG_THRESHOLD`, which also covers nu = 0 ... 0.49) and raises its default above",
-              "30 mu where 30 mu is not enough.  The paper's 30 mu is " + ", ".join(
-                  f"{30 / r['threshold_mu']:.2f} times the P1 threshold of Example {r['example']}" for r in sipg1)
+              "SIPG's threshold is a constant times $2\\mu + \\lambda$ (at $p = 1$: " + ", ".join(
+                  f"Example {r['example']} {r['threshold_2mu_lam']:.2f}" for r in sipg1) + "), falling with $p$",
+              "because the penalty carries $p^2$; the library warns below the factor "
+              + ", ".join(f"{factor} ($p = {p}$)" for p, factor in SIPG_THRESHOLD.items())
+              + " times $2\\mu + \\lambda$",
+              "(`ngdgfric.dg.methods.SIPG_THRESHOLD`, which also covers $\\nu = 0, \\dots, 0.49$) and raises its",
+              "default above $30\\mu$ where $30\\mu$ is not enough.  The paper's $30\\mu$ is " + ", ".join(
+                  f"{30 / r['threshold_mu']:.2f} times the $P_1$ threshold of Example {r['example']}" for r in sipg1)
               + ".", ""]
     return lines
 
@@ -160,22 +180,27 @@ def penalty_section(penalty):
     """Markdown lines: the penalty sweep."""
     lines = []
     lines += ["## Penalty sweep: coercivity, error against the reference, Newton iterations", "",
-              "h = 1/8 for the solve; error |||u_ref - u_h|||_h against results/reference_6_1.npz.", "",
-              markdown_table(["method", "p", "eta/mu", "lambda_min", "error", "Newton its", "status", "failure"],
+              "$h = 1/8$ for the solve; error $|\\!|\\!| u_\\mathrm{ref} - u_h |\\!|\\!|_h$ against the hp reference "
+              "of Example 6.1 ([reference solutions](reference.md)); $\\lambda_\\mathrm{min}$ the smallest eigenvalue "
+              "of the coercivity problem above.", "",
+              markdown_table(["method", "$p$", "$\\eta / \\mu$", "$\\lambda_\\mathrm{min}$", "error",
+                              "Newton iterations", "status", "failure"],
                              [[r["method"], r["order"], fmt(r["ratio"]), fmt(r["lam_min"]), fmt(r["error"]),
                                fmt(r["iterations"]), r["status"][:50], failure("penalty", r, penalty)]
                               for r in penalty]), ""]
     failed = [r for r in penalty if not ok(r)]
     unstable = [r for r in penalty if r["lam_min"] <= 0]
     coercive_failures = [r for r in failed if r["lam_min"] > 0]
-    lines += [f"- {len(unstable)} of {len(penalty)} cases are not coercive (lambda_min <= 0); Newton failed on "
+    lines += [f"- {len(unstable)} of {len(penalty)} cases are not coercive ($\\lambda_\\mathrm{{min}} \\le 0$); "
+              f"Newton failed on "
               f"{sum(not ok(r) for r in unstable)} of them (30 iterations), and the others' errors are "
               f"{_error_range(unstable)} against {_error_range([r for r in penalty if r['lam_min'] > 0 and ok(r)])} "
               "for the coercive cases.",
               f"- {len(coercive_failures)} coercive cases failed: " + (", ".join(
-                  f"{r['method']} P{r['order']} eta/mu = {r['ratio']:.3g}" for r in coercive_failures) or "none")
-              + ".  (The norm's jump term carries no mu, so NIPG's symmetric part stays above the norm for any eta "
-              "here.)", ""]
+                  f"{r['method']} $P_{r['order']}$ $\\eta / \\mu = {r['ratio']:.3g}$" for r in coercive_failures)
+                  or "none")
+              + ".  (The norm's jump term carries no $\\mu$, so NIPG's symmetric part stays above the norm for any "
+              "$\\eta$ here.)", ""]
     return lines
 
 
@@ -183,19 +208,20 @@ def locking_section(locking):
     """Markdown lines: near incompressibility."""
     lines = []
     lines += ["## Near incompressibility (volumetric locking)", "",
-              "Smooth manufactured solution (`ngdgfric.studies.manufactured.elasticity_manufactured`, E = 1000),",
-              "h = 1/8, relative energy error.", "",
-              markdown_table(["method", "p"] + [f"nu = {nu}" for nu in sorted({r['nu'] for r in locking})],
+              "Smooth manufactured solution (`ngdgfric.studies.manufactured.elasticity_manufactured`, $E = 1000$),",
+              "$h = 1/8$, relative energy error; its stresses grow with $\\lambda$, so this is a test of stability "
+              "([the locking page](locking.md) has a solution that stays bounded).", "",
+              markdown_table(["method", "$p$"] + [f"$\\nu = {nu}$" for nu in sorted({r['nu'] for r in locking})],
                              [[m, p] + [fmt(r["relative_error"]) for r in sorted(
                                  (r for r in locking if r["method"] == m and r["order"] == p), key=lambda r: r["nu"])]
                               for m in sorted({r["method"] for r in locking})
                               for p in sorted({r["order"] for r in locking})]), ""]
     pairs = sorted({(r["method"], r["order"]) for r in locking})
     last = max(r["nu"] for r in locking)
-    lines += [f"- Error growth nu = 0.3 -> {last}: " + ", ".join(
-        f"{m} P{p} x{_growth(locking, m, p, last):.1f}" for m, p in pairs) + ".",
-              f"- Locking (error more than {LOCKS:g} times its value at nu = 0.3), from the smallest such nu: " + (
-                  ", ".join(f"{m} P{p} from nu = {_locks_from(locking, m, p)}" for m, p in pairs
+    lines += [f"- Error growth from $\\nu = 0.3$ to {last}: " + ", ".join(
+        f"{m} $P_{p}$ {_growth(locking, m, p, last):.1f} times" for m, p in pairs) + ".",
+              f"- Locking (error more than {LOCKS:g} times its value at $\\nu = 0.3$), from the smallest such $\\nu$: "
+              + (", ".join(f"{m} $P_{p}$ from $\\nu = {_locks_from(locking, m, p)}$" for m, p in pairs
                             if _locks_from(locking, m, p) is not None) or "none") + ".", ""]
     return lines
 
@@ -204,22 +230,24 @@ def extremes_section(results):
     """Markdown lines: stiff compliance, friction extremes, Uzawa's step."""
     lines = []
     lines += ["## Stiff compliance (towards Signorini)", "",
-              markdown_table(["c_n", "solver", "iterations", "seconds", "max penetration", "eta_h", "cond(A + c_n N)",
+              markdown_table(["$c_n$", "solver", "iterations", "seconds", "max. penetration", "$\\eta_h$",
+                              "$\\operatorname{cond}(A + c_n N)$",
                               "status", "failure"],
                              [[fmt(r["c_n"]), r["solver"], fmt(r.get("iterations")), fmt(r["seconds"]),
                                fmt(r.get("penetration")), fmt(r.get("eta_h")), fmt(r["condition"]), r["status"][:40],
                                failure("compliance", r, results["compliance"])] for r in results["compliance"]]), ""]
     lines += ["## Friction extremes", "",
-              markdown_table(["c_tau", "solver", "iterations", "seconds", "stick share", "max |u_tau|",
+              markdown_table(["$c_\\tau$", "solver", "iterations", "seconds", "stick share",
+                              "$\\max \\lvert u_\\tau \\rvert$",
                               "complementarity", "status", "failure"],
                              [[fmt(r["c_tau"]), r["solver"], fmt(r.get("iterations")), fmt(r["seconds"]),
                                fmt(r.get("stick_fraction")), fmt(r.get("max_slip")), fmt(r.get("complementarity")),
                                r["status"][:40], failure("friction", r, results["friction"])]
                               for r in results["friction"]]), ""]
-    lines += ["## Uzawa's step rho", "",
-              "rho = factor x the default 1.5/L (L: largest eigenvalue of the linearised Uzawa map, power iteration);",
-              "projected gradient theory: convergence for rho < 2/L, i.e. factor < 1.33.", "",
-              markdown_table(["factor", "rho", "iterations", "seconds", "status", "failure"],
+    lines += ["## Uzawa's step $\\rho$", "",
+              "$\\rho$ = factor times the default $1.5 / L$ ($L$: largest eigenvalue of the linearised Uzawa map, "
+              "power iteration); projected gradient theory: convergence for $\\rho < 2 / L$, i.e. factor < 1.33.", "",
+              markdown_table(["factor", "$\\rho$", "iterations", "seconds", "status", "failure"],
                              [[fmt(r["factor"]), fmt(r["rho"]), r["iterations"], fmt(r["seconds"]), r["status"][:70],
                                failure("rho", r, results["rho"])] for r in results["rho"]]), ""]
     return lines
@@ -230,7 +258,7 @@ THEORY = {"sipg": "large enough", "nipg": "any > 0", "bassi": "> 3", "brezzi": "
 
 def _error_range(rows):
     errors = [r["error"] for r in rows if r.get("error") is not None]
-    return f"{min(errors):.3g} ... {max(errors):.3g}" if errors else "-"
+    return f"{min(errors):.3g} to {max(errors):.3g}" if errors else "-"
 
 
 def _locks_from(rows, method, order):

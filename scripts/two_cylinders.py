@@ -68,6 +68,22 @@ def draw(path, sol, P):
     write_png(fig, path, dpi=120)
 
 
+SETTING = """\
+The setting: quarter cylinders of radii $R_1 = 1$ (below, $E = 1$, $\\nu = 0.3$, standing on its flat side) and
+$R_2 = 0.5$ (above, $E = 2$, $\\nu = 0.2$) touching at the origin; the upper one has no Dirichlet side: a uniform
+pressure on its flat top transmits the force $P / 2$ (the quarter model of the force $P$ per unit length), the
+symmetry sides $x = 0$ hold both bodies horizontally and only the contact holds the upper one vertically.  The
+contact pair (the upper arc against the lower), frictionless, $m_n = 1$, $c_n = 10^5$, the gap from the geometry (no
+formula).  $P$ is chosen for Hertz's half-width $a = 0.02$.  Hertz (Johnson, *Contact Mechanics*, 1985, Section
+4.2): $a = (4 P R / (\\pi E^*))^{1/2}$, $p_0 = 2 P / (\\pi a)$, $1/R = 1/R_1 + 1/R_2$,
+$1/E^* = (1 - \\nu_1^2)/E_1 + (1 - \\nu_2^2)/E_2$ ({mod}`ngdgfric.studies.two_cylinders`).  `ndf.adapt(problem,
+rtol=1e-3)` with its defaults (hp); $a$ from the sign change of the penetration $[u] \\cdot n - g$ at the pair's
+points, $p_\\mathrm{max}$ the largest pressure there.  Cost: the whole adapt run against adapt on the half-disk
+pressed onto the rigid plane (the scene of [the Hertz page](hertz.md), $\\delta = 0.002$, $c_n = 10^5$) to the same
+rtol and the same final DOFs (`max_ndof`), best of `REPEAT` runs each."""
+"""The setting of the page (Markdown)."""
+
+
 def main(argv=None):
     args = parse(argv)
     settings = QUICK if args.quick else FULL
@@ -88,20 +104,24 @@ def main(argv=None):
     text = "\n".join([
         "# Hertz between two elastic cylinders (two bodies, a contact pair, load control)",
         "",
-        __doc__.split("\n\n")[1].replace("\n", " "),
+        "Two elastic cylinders pressed together by a prescribed force (load control: the upper body is held by the "
+        "contact alone), solved by `ndf.adapt` on a contact pair and compared with Hertz's theory: the half-width "
+        f"$a$ and the peak pressure come within {max(abs(final['a_error']), abs(final['p_error'])):.2%} of Hertz's, "
+        f"at {cylinder_seconds / half_seconds:.2f} times the seconds of one elastic body on a rigid plane.",
         "",
-        f"Regenerate: `{command_line()}`",
+        SETTING,
         "",
         "## Against Hertz",
         "",
-        f"P = {P:.6e} (the quarter model carries P / 2 = {P / 2:.6e}); Hertz: a = {final['a_H']:.6f}, "
-        f"p0 = {final['p0_H']:.6e}; method {run.method}, stopped on {run.stopped!r} after {len(records)} levels.",
+        f"$P$ = {P:.6e} (the quarter model carries $P / 2$ = {P / 2:.6e}); Hertz: $a$ = {final['a_H']:.6f}, "
+        f"$p_0$ = {final['p0_H']:.6e}; method {run.method}, stopped on {run.stopped!r} after {len(records)} levels.",
         "",
-        markdown_table(["level", "DOFs", "eta_h", "a", "a / a_H - 1", "p_max", "p_max / p0_H - 1",
-                        "normal resultant"], rows),
+        markdown_table(["level", "DOFs", "$\\eta_h$", "$a$", "$a / a_H - 1$", "$p_\\mathrm{max}$",
+                        "$p_\\mathrm{max} / p_{0,H} - 1$", "normal resultant"], rows),
         "",
         f"Both within 1 % of Hertz on the last level: {'yes' if within else 'no'}.  The compliance takes "
-        f"{final['compliance_share']:.1e} of the approach in the contact zone (p_max / c_n against a^2 / (2 R)).",
+        f"{final['compliance_share']:.1e} of the approach in the contact zone ($p_\\mathrm{{max}} / c_n$ against "
+        "$a^2 / (2 R)$).",
         "",
         "![pressure against Hertz](two_cylinders.png)",
         "",
@@ -109,13 +129,15 @@ def main(argv=None):
         "",
         markdown_table(["scene", "final DOFs", "levels", "seconds (best)"], [
             ["two cylinders (pair, load control)", final["ndof"], len(records), f"{cylinder_seconds:.2f}"],
-            ["half-disk on the rigid plane (results/hertz.md's scene)", half_run.levels[-1]["ndof"],
+            ["half-disk on the rigid plane (the Hertz page's scene)", half_run.levels[-1]["ndof"],
              len(half_run.levels), f"{half_seconds:.2f}"]]),
         "",
-        f"Ratio {cylinder_seconds / half_seconds:.2f} (the issue's target: within 2).  Beyond the half-disk's work, "
-        "each level of the two bodies pairs the sides (closest points, the pieces aligned with pi), finds the free "
-        "motion of the upper body and factorises A + eps M_f, and takes a few proximal steps (each a condensed "
-        "contact solve; the first from the warm start takes most of the Newton iterations).",
+        f"Ratio {cylinder_seconds / half_seconds:.2f} (the target: within 2).  Beyond the half-disk's work, each "
+        "level of the two bodies pairs the sides (closest points, the pieces aligned with $\\pi$), finds the free "
+        "motion of the upper body and factorises $A + \\varepsilon M_f$, and takes a few proximal steps (each a "
+        "condensed contact solve; the first from the warm start takes most of the Newton iterations).",
+        "",
+        f"Regenerate: `{command_line()}`",
         ""])
     write_text(args.out / "two_cylinders.md", text)
     say(f"a {100 * final['a_error']:+.3f}%, p {100 * final['p_error']:+.3f}%, {cylinder_seconds:.1f} s against "

@@ -88,44 +88,77 @@ def main(argv=None):
     return results
 
 
+ENERGY_ERROR = r"$|\!|\!| u - u_h |\!|\!|_h / |\!|\!| u |\!|\!|$"
+CONSECUTIVE = r"$|\!|\!| u_h - u_{h/2} |\!|\!|_h$"
+
+
+def mesh_size(k):
+    """The mesh size $2^{-k}$ of a row, typeset."""
+    return f"$2^{{-{k}}}$"
+
+
 def report(args, results):
+    """The Markdown page: what was measured, the errors of every method side by side, each method against the
+    paper, the command that regenerates it."""
     methods = list(results)
     first = results[methods[0]]
-    lines = [f"# Table {args.example}: uniform meshes, P{args.order}, eta = 30 mu (edge-penalty methods)", "",
-             "Two errors per row h: the relative energy error |||u - u_h|||_h / |||u||| against the hp reference "
-             "solution (results/reference.md, estimated error 3e-5: the true error), compared with the paper's "
-             "numbers, whose row-to-row behaviour it matches (results/table_investigation.md); and "
-             "|||u_h - u_{h/2}|||_h, the energy norm of Section 3 of the difference of consecutive solutions on the "
-             "finer mesh (Section 6's text).", "",
-             f"Regenerate: `{command_line()}`", "", "## Methods side by side", ""]
-    header = ["h", "DOFs"] + [f"{m} {c}" for m in methods for c in ("relative error", "rate", "consecutive")]
-    rows = [[f"2^-{r['k']}", r["ndof"]] + [x for m in methods for x in (
-        fmt(results[m][i]["true_relative"]), fmt(results[m][i]["true_rate"], ".3f"), fmt(results[m][i]["energy"]))]
-        for i, r in enumerate(first)]
-    lines += [markdown_table(header, rows), ""]
+    names = ", ".join(m.upper() for m in methods)
+    observed = [r["true_rate"] for m in methods for r in results[m] if r["true_rate"] is not None]
+    ratios = [r["ratio"] for m in methods for r in results[m] if r["ratio"] is not None]
+    # no TeX in the title: the navigation shows it as plain text
+    lines = [f"# Table {args.example}: DG methods on uniform meshes, degree {args.order}, penalty η = 30μ", "",
+             f"Example {args.example} solved by {names} on uniform meshes $h = {mesh_size(first[0]['k'])[1:-1]}, "
+             f"\\dots, {mesh_size(first[-1]['k'])[1:-1]}$ with the penalty $\\eta = 30\\mu$.  The first error is "
+             f"the true one, the relative energy error {ENERGY_ERROR} against the hp reference solution "
+             "([reference solutions](reference.md), estimated error $3 \\cdot 10^{-5}$)"
+             + (f"; its observed rate is {min(observed):.2f} to {max(observed):.2f}" if observed else "")
+             + (f", and it is {min(ratios):.2f} to {max(ratios):.2f} times the paper's numbers, a ratio nearly "
+                "constant from row to row ([which measure the paper shows](table_investigation.md))" if ratios else "")
+             + f".  The second is {CONSECUTIVE}, the energy norm of Section 3 of the difference of consecutive "
+             "solutions on the finer mesh, the measure Section 6's text names.", ""]
+    lines += ["## Relative energy error", "",
+              markdown_table(["$h$", "DOFs"] + [m.upper() for m in methods],
+                             [[mesh_size(r["k"]), r["ndof"]] + [fmt(results[m][i]["true_relative"]) for m in methods]
+                              for i, r in enumerate(first)]), "",
+              "## Its observed rate", "",
+              markdown_table(["$h$"] + [m.upper() for m in methods],
+                             [[mesh_size(r["k"])] + [fmt(results[m][i]["true_rate"], ".3f") for m in methods]
+                              for i, r in enumerate(first)]), "",
+              f"## Consecutive differences {CONSECUTIVE}", "",
+              markdown_table(["$h$"] + [m.upper() for m in methods],
+                             [[mesh_size(r["k"])] + [fmt(results[m][i]["energy"]) for m in methods]
+                              for i, r in enumerate(first)]), ""]
     for m in methods:
         rows = results[m]
         if rows[0]["paper_error"] is None and "uzawa_iterations" not in rows[0]:
             continue
         lines += [f"## {m.upper()}: ours against the paper", ""]
-        header = ["h", "DOFs", "relative error", "paper", "ours/paper", "rate", "paper rate", "rate diff",
-                  "consecutive", "consecutive/paper", "consecutive rate", f"{args.solver} its", "s"]
-        with_uzawa = "uzawa_iterations" in rows[0]
-        if with_uzawa:
-            header += ["Uzawa its", "Uzawa s", "max rel. diff"]
         table = []
         for r in rows:
             rate_diff = (r["true_rate"] - r["paper_rate"]) if (r["true_rate"] is not None and r["paper_rate"]) else None
-            line = [f"2^-{r['k']}", r["ndof"], fmt(r["true_relative"]), fmt(r["paper_error"]), fmt(r["ratio"], ".3f"),
-                    fmt(r["true_rate"], ".3f"), fmt(r["paper_rate"], ".3f"), fmt(rate_diff, "+.3f"),
-                    fmt(r["energy"]), fmt(r["consecutive_ratio"], ".2f"), fmt(r["rate"], ".3f"),
+            table.append([mesh_size(r["k"]), r["ndof"], fmt(r["true_relative"]), fmt(r["paper_error"]),
+                          fmt(r["ratio"], ".3f"), fmt(r["true_rate"], ".3f"), fmt(r["paper_rate"], ".3f"),
+                          fmt(rate_diff, "+.3f")])
+        lines += [markdown_table(["$h$", "DOFs", "relative error", "paper", "ours / paper", "rate", "paper's rate",
+                                  "rate difference"], table), ""]
+        header = ["$h$", "consecutive", "consecutive / paper", "its rate", f"{args.solver.capitalize()} iterations",
+                  "seconds"]
+        with_uzawa = "uzawa_iterations" in rows[0]
+        if with_uzawa:
+            header += ["Uzawa iterations", "Uzawa seconds", "max. relative difference"]
+        table = []
+        for r in rows:
+            line = [mesh_size(r["k"]), fmt(r["energy"]), fmt(r["consecutive_ratio"], ".2f"), fmt(r["rate"], ".3f"),
                     r["iterations"], f"{r['seconds']:.2f}"]
             if with_uzawa:
                 line += [r["uzawa_iterations"], f"{r['uzawa_seconds']:.1f}", fmt(r["uzawa_difference"], ".1e")]
             table.append(line)
-        lines += [markdown_table(header, table), ""]
+        solvers = " (Newton against the paper's Uzawa method)" if with_uzawa else ""
+        lines += [f"The consecutive differences and the solvers{solvers}:", "",
+                  markdown_table(header, table), ""]
     lines += ["Other norms of the consecutive differences are in the CSV (columns h1, l2, relative); "
-              "results/table_investigation.md compares every measure with the paper.", ""]
+              "[which measure the paper shows](table_investigation.md) compares every measure with the paper.", "",
+              f"Regenerate: `{command_line()}`", ""]
     return "\n".join(lines)
 
 

@@ -354,7 +354,7 @@ def test_work_precision(tmp_path):
     assert default["ndof"] in [r["ndof"] for r in by_run["cg", "hp", 4]]
     report = (tmp_path / "work_precision.md").read_text()
     assert f"Regenerate: `python benchmarks/work_precision.py --quick --out {tmp_path} --example 6.2`" in report
-    assert "| 0.1 | baseline | p = " in report and "Failed runs: none." in report
+    assert "| 0.1 | baseline | $p = " in report and "Failed runs: none." in report
     for name in ("work_precision.png", "work_precision_dofs.png"):
         assert (tmp_path / name).stat().st_size > 0
 
