@@ -160,7 +160,8 @@ def report(rows, totals, seconds):
              f"previous level's solution, and what its contact solve costs, on {len(scenes_)} scenes: the targets "
              f"are met on {sum(row['met'] == 'yes' for row in judged)} of the {len(judged)} scenes with more than one "
              "level.", "",
-             "Every level of `ndf.adapt` with its defaults (hp from $p = 4$, each level started from the last): the "
+             "Every level of `ndf.adapt` with its defaults (hp from $p = 4$, each level started from the last; "
+             "Examples 6.1 and 6.2 with `rtol=0`, on to the budgets, the scenes with their rtol): the "
              "semismooth Newton iterations of its contact solve, the contact points whose state (no contact, stick, "
              "slip) the solve changed from the warm start, and the contact solve against the linear solve of the "
              f"same mesh and degrees, end to end.  Targets: at most {ITERATIONS_GOAL} iterations per warm-started "
