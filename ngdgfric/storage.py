@@ -97,7 +97,7 @@ def save_solution(sol, path, reference=None):
     >>> loaded.ndof == sol.ndof, loaded.mesh.ne == sol.mesh.ne
     (True, True)
     """
-    check_storable_data(sol.problem, sol.eta)
+    check_storable_data(sol.problem, sol.eta, path)
     eta = sol.eta if isinstance(sol.eta, Real) else None
     objects = dict(problem=sol.problem, mesh=sol.mesh, info=_plain(sol.info),
                    eta=sol.eta if isinstance(sol.eta, ngs.CoefficientFunction) else None)
@@ -113,19 +113,20 @@ def save_solution(sol, path, reference=None):
         np.savez_compressed(handle, **arrays)
 
 
-def check_storable_data(problem, eta=None):
-    """ValueError naming the datum unless every datum of ``problem`` (and a penalty ``eta`` given as a
-    CoefficientFunction) survives NGSolve's pickling: it is written and read back."""
+def check_storable_data(problem, eta=None, path=None):
+    """ValueError naming the datum (and the file ``path`` not written) unless every datum of ``problem`` (and a
+    penalty ``eta`` given as a CoefficientFunction) survives NGSolve's pickling: it is written and read back."""
     items = [(name, getattr(problem, name)) for name in DATA]
     items = [(f"{name}[{key!r}]" if isinstance(value, dict) else name, item) for name, value in items
              for key, item in (value.items() if isinstance(value, dict) else [(None, value)])]
     items += [] if not isinstance(eta, ngs.CoefficientFunction) else [("eta (the penalty)", eta)]
+    where = "" if path is None else f" in {path}"
     for name, value in items:
         try:
             pickle.loads(pickle.dumps(value, protocol=5))
         except Exception as exc:  # NGSolve raises its own exception types (NgException, TypeError, ...)
-            raise ValueError(f"{problem.name!r} cannot be stored: its datum {name} ({type(value).__name__}) cannot "
-                             f"be written and read back ({type(exc).__name__}: {exc}); give it as numbers or "
+            raise ValueError(f"{problem.name!r} cannot be stored{where}: its datum {name} ({type(value).__name__}) "
+                             f"cannot be written and read back ({type(exc).__name__}: {exc}); give it as numbers or "
                              f"CoefficientFunctions of x and y") from None
 
 
