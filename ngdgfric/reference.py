@@ -2,7 +2,9 @@ r"""Reference solutions: a very accurate :math:`u_h` stored in a small file, and
 
 A reference is one ``.npz`` file: the mesh (vertices, triangles, labelled boundary segments),
 the order of every element, the coefficient vector of :math:`u_h`, its estimator :math:`\eta_h`, and a
-fingerprint of its problem (``fingerprint``) that :func:`ngdgfric.load_reference` checks.  The error
+fingerprint of its problem (``fingerprint``) that :func:`ngdgfric.load_reference` checks; a scene these arrays cannot
+hold (regions, holes, arcs, data per region or per side, :math:`u_D \ne 0`, symmetry sides, contact pairs) is stored
+as a solution file (:mod:`ngdgfric.storage`), whose stored problem is its fingerprint.  The error
 of another solution :math:`u_h` (on any mesh of the same domain) is
 
 .. math::
@@ -359,8 +361,8 @@ def energy_error(sol, reference):
         The solution :math:`u_h` (or a :class:`~ngdgfric.Reference`: anything with ``problem``, ``mesh`` and
         ``u``).
     reference : Reference or Solution
-        A :class:`~ngdgfric.Reference`, or a finer Solution of the same problem (for a scene a Reference cannot
-        store).
+        A :class:`~ngdgfric.Reference`, or a finer Solution of the same problem (also one read back by
+        :func:`ngdgfric.load_solution`).
 
     Returns
     -------
@@ -385,8 +387,8 @@ def reference_errors(sol, reference):
     """Norms of u_ref - u_h for a Solution against a reference solution (module docstring).
 
     ``reference``: a :class:`Reference` (checked against its problem when loaded), or any Solution of the same
-    problem, for instance a finer one on a scene a Reference cannot store (curved sides, holes, regions, u_D != 0,
-    symmetry sides); ValueError if its geometry, numbers or data differ from ``sol``'s.  Returns a dict:
+    problem (a finer one, or one read back by :func:`ngdgfric.load_solution`); ValueError if its geometry, numbers
+    or data differ from ``sol``'s.  Returns a dict:
     ``energy`` = |||u_ref - u_h|||_h with its parts ``energy_volume`` and ``energy_jumps`` (the jumps [u_h] of
     u_h's edges, u_h - u_D on Gamma_D: those of the exact solution vanish), ``relative`` = energy / (int C
     eps(u_ref) : eps(u_ref))^(1/2), ``h1`` (broken H1 seminorm), ``l2``; all volume integrals by the same Gauss

@@ -220,14 +220,15 @@ def solution_from_arrays(path, data):
     objects, meta = _contents(path, data)
     mesh, problem = objects["mesh"], objects["problem"]
     eta = objects["eta"] if objects["eta"] is not None else meta["eta"]
-    try:
-        disc = Discretization(problem, mesh, meta["method"], data["orders"], eta, penalty_check="ignore",
-                              max_ndof=max(int(np.sum(element_dofs(data["orders"]))), 1))
-    except ValueError as exc:
-        raise ValueError(f"{path}: the stored problem, mesh and orders do not make a discretisation: {exc}") from exc
     if mesh.GetCurveOrder() != meta["curve_order"]:
         raise ValueError(f"{path}: the mesh came back curved to order {mesh.GetCurveOrder()}, stored: "
                          f"{meta['curve_order']}")
+    try:  # the curved elements as stored (curving again moves them in round-off)
+        disc = Discretization(problem, mesh, meta["method"], data["orders"], eta, penalty_check="ignore",
+                              max_ndof=max(int(np.sum(element_dofs(data["orders"]))), 1),
+                              curved=problem.geometry.curved)
+    except ValueError as exc:
+        raise ValueError(f"{path}: the stored problem, mesh and orders do not make a discretisation: {exc}") from exc
     contact = Contact(disc)
     u, lam_tau = ngs.GridFunction(disc.V), ngs.GridFunction(contact.Q)
     for name, gf in (("u", u), ("lam_tau", lam_tau)):
