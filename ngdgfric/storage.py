@@ -18,10 +18,8 @@ problem on that mesh (the same spaces and numbering, the mesh curved to the same
 coefficients into them, so the loaded Solution is the saved one: :func:`ngdgfric.energy_error`,
 :func:`ngdgfric.estimate` and :func:`ngdgfric.force_balance` work on it.  The zip archive's CRC-32 checks refuse a
 damaged file before anything is unpickled; the unpickler resolves only classes of NGSolve, Netgen and ngdgfric
-and numpy's array reconstruction (``SAFE``), so a file can hold data but not call other functions.  The mesh is
-stored by NGSolve rather than as arrays (``mesh_arrays`` of :mod:`ngdgfric.meshes`, which the reference files of
-the paper's polygons use): arrays lose the regions, the geometry that curves elements and the segments' curve
-parameters, and a mesh rebuilt from them cannot be curved again.
+and numpy's array reconstruction (``SAFE``), so a file can hold data but not call other functions.  Why NGSolve's
+pickling rather than arrays, and why the stored curved elements are kept: :ref:`decisions-storage`.
 """
 
 import io
