@@ -41,8 +41,7 @@ from .files import atomic_path
 from .solution import Solution
 
 __all__ = ["save_solution", "load_solution", "solution_from_arrays", "read_archive", "is_solution_archive",
-           "reference_meta", "check_storable_data",
-           "FORMAT", "VERSION", "SAFE"]
+           "reference_meta", "check_storable_data", "FORMAT", "VERSION", "SAFE"]
 
 FORMAT = "ngdgfric solution"
 VERSION = 1
@@ -100,11 +99,16 @@ def save_solution(sol, path, reference=None):
     objects = dict(problem=sol.problem, mesh=sol.mesh, info=_plain(sol.info),
                    eta=sol.eta if isinstance(sol.eta, ngs.CoefficientFunction) else None)
     meta = dict(method=sol.method, solver=sol.solver, iterations=int(sol.iterations),
-                timings={key: float(value) for key, value in sol.timings.items()},
+                timings={key: float(value) for key, value in sol.timings.items() if isinstance(value, Real)},
                 curve_order=int(sol.mesh.GetCurveOrder()), eta=None if eta is None else float(eta),
                 reference=reference)
+    try:
+        pickled = pickle.dumps(objects, protocol=5)
+    except Exception as exc:  # NGSolve raises its own exception types
+        raise ValueError(f"{sol.problem.name!r} cannot be stored in {path}: its geometry, mesh or solver "
+                         f"diagnostics cannot be written ({type(exc).__name__}: {exc})") from None
     arrays = dict(format=np.array(FORMAT), version=np.array(VERSION), meta=np.array(json.dumps(meta)),
-                  objects=np.frombuffer(pickle.dumps(objects, protocol=5), dtype=np.uint8),
+                  objects=np.frombuffer(pickled, dtype=np.uint8),
                   u=sol.u.vec.FV().NumPy().copy(), lam_tau=sol.lam_tau.vec.FV().NumPy().copy(),
                   orders=np.asarray(sol.orders, dtype=np.int64), history=np.asarray(sol.history, dtype=float))
     with atomic_path(path) as temporary, open(temporary, "wb") as handle:
@@ -188,7 +192,8 @@ def load_solution(path):
     Solution
         The solution: its ``problem``, ``mesh``, ``method``, ``orders``, ``u``, ``lam_tau``, ``eta``,
         ``solver``, ``iterations``, ``history``, ``timings``, ``discretization`` and ``contact``; ``info`` holds
-        the diagnostics of plain types (for contact pairs the forces and multiplier at the pair points).
+        the diagnostics of plain types (for contact pairs the forces and multiplier at the pair points).  The
+        ``state`` of an inexact Newton solve is not stored (``None``): :func:`ngdgfric.finish` it before saving.
 
     Raises
     ------
