@@ -86,7 +86,8 @@ def _data(sol):
 def describe(sol, other=None):
     """What a round trip must keep, as JSON-able values: u_h at points, the multiplier's coefficients, the orders,
     method and penalty, the mesh (vertices, triangles, boundary names, regions), its curving (order, area, the
-    mapped Gauss points of the boundary edges), every datum at points; with ``other`` its energy error against
+    mapped Gauss points of the boundary edges, the Jacobians at Gauss points of the elements), every datum at
+    points; with ``other`` its energy error against
     ``sol``, the estimator and the force balance's reactions."""
     xy = _points(sol)
     points, triangles, segments, labels = mesh_arrays(sol.mesh)
@@ -98,6 +99,8 @@ def describe(sol, other=None):
                  regions=[sol.mesh.GetMaterials()[el.index] for el in sol.mesh.Elements(ngs.VOL)],
                  curve_order=sol.mesh.GetCurveOrder(), area=ngs.Integrate(ngs.CF(1) * ngs.dx, sol.mesh),
                  boundary_xy=np.asarray(ngs.CF((ngs.x, ngs.y))(boundary)).tolist(), data=_data(sol),
+                 jacobians=np.asarray(ngs.specialcf.JacobianMatrix(2)(
+                     sol.mesh.MapToAllElements(ngs.IntegrationRule(ngs.TRIG, 6), ngs.VOL))).tolist(),
                  name=sol.problem.name, pairs=[list(dataclasses.astuple(pair)) for pair in sol.problem.pairs])
     if other is not None:
         balance = ndf.force_balance(sol)
@@ -109,7 +112,8 @@ def describe(sol, other=None):
 def check_same(saved, loaded):
     """The loaded description equals the saved one: exactly where the data are copied, to round-off where they are
     computed (the point search, the energy error, the estimator)."""
-    for key in ("orders", "method", "eta", "solver", "triangles", "labels", "regions", "curve_order", "name", "pairs"):
+    for key in ("orders", "method", "eta", "solver", "triangles", "labels", "regions", "curve_order", "name", "pairs",
+                "jacobians"):  # the curved elements as stored, not curved again (decisions-storage)
         assert loaded[key] == saved[key], key
     for key in ("u", "lam_tau", "vertices", "boundary_xy"):
         assert np.asarray(loaded[key]) == pytest.approx(np.asarray(saved[key]), rel=1e-13, abs=1e-15), key
