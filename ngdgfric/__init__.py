@@ -42,6 +42,7 @@ from .solvers.newton import NewtonOptions
 from .solvers.options import SolverOptions
 from .solvers.pardiso import PardisoError
 from .solvers.uzawa import UzawaOptions
+from .storage import load_solution, save_solution
 from .transfer import WarmStart
 
 try:
@@ -61,8 +62,8 @@ __all__ = [
     "Method", "METHODS", "DG_METHODS", "Discretization", "Contact", "MaterialWarning", "PenaltyWarning",
     "LockingWarning",
     # solving
-    "solve", "finish", "Solution", "WarmStart", "SolverOptions", "NewtonOptions", "UzawaOptions",
-    "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError", "SolverWarning",
+    "solve", "finish", "Solution", "WarmStart", "save_solution", "load_solution", "SolverOptions", "NewtonOptions",
+    "UzawaOptions", "FixedPointOptions", "SolverError", "TimeLimitError", "PardisoError", "SolverWarning",
     # outputs
     "contact_state", "pair_state", "kkt_residuals", "force_balance", "ForceBalance",
     # estimators and adaptivity

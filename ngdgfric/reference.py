@@ -2,7 +2,9 @@ r"""Reference solutions: a very accurate :math:`u_h` stored in a small file, and
 
 A reference is one ``.npz`` file: the mesh (vertices, triangles, labelled boundary segments),
 the order of every element, the coefficient vector of :math:`u_h`, its estimator :math:`\eta_h`, and a
-fingerprint of its problem (``fingerprint``) that :func:`ngdgfric.load_reference` checks.  The error
+fingerprint of its problem (``fingerprint``) that :func:`ngdgfric.load_reference` checks; a scene these arrays cannot
+hold (regions, holes, arcs, data per region or per side, :math:`u_D \ne 0`, symmetry sides, contact pairs) is stored
+as a solution file (:mod:`ngdgfric.storage`), whose stored problem is its fingerprint.  The error
 of another solution :math:`u_h` (on any mesh of the same domain) is
 
 .. math::
@@ -33,6 +35,7 @@ from .energy import EXACT_ORDER, difference, energy_matrix, energy_norm, energy_
 from .files import atomic_path
 from .meshes import mesh_arrays, mesh_from_arrays
 from .problem import Polygon, coefficient, is_number, pattern, strain
+from .storage import is_solution_archive, reference_meta, save_solution, solution_from_arrays
 from .transfer import discontinuous
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
@@ -52,9 +55,10 @@ class Reference:
     problem : ContactProblem
         The problem it solves.
     mesh : ngsolve.Mesh
-        Its mesh, rebuilt from the stored arrays.
+        Its mesh, rebuilt from the stored arrays (or read back from a solution file, :mod:`ngdgfric.storage`).
     u : ngsolve.GridFunction
-        The displacement, DG coefficients of each element's degree on ``mesh``.
+        The displacement, DG coefficients of each element's degree on ``mesh`` (from a solution file: the stored
+        :math:`u_h` on its own space).
     orders : numpy.ndarray
         The polynomial degree of every element.
     eta_h : float
@@ -98,10 +102,18 @@ def save_reference(sol, path, eta_h, description=""):
     Raises
     ------
     ValueError
-        If the problem cannot be stored: its domain is not a polygon, it has data per region or per side, a
-        prescribed displacement :math:`u_D \ne 0` or symmetry sides.
+        Naming the datum, if a datum of the problem cannot be stored (:func:`ngdgfric.save_solution`).
+
+    Notes
+    -----
+    A problem of the paper's kind (one polygon, one value per datum, :math:`u_D = 0`, no symmetry sides) is stored
+    as the arrays above.  Any other scene (regions, holes, arcs, data per region or per side, :math:`u_D \ne 0`,
+    symmetry sides, contact pairs, curved elements) is stored as a solution file (:func:`ngdgfric.save_solution`,
+    :mod:`ngdgfric.storage`) with ``eta_h`` and ``description``: the problem itself is its fingerprint.
     """
-    check_storable(sol.problem)
+    if not storable(sol.problem):
+        save_solution(sol, path, reference=dict(eta_h=float(eta_h), description=str(description)))
+        return
     u, orders = discontinuous(sol)
     points, triangles, segments, labels = mesh_arrays(sol.mesh)
     with atomic_path(path) as temporary:
@@ -139,15 +151,26 @@ def sample_points(points, triangles, segments=None):
     return centres if segments is None else np.concatenate([centres, sample(segments)])
 
 
+def storable(problem):
+    """Whether a reference of ``problem`` can be stored as arrays (``check_storable``)."""
+    try:
+        check_storable(problem)
+    except ValueError:
+        return False
+    return True
+
+
 def check_storable(problem):
-    """ValueError unless a reference of ``problem`` can be stored and identified: the mesh is stored as arrays
-    (straight triangles, one region) and the fingerprint holds a polygon, one value per datum and u_D = 0."""
+    """ValueError unless a reference of ``problem`` can be stored as arrays and identified by ``fingerprint``: the
+    mesh is stored as arrays (straight triangles, one region) and the fingerprint holds a polygon, one value per
+    datum and u_D = 0 (other scenes: solution files, :mod:`ngdgfric.storage`)."""
     reasons = [reason for reason, found in (
         ("its domain is not a polygon (curved sides, holes or regions need the geometry to rebuild the mesh)",
          not isinstance(problem.geometry, Polygon)),
         ("it has data per region or per side", problem.per_part),
         ("it prescribes a displacement u_D != 0", has_dirichlet_data(problem)),
-        ("it has symmetry sides", bool(problem.sides("symmetry")))) if found]
+        ("it has symmetry sides", bool(problem.sides("symmetry"))),
+        ("it has contact pairs", bool(problem.pairs))) if found]
     if reasons:
         raise ValueError(f"references are stored for problems on one polygon with the paper's boundary conditions; "
                          f"{problem.name!r} cannot be: {'; '.join(reasons)}")
@@ -174,7 +197,8 @@ def load_reference(path, problem):
     Parameters
     ----------
     path : str or pathlib.Path
-        A file written by :func:`ngdgfric.save_reference`.
+        A file written by :func:`ngdgfric.save_reference`: the arrays of a problem of the paper's kind, or a solution
+        file (:func:`ngdgfric.save_solution`) with the reference's ``eta_h`` for any other scene.
     problem : ContactProblem
         The problem the reference must solve.
 
@@ -190,12 +214,15 @@ def load_reference(path, problem):
     ValueError
         Naming the file and the defect, if the file is not a reference (unreadable, keys missing, arrays of wrong
         shape or type, indices out of range, non-finite values) or was made for another problem (its fingerprint:
-        geometry, names, numbers, data at sample points).
+        geometry, names, numbers, data at sample points; for a solution file the stored problem, compared as
+        ``check_same_problem`` compares two solutions', and its contact pairs).
     """
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no reference solution at {path}: run scripts/reference.py to make it")
     data = _read(path)
+    if is_solution_archive(data):
+        return _scene_reference(path, data, problem)
     _check_arrays(path, data)
     _check_fingerprint(path, data, problem)
     try:
@@ -236,11 +263,28 @@ def _read(path):
             data = {key: archive[key] for key in archive.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, KeyError) as exc:
         raise ValueError(f"{path}: not a readable reference file (.npz): {type(exc).__name__}: {exc}") from exc
+    if is_solution_archive(data):
+        return data
     missing = [key for key in KEYS if key not in data]
     if missing:
         raise ValueError(f"{path}: not a reference file of this version: no {', '.join(missing)} (regenerate it "
                          f"with scripts/reference.py or save_reference)")
     return data
+
+
+def _scene_reference(path, data, problem):
+    """The Reference of a solution file's arrays with a reference entry; ValueError naming the file if its stored
+    problem is not ``problem``."""
+    meta = reference_meta(path, data)
+    sol = solution_from_arrays(path, data)
+    try:
+        check_same_problem(sol, _Approximation(problem, sol.mesh, sol.u))
+    except ValueError as exc:
+        raise ValueError(f"{path}: made for another problem: {exc}") from None
+    if sol.problem.pairs != problem.pairs:
+        raise ValueError(f"{path}: made for another problem: its contact pairs are {sol.problem.pairs}, here "
+                         f"{problem.pairs}")
+    return Reference(problem, sol.mesh, sol.u, sol.orders, float(meta["eta_h"]), str(meta["description"]))
 
 
 def _check_arrays(path, data):
@@ -317,8 +361,8 @@ def energy_error(sol, reference):
         The solution :math:`u_h` (or a :class:`~ngdgfric.Reference`: anything with ``problem``, ``mesh`` and
         ``u``).
     reference : Reference or Solution
-        A :class:`~ngdgfric.Reference`, or a finer Solution of the same problem (for a scene a Reference cannot
-        store).
+        A :class:`~ngdgfric.Reference`, or a finer Solution of the same problem (also one read back by
+        :func:`ngdgfric.load_solution`).
 
     Returns
     -------
@@ -343,8 +387,8 @@ def reference_errors(sol, reference):
     """Norms of u_ref - u_h for a Solution against a reference solution (module docstring).
 
     ``reference``: a :class:`Reference` (checked against its problem when loaded), or any Solution of the same
-    problem, for instance a finer one on a scene a Reference cannot store (curved sides, holes, regions, u_D != 0,
-    symmetry sides); ValueError if its geometry, numbers or data differ from ``sol``'s.  Returns a dict:
+    problem (a finer one, or one read back by :func:`ngdgfric.load_solution`); ValueError if its geometry, numbers
+    or data differ from ``sol``'s.  Returns a dict:
     ``energy`` = |||u_ref - u_h|||_h with its parts ``energy_volume`` and ``energy_jumps`` (the jumps [u_h] of
     u_h's edges, u_h - u_D on Gamma_D: those of the exact solution vanish), ``relative`` = energy / (int C
     eps(u_ref) : eps(u_ref))^(1/2), ``h1`` (broken H1 seminorm), ``l2``; all volume integrals by the same Gauss

@@ -278,7 +278,7 @@ c_tau = 0.2
 @pytest.mark.slow
 def test_the_true_error_of_a_curved_scene_with_regions_against_a_finer_solution(tmp_path):
     """A user's scene with a circular hole (curved elements) and two materials, measured against adapt's finer
-    solution of the same problem (a Solution as the reference; Reference files store polygons only): adapt's
+    solution of the same problem (a Solution as the reference): adapt's
     rtol = 1e-2 solution has a true error of 0.28e-2 |||u||| against the rtol = 1e-4 solution (0.2823e-2 against the
     rtol = 1e-5 one), inside [0.1, 1] x rtol; the reference's own error against itself is its jumps only; another
     problem is refused."""

@@ -177,6 +177,10 @@ class Discretization:
         ``max_bytes`` of memory.
     max_bytes : float, optional
         The memory budget in bytes when ``max_ndof`` is ``None``.  Default ``MEMORY_BUDGET`` (``8e9``, 8 GB).
+    curved : bool, optional
+        The mesh's elements are curved already, to the largest order (a mesh read back by
+        :func:`ngdgfric.load_solution`): they are kept, not computed again (which moves them in round-off).
+        Default ``False``.
 
     Attributes
     ----------
@@ -248,13 +252,14 @@ class Discretization:
     """
 
     def __init__(self, problem, mesh, method="sipg", order=1, eta=None, penalty_check="warn", max_ndof=None,
-                 max_bytes=MEMORY_BUDGET):
+                 max_bytes=MEMORY_BUDGET, curved=False):
         if not isinstance(problem, ContactProblem):
             raise ValueError(f"problem must be a ContactProblem, got {problem!r}")
         check_mesh(problem, mesh)
         self.method = get_method(method)
         order = check_order(order, mesh)
-        curve(problem, mesh, int(np.max(order)))
+        if not curved:
+            curve(problem, mesh, int(np.max(order)))
         self.problem, self.mesh = problem.on(mesh), mesh
         problem = self.problem
         self.orders = np.full(mesh.ne, order) if np.ndim(order) == 0 else order
