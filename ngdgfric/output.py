@@ -124,9 +124,7 @@ def colour_cap(cf, mesh, fraction=0.99):
     without bound, do not swamp.
     """
     area = ngs.Integrate(ngs.CF(1), mesh, element_wise=True).NumPy()
-    means = ngs.Integrate(cf, mesh, element_wise=True).NumPy() / area
-    by_value = np.argsort(means)
-    return float(means[by_value][np.searchsorted(np.cumsum(area[by_value]), fraction * area.sum())])
+    return _area_quantile(ngs.Integrate(cf, mesh, element_wise=True).NumPy() / area, area, fraction)
 
 
 def vertex_values(mesh, *cfs):
@@ -143,7 +141,9 @@ def plot_deformed(ax, sol, scale=None, sides=None):
     r"""Draw the deformed elements, coloured by the von Mises stress, with the contact, stick and slip zones.
 
     The triangles moved by ``scale`` :math:`u_h` (each by its own vertex values; every body with the same scale),
-    coloured by the element's mean von Mises stress (1.3), over the undeformed outline (every boundary and
+    coloured by the element's mean von Mises stress (1.3) up to the mean that 99 % of the area stays below (the
+    few elements at a singular corner, where the stress grows without bound, do not take the whole colour range;
+    the colour bar's arrow marks the cap), over the undeformed outline (every boundary and
     interface curve of the geometry, curved sides sampled), with the contact, stick and slip zones marked on the
     undeformed contact sides and on both sides of every contact pair (``plot_zone_marks``); a colour bar, a title
     that states the magnification (or "undeformed" for ``scale=0``) and a legend below the Axes, off the body.
@@ -188,17 +188,33 @@ def plot_deformed(ax, sol, scale=None, sides=None):
         scale = _round_scale(0.1 * max(x1 - x0, y1 - y0) / largest) if largest > 0 else 1.0
     for k, line in enumerate(problem.geometry.outline()):
         ax.plot(line[:, 0], line[:, 1], "k--", lw=0.8, label=None if k else "undeformed")
-    cells = PolyCollection(xy + scale * u, array=stress[:, :, 0].mean(axis=1), cmap="viridis", edgecolors="k",
+    means = stress[:, :, 0].mean(axis=1)
+    cells = PolyCollection(xy + scale * u, array=means, cmap="viridis", edgecolors="k",
                            linewidths=0.2 if mesh.ne <= 5000 else 0)
+    cap = _area_quantile(means, _triangle_areas(xy), 0.99)
+    cells.set_clim(means.min(), cap)
     ax.add_collection(cells)
     plot_zone_marks(ax, all_sides(sol) if sides is None else sides)
     ax.autoscale_view()
     ax.set_aspect("equal")
-    ax.figure.colorbar(cells, ax=ax, label="von Mises stress")
+    ax.figure.colorbar(cells, ax=ax, label="von Mises stress", extend="max" if means.max() > cap else "neither")
     shown = "undeformed" if scale == 0 else f"displacement \N{MULTIPLICATION SIGN} {scale:g}"
     ax.set_title(f"{problem.name}: {sol.method} P{sol.max_order}, {sol.ndof} DOFs, {shown}", fontsize=9)
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=4, frameon=False)
     return scale
+
+
+def _triangle_areas(xy):
+    """The areas of the straight triangles with the corners ``xy`` (ne, 3, 2)."""
+    (ax, ay), (bx, by) = (xy[:, 1] - xy[:, 0]).T, (xy[:, 2] - xy[:, 0]).T
+    return 0.5 * np.abs(ax * by - ay * bx)
+
+
+def _area_quantile(values, areas, fraction):
+    """The value of ``values`` (one per element) below which lie the values of a ``fraction`` of the area."""
+    by_value = np.argsort(values)
+    k = np.searchsorted(np.cumsum(areas[by_value]), fraction * areas.sum())
+    return float(values[by_value][min(k, len(values) - 1)])
 
 
 def _round_scale(scale):

@@ -90,6 +90,19 @@ def test_default_deformation_draws_the_largest_displacement_as_at_most_a_tenth_o
     assert ax.get_title().endswith(", undeformed")  # not "displacement x 0"
 
 
+def test_deformed_plot_caps_the_colour_range_where_one_percent_of_the_area_lies_above():
+    problem = ndf.example_6_1()
+    sol = ndf.solve(problem, ndf.uniform_mesh(problem, 1 / 16))  # elements of 0.2 % of the area each
+    ax = figure(6, 5).add_subplot()
+    plot_deformed(ax, sol)
+    (cells,) = ax.collections
+    means, (low, cap) = cells.get_array(), cells.get_clim()
+    areas = triangle_areas(sol.mesh)
+    assert low == means.min() and cap < means.max()  # Example 6.1: the stress of its corners stands out
+    assert areas[means > cap].sum() <= 0.01 * areas.sum() < areas[means >= cap].sum()
+    assert ax.figure.axes[-1].get_label() == "<colorbar>" and cells.colorbar.extend == "max"
+
+
 def test_deformed_plot_draws_the_outline_of_a_curved_domain_with_a_hole_and_the_zones():
     disk = Loop([(-1, 1), (1, 1)], ["contact", "lid"], arcs={0: (0.0, 0.0)})
     hole = Loop.circle((0, 0.6), 0.2, "hole")
