@@ -5,8 +5,8 @@ Build (from the repository root; warnings are errors):
     python -m sphinx -W --keep-going -b html docs docs/_build/html
 
 MyST-NB reads the Markdown pages and the notebooks and executes every notebook and MyST
-notebook of the gallery at build time, the notebooks at their full size (some seconds each; the smoke size
-``NGDGFRIC_SMOKE=1`` of ``tests/test_notebooks.py`` is too small for their figures to show what they claim);
+notebook of the gallery at build time, at smoke size (``NGDGFRIC_SMOKE=1``, as
+``tests/test_notebooks.py`` runs them: seconds each, and large enough for every figure to show what it claims);
 an execution error fails the build.  The API pages come
 from the docstrings (autodoc).  The pages of ``results/`` are made here at build time: one stub per
 ``results/*.md`` that includes the file where it is (``docs/results/`` is generated, not kept in git).
@@ -47,10 +47,8 @@ suppress_warnings = []
 myst_enable_extensions = ["dollarmath", "amsmath"]
 myst_heading_anchors = 3
 
-# MyST-NB: execute every notebook, at full size, each time the page is rebuilt; any error fails the build.
-# Full size whatever the calling shell says (the kernels inherit the environment): three adaptive levels of the
-# smoke size draw an estimator that does not fall and a Hertz pressure that dips at its peak
-os.environ.pop("NGDGFRIC_SMOKE", None)
+# MyST-NB: execute every notebook, smoke-sized, each time the page is rebuilt; any error fails the build
+os.environ["NGDGFRIC_SMOKE"] = "1"  # the kernels inherit the environment
 # "force": a page is executed whenever Sphinx reads it (a fresh or -E build reads all); no cache that could
 # keep outputs of an older ngdgfric, since a cache is keyed on the notebook's code alone
 nb_execution_mode = "force"
