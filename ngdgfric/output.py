@@ -206,8 +206,8 @@ def plot_deformed(ax, sol, scale=None, sides=None):
 
 def _triangle_areas(xy):
     """The areas of the straight triangles with the corners ``xy`` (ne, 3, 2)."""
-    (ax, ay), (bx, by) = (xy[:, 1] - xy[:, 0]).T, (xy[:, 2] - xy[:, 0]).T
-    return 0.5 * np.abs(ax * by - ay * bx)
+    (x1, y1), (x2, y2) = (xy[:, 1] - xy[:, 0]).T, (xy[:, 2] - xy[:, 0]).T
+    return 0.5 * np.abs(x1 * y2 - x2 * y1)
 
 
 def _area_quantile(values, areas, fraction):
@@ -263,7 +263,9 @@ def estimator_curve(records):
 def plot_estimator(ax, curves, slope=None, **line):
     r"""Draw the estimator :math:`\eta_h` (Section 4) against the number of DOFs :math:`N` on log-log axes.
 
-    The legend is left to the caller.
+    The axes are labelled by ``log_ticks`` (this module) for the range of everything drawn (so that a
+    curve over a fraction of a decade has readable labels); a later ``loglog`` call on the Axes resets them (draw
+    further curves with ``ax.plot``).  The legend is left to the caller.
 
     Parameters
     ----------
