@@ -6,7 +6,8 @@ Build (from the repository root; warnings are errors):
 
 MyST-NB reads the Markdown pages and the notebooks and executes every notebook and MyST
 notebook of the gallery at build time, at smoke size (``NGDGFRIC_SMOKE=1``, as
-``tests/test_notebooks.py`` runs them); an execution error fails the build.  The API pages come
+``tests/test_notebooks.py`` runs them: seconds each, and large enough for every figure to show what it claims);
+an execution error fails the build.  The API pages come
 from the docstrings (autodoc).  The pages of ``results/`` are made here at build time: one stub per
 ``results/*.md`` that includes the file where it is (``docs/results/`` is generated, not kept in git).
 """

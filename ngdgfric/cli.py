@@ -222,8 +222,8 @@ def _solve_parser(commands):
                        f"domains; {DEFAULT_H} x the diameter on domains smaller than 1")
     sub.add_argument("--max-ndof", type=_number(int), default=None, help=MAX_NDOF_HELP)
     sub.add_argument("--scale", type=_number(float), default=None,
-                     help="displacement magnification in the PNG (default: largest displacement = 10%% of the "
-                          "domain size)")
+                     help="displacement magnification in the PNG (default: the largest 1, 2 or 5 x 10^k that draws "
+                          "the largest displacement as at most 10%% of the domain size)")
 
 
 def _uniform_parser(commands):

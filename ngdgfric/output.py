@@ -40,8 +40,9 @@ from .meshes import mesh_arrays
 from .problem import von_mises
 
 __all__ = ["figure", "write_png", "write_vtk", "markdown_table", "uniform_markdown", "rate_text", "colour_cap",
-           "vertex_values", "plot_deformed", "write_deformed_png", "estimator_curve", "plot_estimator", "plot_mesh",
-           "write_adaptive_png", "plot_contact", "ZONE_STYLE", "plot_zone_marks", "plot_zones", "write_contact_png"]
+           "vertex_values", "plot_deformed", "write_deformed_png", "estimator_curve", "plot_estimator", "log_ticks",
+           "plot_mesh", "write_adaptive_png", "plot_contact", "ZONE_STYLE", "plot_zone_marks", "plot_zones",
+           "write_contact_png"]
 
 ZONE_STYLE = {"contact": dict(color="0.55", lw=7, alpha=0.5), "stick": dict(color="tab:blue", lw=2.5),
               "slip": dict(color="tab:red", lw=2.5)}
@@ -123,9 +124,7 @@ def colour_cap(cf, mesh, fraction=0.99):
     without bound, do not swamp.
     """
     area = ngs.Integrate(ngs.CF(1), mesh, element_wise=True).NumPy()
-    means = ngs.Integrate(cf, mesh, element_wise=True).NumPy() / area
-    by_value = np.argsort(means)
-    return float(means[by_value][np.searchsorted(np.cumsum(area[by_value]), fraction * area.sum())])
+    return _area_quantile(ngs.Integrate(cf, mesh, element_wise=True).NumPy() / area, area, fraction)
 
 
 def vertex_values(mesh, *cfs):
@@ -142,10 +141,12 @@ def plot_deformed(ax, sol, scale=None, sides=None):
     r"""Draw the deformed elements, coloured by the von Mises stress, with the contact, stick and slip zones.
 
     The triangles moved by ``scale`` :math:`u_h` (each by its own vertex values; every body with the same scale),
-    coloured by the element's mean von Mises stress (1.3), over the undeformed outline (every boundary and
+    coloured by the element's mean von Mises stress (1.3) up to the mean that 99 % of the area stays below (the
+    few elements at a singular corner, where the stress grows without bound, do not take the whole colour range;
+    the colour bar's arrow marks the cap), over the undeformed outline (every boundary and
     interface curve of the geometry, curved sides sampled), with the contact, stick and slip zones marked on the
     undeformed contact sides and on both sides of every contact pair (``plot_zone_marks``); a colour bar, a title
-    and a legend.
+    that states the magnification (or "undeformed" for ``scale=0``) and a legend below the Axes, off the body.
 
     Parameters
     ----------
@@ -154,8 +155,9 @@ def plot_deformed(ax, sol, scale=None, sides=None):
     sol : Solution
         A solution of :func:`ngdgfric.solve` (:class:`ngdgfric.Solution`).
     scale : float or None, optional
-        The displacement's magnification.  Default ``None``: the largest displacement drawn as 10 % of the
-        domain's size.
+        The displacement's magnification; 0 draws the reference configuration.  Default ``None``: the largest
+        1, 2 or 5 times a power of ten that draws the largest displacement as at most 10 % of the domain's
+        size.
     sides : dict or None, optional
         The contact sides of ``sol`` and the sides of its contact pairs (``all_sides`` of
         :mod:`ngdgfric.contact.pair_zones`, or :meth:`ngdgfric.ForceBalance.sides`), to share them between plots.
@@ -183,20 +185,43 @@ def plot_deformed(ax, sol, scale=None, sides=None):
     x0, y0, x1, y1 = problem.geometry.bounds
     largest = float(np.max(np.linalg.norm(u, axis=2)))
     if scale is None:
-        scale = 0.1 * max(x1 - x0, y1 - y0) / largest if largest > 0 else 1.0
+        scale = _round_scale(0.1 * max(x1 - x0, y1 - y0) / largest) if largest > 0 else 1.0
     for k, line in enumerate(problem.geometry.outline()):
         ax.plot(line[:, 0], line[:, 1], "k--", lw=0.8, label=None if k else "undeformed")
-    cells = PolyCollection(xy + scale * u, array=stress[:, :, 0].mean(axis=1), cmap="viridis", edgecolors="k",
+    means = stress[:, :, 0].mean(axis=1)
+    cells = PolyCollection(xy + scale * u, array=means, cmap="viridis", edgecolors="k",
                            linewidths=0.2 if mesh.ne <= 5000 else 0)
+    cap = _area_quantile(means, _triangle_areas(xy), 0.99)
+    cells.set_clim(means.min(), cap)
     ax.add_collection(cells)
     plot_zone_marks(ax, all_sides(sol) if sides is None else sides)
     ax.autoscale_view()
     ax.set_aspect("equal")
-    ax.figure.colorbar(cells, ax=ax, label="von Mises stress")
-    ax.set_title(f"{problem.name}: {sol.method} P{sol.max_order}, {sol.ndof} DOFs, displacement x {scale:.3g}",
-                 fontsize=9)
-    ax.legend(fontsize=8, loc="upper right")
+    ax.figure.colorbar(cells, ax=ax, label="von Mises stress", extend="max" if means.max() > cap else "neither")
+    shown = "undeformed" if scale == 0 else f"displacement \N{MULTIPLICATION SIGN} {scale:g}"
+    ax.set_title(f"{problem.name}: {sol.method} P{sol.max_order}, {sol.ndof} DOFs, {shown}", fontsize=9)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=4, frameon=False)
     return scale
+
+
+def _triangle_areas(xy):
+    """The areas of the straight triangles with the corners ``xy`` (ne, 3, 2)."""
+    (x1, y1), (x2, y2) = (xy[:, 1] - xy[:, 0]).T, (xy[:, 2] - xy[:, 0]).T
+    return 0.5 * np.abs(x1 * y2 - x2 * y1)
+
+
+def _area_quantile(values, areas, fraction):
+    """The value of ``values`` (one per element) below which lie the values of a ``fraction`` of the area."""
+    by_value = np.argsort(values)
+    k = np.searchsorted(np.cumsum(areas[by_value]), fraction * areas.sum())
+    return float(values[by_value][min(k, len(values) - 1)])
+
+
+def _round_scale(scale):
+    """The largest number 1, 2 or 5 times a power of ten not above ``scale`` (> 0): a magnification a reader
+    takes in at a glance (displacement × 20, not × 26.1)."""
+    power = 10.0 ** np.floor(np.log10(scale))
+    return float(max(step for step in (1, 2, 5, 10) if step * power <= scale * (1 + 1e-12)) * power)
 
 
 def plot_zone_marks(ax, sides):
@@ -238,7 +263,9 @@ def estimator_curve(records):
 def plot_estimator(ax, curves, slope=None, **line):
     r"""Draw the estimator :math:`\eta_h` (Section 4) against the number of DOFs :math:`N` on log-log axes.
 
-    The legend is left to the caller.
+    The axes are labelled by ``log_ticks`` (this module) for the range of everything drawn (so that a
+    curve over a fraction of a decade has readable labels); a later ``loglog`` call on the Axes resets them (draw
+    further curves with ``ax.plot``).  The legend is left to the caller.
 
     Parameters
     ----------
@@ -261,6 +288,38 @@ def plot_estimator(ax, curves, slope=None, **line):
     ax.set_xlabel("degrees of freedom $N$")
     ax.set_ylabel(r"$\eta_h$")
     ax.grid(True, which="both", alpha=0.3)
+    (x0, x1), (y0, y1) = ax.dataLim.intervalx, ax.dataLim.intervaly
+    log_ticks(ax.xaxis, x1 / x0)
+    log_ticks(ax.yaxis, y1 / y0)
+
+
+def log_ticks(axis, ratio):
+    """Label the log ``axis`` of data spanning ``ratio`` (largest over smallest) at ticks far enough apart.
+
+    Powers of ten over two decades and more; over fewer, 1, 2 and 5 times them (down to half a decade) or
+    round numbers (``MaxNLocator``) as plain numbers, so that a short axis has at least two labels and none
+    overlap.  The minor ticks are never labelled (matplotlib labels them on short axes, wide and overlapping).
+    """
+    from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullFormatter
+
+    decades = np.log10(ratio) if ratio > 0 else 0.0
+    if decades < 2:
+        if decades >= 0.5:
+            axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+        else:
+            axis.set_major_locator(MaxNLocator(nbins=4, steps=[1, 2, 2.5, 5, 10]))
+        axis.set_major_formatter(FuncFormatter(_plain_number))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _plain_number(value, _position=None):
+    """A tick label: ``value`` as ``%g`` writes it, its exponent (if any) as a power of ten."""
+    text = f"{value:g}"
+    if "e" not in text:
+        return text
+    mantissa, exponent = text.split("e")
+    power = rf"10^{{{int(exponent)}}}"
+    return rf"${power}$" if mantissa == "1" else rf"${mantissa} \times {power}$"
 
 
 def plot_mesh(ax, mesh, title):
@@ -334,9 +393,9 @@ def plot_contact(axes, sol):
     axes[3].set_ylim(-0.5, len(zones) - 0.5)
     axes[3].set_title("zones")
     axes[3].set_xlabel(r"$x$ on $\Gamma_C$")
-    for ax in axes[:3]:
+    for ax in axes[:3]:  # the legends right of the Axes, off the curves
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="best", fontsize=8)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
 
 
 def _runs(cells, mask):

@@ -17,7 +17,8 @@ NOTEBOOKS = Path(__file__).resolve().parent.parent / "notebooks"
 WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 WIDGET_STATE = "application/vnd.jupyter.widget-state+json"
 WEBGUI = "netgen.webgui.WebGuiWidget"  # the anywidget id of ngsolve.webgui.Draw's widget
-SMOKE_LEVELS = 3
+SMOKE_LEVELS = {"example_6_1": 20, "example_6_2": 20, "hp_adaptivity": 10, "scenes": 8}
+"""The adaptive levels each notebook logs at smoke size: enough for its figures to show what they claim."""
 
 
 def run_notebook(path, monkeypatch, timeout=300):
@@ -55,7 +56,10 @@ def test_notebook_runs(name, monkeypatch):
     assert not [out for out in outputs(nb) if out.output_type == "error"]
     # the smoke switch took effect: ndf.adapt printed one line per level
     text = "".join(out.get("text", "") for out in outputs(nb) if out.output_type == "stream")
-    assert len(re.findall(r"^level +\d+:", text, re.M)) == SMOKE_LEVELS
+    assert len(re.findall(r"^level +\d+:", text, re.M)) == SMOKE_LEVELS[name]
+    # and the run is large enough for the convergence plot to show eta_h falling
+    eta_h = [float(value) for value in re.findall(r"^level +\d+:.*eta_h = (\S+),", text, re.M)]
+    assert len(eta_h) == SMOKE_LEVELS[name] and eta_h[-1] < 0.5 * max(eta_h)
     # every Draw(...) displayed a webgui widget whose render data hold a triangulated surface
     scenes = webgui_scenes(nb)
     assert len(scenes) == draw_calls(nb) >= 3

@@ -70,15 +70,37 @@ def test_vertex_values_are_each_elements_own_values():
     assert np.allclose(values[..., 1], element * xy[..., 0], atol=1e-10)
 
 
-def test_default_deformation_draws_the_largest_displacement_as_a_tenth_of_the_domain(solution):
+def test_default_deformation_draws_the_largest_displacement_as_at_most_a_tenth_of_the_domain(solution):
     ax = figure(6, 5).add_subplot()
     scale = plot_deformed(ax, solution)
     (cells,) = ax.collections
     xy, u = vertex_values(solution.mesh, solution.u)
     drawn = np.array([path.vertices[:3] for path in cells.get_paths()])
     assert np.allclose(drawn, xy + scale * u, rtol=1e-12, atol=1e-12)
-    assert np.max(np.linalg.norm(drawn - xy, axis=2)) == pytest.approx(0.1 * 1.0, rel=1e-12)  # Omega: 1 x 1
+    # a round magnification (1, 2 or 5 times a power of ten): the largest displacement drawn as 4 % to 10 % of
+    # Omega (1 x 1), the largest such round number
+    mantissa = scale / 10.0 ** np.floor(np.log10(scale) + 1e-12)
+    assert min(abs(mantissa - step) for step in (1, 2, 5)) < 1e-9
+    largest = np.max(np.linalg.norm(drawn - xy, axis=2))
+    assert 0.04 <= largest <= 0.1 * (1 + 1e-12) and largest * {1: 2, 2: 2.5, 5: 2}[round(mantissa)] > 0.1
+    assert ax.get_title().endswith(f"displacement \N{MULTIPLICATION SIGN} {scale:g}")
     assert plot_deformed(figure(6, 5).add_subplot(), solution, scale=2.0) == 2.0
+    ax = figure(6, 5).add_subplot()
+    plot_deformed(ax, solution, scale=0)
+    assert ax.get_title().endswith(", undeformed")  # not "displacement x 0"
+
+
+def test_deformed_plot_caps_the_colour_range_where_one_percent_of_the_area_lies_above():
+    problem = ndf.example_6_1()
+    sol = ndf.solve(problem, ndf.uniform_mesh(problem, 1 / 16))  # elements of 0.2 % of the area each
+    ax = figure(6, 5).add_subplot()
+    plot_deformed(ax, sol)
+    (cells,) = ax.collections
+    means, (low, cap) = cells.get_array(), cells.get_clim()
+    areas = triangle_areas(sol.mesh)
+    assert low == means.min() and cap < means.max()  # Example 6.1: the stress of its corners stands out
+    assert areas[means > cap].sum() <= 0.01 * areas.sum() < areas[means >= cap].sum()
+    assert ax.figure.axes[-1].get_label() == "<colorbar>" and cells.colorbar.extend == "max"
 
 
 def test_deformed_plot_draws_the_outline_of_a_curved_domain_with_a_hole_and_the_zones():
@@ -143,6 +165,31 @@ def test_the_reference_slope_is_the_optimal_rate(p):
     assert np.allclose(reference.get_ydata(), curve.get_ydata(), rtol=1e-12)
     assert np.polyfit(np.log(other.get_xdata()), np.log(other.get_ydata()), 1)[0] == pytest.approx(-p / 4)
     assert reference.get_label() == f"$N^{{-{p}/2}}$"
+
+
+def tick_labels(fig, axis):
+    """The window extents of the non-empty tick labels of ``axis`` that lie in its view."""
+    fig.canvas.draw()
+    low, high = sorted(axis.get_view_interval())
+    ticks = [tick for tick in axis.get_major_ticks() + axis.get_minor_ticks()
+             if low <= tick.get_loc() <= high and tick.label1.get_visible() and tick.label1.get_text()]
+    return [tick.label1.get_window_extent() for tick in ticks]
+
+
+@pytest.mark.parametrize("ndof, eta_h", [
+    ([48, 60, 84], [910.0, 832.0, 775.0]),  # a fifth of a decade each way: the smoke run of Example 6.1
+    ([50, 110, 250, 700], [21.0, 15.0, 9.0, 4.5]),  # about one decade
+    ([48, 3000, 20850], [910.0, 200.0, 78.0]),  # several decades
+    ([970, 1140, 1370, 9500], [3.5e-3, 2.0e-1, 2.9e-2, 6.3e-6]),  # a narrow N, a wide eta_h
+])
+def test_estimator_axes_have_two_labels_each_and_none_overlap(ndof, eta_h):
+    fig = figure(5, 4)
+    ax = fig.add_subplot()
+    plot_estimator(ax, {"eta_h": [dict(ndof=n, eta_h=e) for n, e in zip(ndof, eta_h, strict=True)]})
+    for axis in (ax.xaxis, ax.yaxis):
+        boxes = tick_labels(fig, axis)
+        assert len(boxes) >= 2, [box.bounds for box in boxes]
+        assert not any(a.overlaps(b) for k, a in enumerate(boxes) for b in boxes[k + 1:])
 
 
 def test_contact_plot_shows_the_friction_law(solution):
