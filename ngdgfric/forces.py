@@ -193,8 +193,8 @@ class ForceBalance:
         for side, other, force, reaction, total in self.pair_resultants():
             size = max(float(np.linalg.norm(force)), float(np.linalg.norm(reaction)))
             relative = float(np.linalg.norm(total)) / size if size > 0 else 0.0
-            lines.append(f"pair {side} / {other}: force on {side} ({force[0]:.6e}, {force[1]:.6e}), on {other} "
-                         f"({reaction[0]:.6e}, {reaction[1]:.6e}), sum ({total[0]:.3e}, {total[1]:.3e}), "
+            lines.append(f"pair {side!r} / {other!r}: force on {side!r} ({force[0]:.6e}, {force[1]:.6e}), "
+                         f"on {other!r} ({reaction[0]:.6e}, {reaction[1]:.6e}), sum ({total[0]:.3e}, {total[1]:.3e}), "
                          f"{relative:.1e} of the force")
         residual = self.residual
         lines.append(f"equilibrium of all bodies: sum of forces ({residual[0]:.3e}, {residual[1]:.3e}), "
@@ -205,15 +205,15 @@ class ForceBalance:
         """The lines of one body: per side the forces and zones, then the equilibrium residual."""
         lines = []
         for side, r in self.reactions.items():
-            lines.append(f"{r.part} {side}: reaction ({r.force[0]:.6e}, {r.force[1]:.6e})")
+            lines.append(f"{r.part} side {side!r}: reaction ({r.force[0]:.6e}, {r.force[1]:.6e})")
         for side, c in self.sides().items():
-            kind = f"pair {side} (with {c.partner})" if c.partner else f"contact {side}"
+            kind = f"pair side {side!r} (with {c.partner!r})" if c.partner else f"contact side {side!r}"
             lines.append(f"{kind}: normal {c.normal:.6e}, tangential {c.tangential:.6e}, "
                          f"force ({c.force[0]:.6e}, {c.force[1]:.6e})")
             lines += [f"  {name + ' zone':12s} {_zone_text(getattr(c, name), c.length)}"
                       for name in ("contact", "stick", "slip")]
         for side, g in self.traction.items():
-            lines.append(f"traction {side}: load ({g[0]:.6e}, {g[1]:.6e})")
+            lines.append(f"traction side {side!r}: load ({g[0]:.6e}, {g[1]:.6e})")
         lines.append(f"body force: load ({self.body[0]:.6e}, {self.body[1]:.6e})")
         residual = self.residual
         lines.append(f"equilibrium: sum of forces ({residual[0]:.3e}, {residual[1]:.3e}), "
