@@ -13,8 +13,13 @@ so (3.3) keeps only boundary terms:
 
 :math:`b_S` the part of :math:`B_h(u_h, e_i)`, minus the part of the right-hand side that :math:`u_D` carries, on
 the edges of the Dirichlet or symmetry side :math:`S` (``dg_terms`` and ``load_terms`` of
-:mod:`ngdgfric.dg.forms`): :math:`-e_i \cdot \sigma_h(u_h) n + w \eta p^2 / h_e [u_h - u_D] : [e_i]`, integrated
-over the edges, with only normal parts :math:`(u \cdot n) n` and the weight :math:`w` = ``SYMMETRY_WEIGHT`` of
+:mod:`ngdgfric.dg.forms`), integrated over the edges:
+
+.. math::
+
+    -e_i \cdot \sigma_h(u_h) n + w \eta p^2 / h_e [u_h - u_D] : [e_i],
+
+with only normal parts :math:`(u \cdot n) n` and the weight :math:`w` = ``SYMMETRY_WEIGHT`` of
 :mod:`ngdgfric.dg.forms` on symmetry sides, plus for Bassi, Brezzi and LDG the lifting terms of its edges,
 :math:`\eta \sum_{e \in S} (C r_e([u_h - u_D]), r_e([e_i]))` and
 :math:`\sum_{e \in S} (C r_0([u_h - u_D]), r_e([e_i]))` (:mod:`ngdgfric.dg.liftings`).  The reaction of
