@@ -78,10 +78,16 @@ PROBE = r"""
   function probe() {
     var result = {prose: [], code: [], unrendered: [], errors: [], split: [], overflow: [], numbered: [], scrolls: [],
                   links: [], formulas: 0};
-    var walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+    // the text, block by block (a number's span does not cut "2000*(1 + x)" in pieces)
+    var walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT), block = null, kind = null;
     for (var node = walker.nextNode(); node; node = walker.nextNode()) {
       if (!node.data.trim() || closest(node, "script, style, mjx-container, #%(id)s, [hidden], .headerlink")) continue;
-      (closest(node, "pre, code, kbd, samp, tt, .sig") ? result.code : result.prose).push(node.data);
+      var code = closest(node, "pre, code, kbd, samp, tt, .sig") ? result.code : result.prose;
+      var here = closest(node, "p, li, td, th, dt, dd, h1, h2, h3, h4, h5, h6, pre, caption, div");
+      if (here === block && code === kind && code.length) code[code.length - 1] += node.data;
+      else code.push(node.data);
+      block = here;
+      kind = code;
     }
     // display formulas wider than their line, equation numbers twice (Sphinx's and a \tag)
     document.querySelectorAll('mjx-container[display="true"]').forEach(function (formula) {
@@ -161,15 +167,15 @@ PROBE = r"""
 })();
 """ % {"id": PROBE_ID}
 
-# TeX in the prose: a control word (\eta, \frac, \mathbf; not a byte \xff), MathJax's delimiters, $...$, a sub- or
-# superscript group
-TEX = re.compile(r"\\(?!x[0-9a-f]{2}\b)[A-Za-z]+|\\[()\[\]]|\$\$|\$[^$\s][^$]*\$|[_^]\{")
+# TeX in the prose: a control word (\eta, \frac, \mathbf; not an escape \n, \xff), MathJax's delimiters, $...$, a
+# sub- or superscript group
+TEX = re.compile(r"\\(?!(?:[ntr]|x[0-9a-f]{2})\b)[A-Za-z]+|\\[()\[\]]|\$\$|\$[^$\s][^$]*\$|[_^]\{")
 # a role left as text: reStructuredText's :func:`x` (also :py:func:), MyST's {func}`x`
 ROLE = re.compile(r":(?:[a-z]+:)?[a-z]+:`|\{[a-z]+(?::[a-z]+)?\}`")
 # emphasis markers left as text: a run of * that is not the star of *args or **kwargs, the keyword-only marker of a
-# signature (*, a, b), a footnote mark (*) or a product 2*x
-STARS = re.compile(r"(?<![\w*])\*{1,2}(?=[A-Za-z_]\w*(?![\w*]))|(?<=[(\s])\*(?=,)|\(\*\)|(?<=[\w)])\*(?=[\w(])"
-                   r"|(\*+)")
+# signature (*, a, b), a footnote mark (*), a product or power 2*x, x**-2, or an operator between spaces (x ** 2)
+STARS = re.compile(r"(?<![\w*])\*{1,2}(?=[A-Za-z_]\w*(?![\w*]))|(?<=[(\s])\*(?=,)|\(\*\)"
+                   r"|(?<=[\w)])\*{1,2}(?=[\w(+-])|(?<=\s)\*{1,2}(?=\s)|(\*+)")
 
 
 def pages(site):  # noqa: F811 (site: the fixture's value)
@@ -271,3 +277,34 @@ def test_every_results_page_renders(probed, tmp_path):
     selected = [page for page in pages(probed) if RESULTS.match(page)]
     assert len(selected) >= 20, f"only {len(selected)} results pages"
     check(probed, tmp_path, selected)
+
+
+PLANTED = {
+    "raw TeX": r"<p>a penalty \eta left raw, and $u_h$ as text</p>",
+    "a role as text": "<p>see :func:`ngdgfric.solve` and {class}`ngdgfric.Solution`</p>",
+    "stray": "<p>an *emphasis* left as text</p>",
+    "MathJax error": '<p><span class="math notranslate nohighlight">\\(\\left( x\\)</span></p>',
+    "formula not typeset": '<p><span class="math notranslate nohighlight">x^2 + y^2</span> (no delimiters)</p>',
+    "split over two lines": '<table class="docutils"><tr><td style="width: 2.5em">2.751e-02</td></tr></table>',
+    "runs off": '<div class="highlight"><pre style="overflow: visible">' + "x = 1  # " * 40 + "</pre></div>",
+    "a link that looks like text": '<p><a class="reference" href="#"><code style="font-weight: bold; color: black">'
+                                   "ngdgfric.solve</code></a></p>",
+}
+"""Defects planted into a copy of a page, each by the words of its finding in :func:`defects`."""
+
+
+@pytest.mark.slow
+@pytest.mark.browser
+@needs_chromium
+def test_the_probe_finds_planted_defects(probed, tmp_path):
+    """A copy of a page that passes, with one defect of each kind planted in its text: each is found, and the
+    page as built is clean (the test fails where the page does)."""
+    page = "user_guide/scenes.html"
+    assert not probe_site(probed, tmp_path, [page])[page]
+    text = (probed / page).read_text()
+    start = text.index('<div class="body" role="main">') + len('<div class="body" role="main">')
+    planted = page.replace(".html", "_planted.html")
+    (probed / planted).write_text(text[:start] + "".join(PLANTED.values()) + text[start:])
+    found = probe_site(probed, tmp_path, [planted])[planted]
+    missed = [kind for kind in PLANTED if not any(finding.startswith(kind) for finding in found)]
+    assert not missed, f"planted defects not found: {missed}; found: {found}"
