@@ -10,15 +10,23 @@ then reads the page as the browser laid it out and writes what it found into the
 * the text outside formulas, split into prose and code (``pre``, ``code``): the prose must show no TeX (a
   backslash command such as ``\\eta``, ``\\frac``, ``$...$``, ``\\(``, ``_{``), the prose and the code no role or
   MyST role left as text (``:func:`x```, ``{class}`x```), the prose no run of ``*`` used as emphasis markers
-  (``*word*``, ``**``; a parameter ``**kwargs`` or ``*args`` is not one);
+  (``*word*``, ``**``; a parameter ``**kwargs`` of the API's Parameters is code, not prose);
 * tables: no number in a cell (``-1.5e-03``, ``0.38``, ``12 345``, ``2^-1``) is laid out over two lines, and no
   formula in a cell either: a Range over the number's characters (a formula's box) must have all its boxes on
-  one line.
+  one line;
+* widths: no display formula wider than its line, no paragraph, list item, table or figure reaching past the
+  page's white column, no code or output line running out of its grey box unless the box scrolls or wraps it;
+* one equation number per formula (not Sphinx's "(1)" next to a ``\tag{1.9}``);
+* links: code in a link (the API's cross-references) has the link's colour and is not bold.
+
+``test_the_probe_finds_planted_defects`` plants one defect of each kind into a clean page and asserts that each is
+found.  The results pages (results/*.md, written by the scripts) have a test of their own.
 
 The probe checks what the browser shows, not the HTML source, so a rule of CSS that wraps a cell inside its numbers,
 or a formula MathJax could not typeset, fails here although the HTML looks right.
 """
 
+import html
 import json
 import re
 import shutil
@@ -76,13 +84,14 @@ PROBE = r"""
                       best.textContent.trim().slice(0, 40)) + ")";
   }
   function probe() {
-    var result = {prose: [], code: [], unrendered: [], errors: [], split: [], overflow: [], numbered: [], scrolls: [],
-                  links: [], formulas: 0};
+    var result = {prose: [], code: [], unrendered: [], errors: [], split: [], overflow: [], numbered: [], links: [],
+                  formulas: 0};
     // the text, block by block (a number's span does not cut "2000*(1 + x)" in pieces)
     var walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT), block = null, kind = null;
     for (var node = walker.nextNode(); node; node = walker.nextNode()) {
       if (!node.data.trim() || closest(node, "script, style, mjx-container, #%(id)s, [hidden], .headerlink")) continue;
-      var code = closest(node, "pre, code, kbd, samp, tt, .sig") ? result.code : result.prose;
+      var code = closest(node, "pre, code, kbd, samp, tt, .sig, dl.field-list > dd strong") ? result.code
+                                                                                            : result.prose;
       var here = closest(node, "p, li, td, th, dt, dd, h1, h2, h3, h4, h5, h6, pre, caption, div");
       if (here === block && code === kind && code.length) code[code.length - 1] += node.data;
       else code.push(node.data);
@@ -99,11 +108,6 @@ PROBE = r"""
     document.querySelectorAll("div.math").forEach(function (element) {
       if (element.querySelector(".eqno") && element.querySelector("mjx-labels, mjx-mlabeledtr"))
         result.numbered.push(element.innerText.replace(/\s+/g, " ").trim().slice(0, 40) + ": " + source(element));
-    });
-    document.querySelectorAll("pre").forEach(function (element) {
-      if (element.scrollWidth > element.clientWidth + 1)
-        result.scrolls.push(element.scrollWidth - element.clientWidth + " px: " +
-                            element.textContent.split("\n").sort(function (a, b) { return b.length - a.length; })[0]);
     });
     // code and output whose lines run out of their (grey) box, unless the box scrolls or wraps them; text, tables,
     // figures, formulas that reach past the edge of the page's white column (div.body, its padding included)
@@ -170,12 +174,14 @@ PROBE = r"""
 # TeX in the prose: a control word (\eta, \frac, \mathbf; not an escape \n, \xff), MathJax's delimiters, $...$, a
 # sub- or superscript group
 TEX = re.compile(r"\\(?!(?:[ntr]|x[0-9a-f]{2})\b)[A-Za-z]+|\\[()\[\]]|\$\$|\$[^$\s][^$]*\$|[_^]\{")
-# a role left as text: reStructuredText's :func:`x` (also :py:func:), MyST's {func}`x`
-ROLE = re.compile(r":(?:[a-z]+:)?[a-z]+:`|\{[a-z]+(?::[a-z]+)?\}`")
-# emphasis markers left as text: a run of * that is not the star of *args or **kwargs, the keyword-only marker of a
-# signature (*, a, b), a footnote mark (*), a product or power 2*x, x**-2, or an operator between spaces (x ** 2)
-STARS = re.compile(r"(?<![\w*])\*{1,2}(?=[A-Za-z_]\w*(?![\w*]))|(?<=[(\s])\*(?=,)|\(\*\)"
-                   r"|(?<=[\w)])\*{1,2}(?=[\w(+-])|(?<=\s)\*{1,2}(?=\s)|(\*+)")
+# a role left as text: reStructuredText's :func:`x` (also :py:func:), a role that lost a backtick (:func:x`), MyST's
+# {func}`x`
+SPHINX_ROLES = "func|class|meth|attr|mod|math|ref|doc|data|obj|exc|term|eq|numref|const|any|download|envvar|option"
+ROLE = re.compile(rf":(?:[a-z]+:)?[a-z]+:`|:(?:py:)?(?:{SPHINX_ROLES}):(?=\w)|\{{[a-z]+(?::[a-z]+)?\}}`")
+# emphasis markers left as text: a run of * that is not the keyword-only marker of a signature (*, a, b), a footnote
+# mark (*), a product or power 2*x, x**-2, or an operator between spaces (x ** 2); the names *args, **kwargs of the
+# API's Parameters are in <strong> of a field list, read as code
+STARS = re.compile(r"(?<=[(\s])\*(?=,)|\(\*\)|(?<=[\w)])\*{1,2}(?=[\w(+-])|(?<=\s)\*{1,2}(?=\s)|(\*+)")
 
 
 def pages(site):  # noqa: F811 (site: the fixture's value)
@@ -214,8 +220,6 @@ def render(copy, page, profile):
     found = re.search(rf'<pre id="{PROBE_ID}" hidden="">(.*?)</pre>', dom.stdout, flags=re.S)
     if not found:
         return {"failed": f"the probe did not report (exit {dom.returncode}): {dom.stderr[-500:]}"}
-    import html
-
     return json.loads(html.unescape(found.group(1)))
 
 
