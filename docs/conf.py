@@ -220,7 +220,42 @@ def _user_defaults(app, what, name, obj, options, signature, return_annotation):
     return signature, return_annotation
 
 
+NUMBER = re.compile(r"(?<![\w.])(?:[-+\u2212](?=\d))?(?:\d{1,3}(?:[ \u00a0\u2009\u202f]\d{3})+(?![\d.])"
+                    r"|\d+(?:[.,]\d+)*(?:[eE][-+\u2212]?\d+)?(?:\^[-+\u2212]?\d+)?%?)")
+"""A number as a reader reads it (sign, decimals, exponent, a power 2^-1, thousands in groups of three), as
+tests/test_rendering.py looks for it."""
+
+
+def _unbroken_numbers(app, doctree):
+    """Every number in the text of a table cell put in a ``span.number``, which docs/_static/ngdgfric.css keeps on
+    one line: in a narrow column a browser would break ``2.751e-02`` after its hyphen."""
+    from docutils import nodes
+
+    def in_text(node, entry):  # not in a literal, a formula, raw HTML or a span already
+        while node.parent is not entry:
+            node = node.parent
+            if node is None or isinstance(node, (nodes.FixedTextElement, nodes.literal, nodes.math, nodes.raw,
+                                                 nodes.inline)):
+                return False
+        return True
+
+    for entry in doctree.findall(nodes.entry):
+        for text in list(entry.findall(nodes.Text)):
+            if not NUMBER.search(text) or not in_text(text, entry):
+                continue
+            pieces, end = [], 0
+            for match in NUMBER.finditer(text):
+                if match.start() > end:
+                    pieces.append(nodes.Text(text[end:match.start()]))
+                pieces.append(nodes.inline(match.group(0), match.group(0), classes=["number"]))
+                end = match.end()
+            if end < len(text):
+                pieces.append(nodes.Text(text[end:]))
+            text.parent.replace(text, pieces)
+
+
 def setup(app):
+    app.connect("doctree-read", _unbroken_numbers)
     app.connect("autodoc-process-signature", _user_defaults)
     app.connect("autodoc-process-docstring", _public_data_docstring)
     app.connect("autodoc-process-docstring", _escape_pipes)

@@ -510,8 +510,10 @@ class Domain(Geometry):
 
     @property
     def region_loops(self):
+        """The regions as (name, :class:`~ngdgfric.Loop`) pairs, in the order of ``regions``."""
         return self.regions
 
     @property
     def hole_loops(self):
+        """The holes, a tuple of :class:`~ngdgfric.Loop` (``holes``)."""
         return self.holes

@@ -20,8 +20,9 @@ the variational inequality of :math:`u` at :math:`v` and Fenchel-Young give, for
 
 .. math::
 
-    |x| \le A + (A^2 + F\!Y - (a, b) + |a| L + \rho (|b| + L))^{1/2}, \qquad A = (|a + b| + L + \rho) / 2,
-    \qquad F\!Y = j(s) + j^*(t) - \langle t, s \rangle_{\Gamma_C} \ge 0,
+    |x| \le A + (A^2 + F\!Y - (a, b) + |a| L + \rho (|b| + L))^{1/2},
+
+    A = (|a + b| + L + \rho) / 2, \qquad F\!Y = j(s) + j^*(t) - \langle t, s \rangle_{\Gamma_C} \ge 0,
 
 where :math:`\rho |C^{1/2} \varepsilon(z)|` bounds what :math:`\sigma` leaves:
 :math:`(\operatorname{skw} \sigma, \operatorname{skw} \nabla z) + (f + \operatorname{div} \sigma, z)

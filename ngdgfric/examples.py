@@ -17,8 +17,9 @@ def example_6_1():
 
         \Omega = (0, 1) \times (0.05, 1.05), \quad
         \Gamma_D = \{1\} \times (0.05, 1.05), \quad
-        \Gamma_F = (\{0\} \times (0.05, 1.05)) \cup ((0, 1) \times \{1.05\}), \quad
-        \Gamma_C = (0, 1) \times \{0.05\};
+        \Gamma_C = (0, 1) \times \{0.05\},
+
+        \Gamma_F = (\{0\} \times (0.05, 1.05)) \cup ((0, 1) \times \{1.05\});
 
     :math:`E = 2000`, :math:`\nu = 0.4`, :math:`f = 0`, :math:`g = (200 (5 - y), -190)` on all of
     :math:`\Gamma_F`, :math:`c_\tau = 450`, :math:`c_n = 1`, :math:`m_n = 1`, :math:`g_a = 0.05`.
@@ -38,8 +39,9 @@ def example_6_2():
 
         \Omega = (0, 1)^2, \quad
         \Gamma_D = (0, 1) \times \{1\}, \quad
-        \Gamma_F = (\{0\} \times (0, 1)) \cup (\{1\} \times (0, 1)), \quad
-        \Gamma_C = (0, 1) \times \{0\};
+        \Gamma_C = (0, 1) \times \{0\},
+
+        \Gamma_F = (\{0\} \times (0, 1)) \cup (\{1\} \times (0, 1));
 
     :math:`E = 2500`, :math:`\nu = 0.2`, :math:`f = 0`, :math:`g = (880, 0)` on both sides of :math:`\Gamma_F`
     (taken literally), :math:`c_\tau = 250`, :math:`c_n = 1`, :math:`g_a = 0`, :math:`m_n = 1`.

@@ -13,8 +13,13 @@ so (3.3) keeps only boundary terms:
 
 :math:`b_S` the part of :math:`B_h(u_h, e_i)`, minus the part of the right-hand side that :math:`u_D` carries, on
 the edges of the Dirichlet or symmetry side :math:`S` (``dg_terms`` and ``load_terms`` of
-:mod:`ngdgfric.dg.forms`): :math:`-e_i \cdot \sigma_h(u_h) n + w \eta p^2 / h_e [u_h - u_D] : [e_i]`, integrated
-over the edges, with only normal parts :math:`(u \cdot n) n` and the weight :math:`w` = ``SYMMETRY_WEIGHT`` of
+:mod:`ngdgfric.dg.forms`), integrated over the edges:
+
+.. math::
+
+    -e_i \cdot \sigma_h(u_h) n + w \eta p^2 / h_e [u_h - u_D] : [e_i],
+
+with only normal parts :math:`(u \cdot n) n` and the weight :math:`w` = ``SYMMETRY_WEIGHT`` of
 :mod:`ngdgfric.dg.forms` on symmetry sides, plus for Bassi, Brezzi and LDG the lifting terms of its edges,
 :math:`\eta \sum_{e \in S} (C r_e([u_h - u_D]), r_e([e_i]))` and
 :math:`\sum_{e \in S} (C r_0([u_h - u_D]), r_e([e_i]))` (:mod:`ngdgfric.dg.liftings`).  The reaction of
@@ -193,8 +198,8 @@ class ForceBalance:
         for side, other, force, reaction, total in self.pair_resultants():
             size = max(float(np.linalg.norm(force)), float(np.linalg.norm(reaction)))
             relative = float(np.linalg.norm(total)) / size if size > 0 else 0.0
-            lines.append(f"pair {side} / {other}: force on {side} ({force[0]:.6e}, {force[1]:.6e}), on {other} "
-                         f"({reaction[0]:.6e}, {reaction[1]:.6e}), sum ({total[0]:.3e}, {total[1]:.3e}), "
+            lines.append(f"pair {side!r} / {other!r}: force on {side!r} ({force[0]:.6e}, {force[1]:.6e}), "
+                         f"on {other!r} ({reaction[0]:.6e}, {reaction[1]:.6e}), sum ({total[0]:.3e}, {total[1]:.3e}), "
                          f"{relative:.1e} of the force")
         residual = self.residual
         lines.append(f"equilibrium of all bodies: sum of forces ({residual[0]:.3e}, {residual[1]:.3e}), "
@@ -205,15 +210,15 @@ class ForceBalance:
         """The lines of one body: per side the forces and zones, then the equilibrium residual."""
         lines = []
         for side, r in self.reactions.items():
-            lines.append(f"{r.part} {side}: reaction ({r.force[0]:.6e}, {r.force[1]:.6e})")
+            lines.append(f"{r.part} side {side!r}: reaction ({r.force[0]:.6e}, {r.force[1]:.6e})")
         for side, c in self.sides().items():
-            kind = f"pair {side} (with {c.partner})" if c.partner else f"contact {side}"
+            kind = f"pair side {side!r} (with {c.partner!r})" if c.partner else f"contact side {side!r}"
             lines.append(f"{kind}: normal {c.normal:.6e}, tangential {c.tangential:.6e}, "
                          f"force ({c.force[0]:.6e}, {c.force[1]:.6e})")
             lines += [f"  {name + ' zone':12s} {_zone_text(getattr(c, name), c.length)}"
                       for name in ("contact", "stick", "slip")]
         for side, g in self.traction.items():
-            lines.append(f"traction {side}: load ({g[0]:.6e}, {g[1]:.6e})")
+            lines.append(f"traction side {side!r}: load ({g[0]:.6e}, {g[1]:.6e})")
         lines.append(f"body force: load ({self.body[0]:.6e}, {self.body[1]:.6e})")
         residual = self.residual
         lines.append(f"equilibrium: sum of forces ({residual[0]:.3e}, {residual[1]:.3e}), "

@@ -85,6 +85,7 @@ class Polygon(Geometry):
 
     @property
     def region_loops(self):
+        """The polygon as the one region ``"omega"`` of a geometry, ``(("omega", Loop(vertices, labels)),)``."""
         return (("omega", self._loop),)
 
     @property
@@ -259,7 +260,7 @@ _PAIR_DATA = {name: dataclasses.replace(DATA[name], kind="number") for name in (
 
 @dataclass(frozen=True)
 class ContactProblem:
-    r"""Data of problem (1.4): the reduced law (1.10) for :math:`m_t = 0` (Section 1).
+    r"""Data of problem (1.4) with the laws (1.8)-(1.9): :math:`m_t = 0` (the reduced law (1.10)) or :math:`m_t > 0`.
 
     Every datum may be a number or an NGSolve CoefficientFunction of ``x, y``; ``f``, ``g`` and ``u_D`` are
     pairs or 2-vector CoefficientFunctions.  ``E``, ``nu`` and ``f`` may also be dicts ``{region name: value}``

@@ -106,9 +106,9 @@ def test_solve_prints_the_forces(tmp_path, capsys):
     lines = out[out.index("forces on the body"):].splitlines()
     balance = ndf.force_balance(ndf.solve(ndf.example_6_2(), ndf.uniform_mesh(ndf.example_6_2(), 0.5)))
     reaction = balance.reactions["dirichlet"].force
-    assert f"  dirichlet dirichlet: reaction ({reaction[0]:.6e}, {reaction[1]:.6e})" in lines
+    assert f"  dirichlet side 'dirichlet': reaction ({reaction[0]:.6e}, {reaction[1]:.6e})" in lines
     side = balance.contact["contact"]
-    assert f"  contact contact: normal {side.normal:.6e}, tangential {side.tangential:.6e}" in out
+    assert f"  contact side 'contact': normal {side.normal:.6e}, tangential {side.tangential:.6e}" in out
     assert any(line.startswith("    slip zone") for line in lines) and lines[-2].startswith("  equilibrium: ")
     assert "_forces.csv" in lines[-1] and "_contact.png" in lines[-1]
 
