@@ -355,7 +355,8 @@ MARKDOWN_MASKS = (re.compile(r"[\d.]+ s\b"), re.compile(r"at most [\d.e+-]+ time
 MARKDOWN_ROUND_OFF = 1e-8  # numbers below: round-off (scenes.py's ROUND_OFF: relative errors of solutions in V_h)
 
 
-MARKDOWN_STEPS = ("Newton iterations",)  # table columns of Newton's iteration counts: one step more or less (ROUND_OFF_STEPS)
+# table columns of Newton's iteration counts: one step more or less (ROUND_OFF_STEPS)
+MARKDOWN_STEPS = ("Newton iterations",)
 
 
 def markdown_numbers(line, header):

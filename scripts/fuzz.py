@@ -412,11 +412,16 @@ def run_case(case, timeout=30.0, memory_gb=6.0):
 
 # -------------------------------------------------------------------------------------- reporting
 
+MARKUP = re.compile(r"([\\`*_$<|\[\]])")
+"""The characters that would start Markdown (MyST) markup in a table cell's plain text: escaped, so that a message
+such as ``if: *arguments are not allowed`` shows as written."""
+
+
 def _cell(text, limit=300):
     text = " ".join(str(text).split())
     if len(text) > limit:
         text = text[: limit - 3] + "..."
-    return text.replace("|", "\\|")
+    return MARKUP.sub(r"\\\1", text)
 
 
 def _code(text, limit=160):
