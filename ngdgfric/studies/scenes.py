@@ -73,7 +73,7 @@ def layers_pressure(c=0.5, E0=1.0, E1=100.0, p=1.0):
     problem = ContactProblem(E=_jump(ngs.y, c, E0, E1), nu=0.0, f=(0, 0), g=ngs.CF((0, -p * n[1])), c_n=1.0, m_n=1,
                              g_a=1.0, c_tau=0.0, geometry=geometry, name="layers under pressure")
     exact = ngs.CF((0, -p * _series(ngs.y, c, E0, E1)))
-    return Scene("layers-pressure", f"E = {E0:g} / {E1:g} below / above y = {c:g}, nu = 0, pressure on top",
+    return Scene("layers-pressure", f"$E = {E0:g}$ / ${E1:g}$ below / above $y = {c:g}$, $\\nu = 0$, pressure on top",
                  problem, _uniform(problem), exact)
 
 
@@ -85,12 +85,12 @@ def layers_indented(c=0.5, E0=1.0, E1=100.0, c_n=10.0, d=0.01, c_tau=1.0):
     pressure = c_n * d / (1 + c_n * (c / E0 + (1 - c) / E1))
     exact = ngs.CF((0, -pressure * _series(ngs.y, c, E0, E1)))
     if math.isclose(c * 1024, round(c * 1024)):
-        return Scene("layers-indented", f"E = {E0:g} / {E1:g} below / above y = {c:g}, loaded by a penetration "
-                     f"d = {d:g} only", problem, _uniform(problem, first=1), exact)
+        return Scene("layers-indented", f"$E = {E0:g}$ / ${E1:g}$ below / above $y = {c:g}$, loaded by a "
+                     f"penetration $d = {d:g}$ only", problem, _uniform(problem, first=1), exact)
     # h = 2^-1, 2^-3, 2^-5: y = c cuts its row of elements at the same fraction on each (c = 1/3: 2/3), so the
     # error falls steadily, like h^(1/2) (on h = 2^-k the fraction alternates and so does the error)
-    return Scene("layers-cut", f"E = {E0:g} / {E1:g} below / above y = {c:.4g}, a jump that cuts elements, "
-                 f"loaded by a penetration d = {d:g} only", problem,
+    return Scene("layers-cut", f"$E = {E0:g}$ / ${E1:g}$ below / above $y = {c:.4g}$, a jump that cuts "
+                 f"elements, loaded by a penetration $d = {d:g}$ only", problem,
                  lambda k: uniform_mesh(problem, 2.0 ** -(1 + 2 * k)), exact, levels=3)
 
 
@@ -101,8 +101,8 @@ def columns(c=0.5, E0=1.0, E1=100.0, p=1.0):
     problem = ContactProblem(E=_jump(ngs.x, c, E0, E1), nu=0.0, f=(0, 0), g=ngs.CF((-p * n[0], 0)), c_n=1.0, m_n=1,
                              g_a=1.0, c_tau=0.0, geometry=geometry, name="columns")
     exact = ngs.CF((-p * _series(ngs.x, c, E0, E1), 0))
-    return Scene("columns", f"E = {E0:g} / {E1:g} left / right of x = {c:g}, nu = 0, compressed from the right",
-                 problem, _uniform(problem), exact)
+    return Scene("columns", f"$E = {E0:g}$ / ${E1:g}$ left / right of $x = {c:g}$, $\\nu = 0$, compressed from the "
+                 "right", problem, _uniform(problem), exact)
 
 
 def l_shape(E=1000.0, nu=0.3, c_n=1e4, c_tau=5.0, weight=10.0, pressure=5.0):
@@ -125,7 +125,7 @@ def hertz(E=1.0, nu=0.3, radius=1.0, depth=0.005, c_n=1e3):
     geometry = Polygon.rectangle(-1, 0, 1, 1, bottom="contact", right="traction", top="dirichlet", left="traction")
     problem = ContactProblem(E=E, nu=nu, f=(0, 0), g=(0, 0), c_n=c_n, m_n=1, g_a=-depth + ngs.x**2 / (2 * radius),
                              c_tau=0.0, geometry=geometry, name="Hertz")
-    return Scene("hertz", f"block on a rigid cylinder, g_a = -{depth:g} + x^2 / {2 * radius:g} (Hertz)",
+    return Scene("hertz", f"block on a rigid cylinder, $g_a = -{depth:g} + x^2 / {2 * radius:g}$ (Hertz)",
                  problem, lambda k: uniform_mesh(problem, 2.0 ** -(3 + k)))
 
 
@@ -142,7 +142,7 @@ def incompressible(nu=0.4999, E=1000.0):
     """The divergence-free contact solution of
     :func:`ngdgfric.studies.manufactured.incompressible_contact_manufactured` at nu = 0.4999."""
     problem, exact = incompressible_contact_manufactured(E=E, nu=nu)
-    return Scene("incompressible", f"nearly incompressible (nu = {nu:g}), divergence-free exact solution",
+    return Scene("incompressible", f"nearly incompressible ($\\nu = {nu:g}$), divergence-free exact solution",
                  dataclasses.replace(problem, name="nearly incompressible"), _uniform(problem, first=1), exact)
 
 
@@ -153,8 +153,9 @@ def strip(E0=1e3, E1=1e5, c_n=1e6, m_n=2.0, c_tau=10.0, m_t=1.0, pressure=100.0)
     geometry = Polygon.rectangle(0, 0, 8, 1, bottom="contact", right="traction", top="traction", left="dirichlet")
     problem = ContactProblem(E=_jump(ngs.x, 4.0, E0, E1), nu=0.3, f=(0, 0), g=-pressure * n, c_n=c_n, m_n=m_n,
                              g_a=0.0, c_tau=c_tau, m_t=m_t, geometry=geometry, name="bimaterial strip")
-    return Scene("strip-mt", f"strip 8 x 1, E = {E0:g} / {E1:g}, c_n = {c_n:g}, m_n = {m_n:g}, c_tau = {c_tau:g}, "
-                 f"m_t = {m_t:g}", problem, lambda k: uniform_mesh(problem, 2.0 ** -(1 + k)), levels=3)
+    return Scene("strip-mt", f"strip $8 \\times 1$, $E = {E0:g}$ / ${E1:g}$, $c_n = {c_n:g}$, $m_n = {m_n:g}$, "
+                 f"$c_\\tau = {c_tau:g}$, $m_t = {m_t:g}$", problem, lambda k: uniform_mesh(problem, 2.0 ** -(1 + k)),
+                 levels=3)
 
 
 def wedge(angle=6.6, E=1000.0, nu=0.3, pressure=10.0):
