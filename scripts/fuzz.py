@@ -413,15 +413,18 @@ def run_case(case, timeout=30.0, memory_gb=6.0):
 # -------------------------------------------------------------------------------------- reporting
 
 MARKUP = re.compile(r"([\\`*_$<|\[\]])")
-"""The characters that would start Markdown (MyST) markup in a table cell's plain text: escaped, so that a message
-such as ``if: *arguments are not allowed`` shows as written."""
+"""The characters that would start Markdown (MyST) markup in a table cell's plain text: escaped."""
+QUOTED = re.compile(r"('[^']*')")
+"""A quoted value in a case's description (``g_a = 'if(*x)'``): shown as code, as it is typed."""
 
 
 def _cell(text, limit=300):
+    """A case's description as a table cell: its quoted values as code, the rest plain text with markup escaped."""
     text = " ".join(str(text).split())
     if len(text) > limit:
         text = text[: limit - 3] + "..."
-    return MARKUP.sub(r"\\\1", text)
+    return "".join(_code(piece) if QUOTED.fullmatch(piece) else MARKUP.sub(r"\\\1", piece)
+                   for piece in QUOTED.split(text) if piece)
 
 
 def _code(text, limit=160):
@@ -497,7 +500,7 @@ def report(results, args, seconds):
     for r in results:
         verdict = r.verdict if r.verdict == NAMED else f"**{r.verdict}**"
         lines.append(f"| `{r.case.id}` | {r.case.interface} | {'yes' if r.case.issue else ''} | {shown_input(r.case)} "
-                     f"| {_cell(r.happened)} | {verdict} |")
+                     f"| {_code(r.happened, 300)} | {verdict} |")  # what the program printed, as printed
     lines += ["", "Regenerate: `python scripts/fuzz.py` (its docstring says what is checked; the cases: "
               "`tests/data/fuzz/`, one file per family)."]
     return "\n".join(lines) + "\n"
