@@ -309,7 +309,8 @@ def adapt(problem, mesh=None, method=None, order=4, settings=None, *, tol=None, 
         The penalty parameter of the DG methods.  Default ``None``: the method's own default
         (:data:`ngdgfric.METHODS`): ``sipg`` :math:`30\mu`, ``nipg`` :math:`30\mu`, ``bassi`` :math:`6`,
         ``brezzi`` :math:`1`, ``ldg`` :math:`30\mu`, ``cg`` :math:`30\mu` (:math:`\mu` times a number for the
-        edge penalties, a pure number for the lifting penalties of Bassi et al. and Brezzi et al.).
+        edge penalties, a pure number for the lifting penalties of Bassi et al. and Brezzi et al.); sipg and cg raise
+        theirs to 1.5 times the coercivity threshold where :math:`30\mu` is not above it (:func:`ngdgfric.solve`).
     solver_tol : float or None, optional
         The solver's tolerance (:func:`ngdgfric.solve`).  Default ``None``: the solver's default.
     gamma_lin : float or None, optional

@@ -258,8 +258,9 @@ def _adaptive_parser(commands):
                           f"stops before exits with code {NOT_REACHED}")
     sub.add_argument("--rtol", type=_number(float, what=">= 0", closed=True), default=default("adapt", "rtol"),
                      help="stop when eta_h <= RTOL |||u_h|||_h (a relative tolerance: 1e-3 for 0.1 %% of the energy "
-                          "norm; with --tol, whichever is reached first); exit code as for --tol (default: "
-                          f"{DEFAULT_RTOL:g} when --tol is not given either; 0: no target, the budgets end the run)")
+                          "norm; with --tol, whichever is reached first); exit code as for --tol when given (default: "
+                          f"{DEFAULT_RTOL:g} when --tol is not given either, and a stop before it is said, not an "
+                          "error; 0: no target, the budgets end the run)")
     sub.add_argument("--variant", choices=list(VARIANTS), default=default("adapt", "variant"),
                      help=f"variant of the residual estimator (default: {VARIANTS[0]}): 'energy' (in the units of "
                           "the energy norm) or 'paper' (Section 4 as printed); not with --estimator equilibrated")

@@ -12,7 +12,7 @@ import math
 import time
 from pathlib import Path
 
-from .adaptivity import adapt
+from .adaptivity import DEFAULT_RTOL, adapt
 from .checks import check_size
 from .estimator import estimate
 from .examples import EXAMPLES, SCENES, example
@@ -194,12 +194,16 @@ def cmd_adaptive(args, problem, tag):
     balance = report_forces(adaptation.solution, f"final solution ({records[-1]['ndof']} DOFs): forces on the body")
     write_forces(forces_path, contact_path, adaptation.solution, balance)
     say(f"wrote {csv_path}, {png_path}, {forces_path}, {contact_path}")
-    if (args.tol is not None or args.rtol is not None) and adaptation.stopped != "tol":
-        asked = " or ".join(f"--{name} {value:g}" for name, value in (("tol", args.tol), ("rtol", args.rtol))
-                            if value is not None)
-        raise NotReached(f"stopped before {asked} ({STOPS[adaptation.stopped]}): eta_h = "
-                         f"{records[-1]['eta_h']:.4e} (target {records[-1]['target']:.4e}) after {len(records)} "
-                         f"levels, {records[-1]['ndof']} DOFs")
+    if adaptation.stopped != "tol":
+        reached = (f"({STOPS[adaptation.stopped]}): eta_h = {records[-1]['eta_h']:.4e} (target "
+                   f"{records[-1]['target']:.4e}) after {len(records)} levels, {records[-1]['ndof']} DOFs")
+        if args.tol is None and args.rtol is None:  # the default accuracy: said, not an error
+            say(f"stopped before the default accuracy rtol = {DEFAULT_RTOL:g} {reached}; give --tol or --rtol to make "
+                f"this an error (exit code {NOT_REACHED})")
+        else:
+            asked = " or ".join(f"--{name} {value:g}" for name, value in (("tol", args.tol), ("rtol", args.rtol))
+                                if value is not None)
+            raise NotReached(f"stopped before {asked} {reached}")
     return records
 
 

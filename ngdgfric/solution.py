@@ -153,7 +153,9 @@ def solve(problem, mesh, method="sipg", order=1, eta=None, solver="newton", solv
         The penalty parameter.  Default ``None``: the method's own default (:data:`ngdgfric.METHODS`): ``sipg``
         :math:`30\mu`, ``nipg`` :math:`30\mu`, ``bassi`` :math:`6`, ``brezzi`` :math:`1`, ``ldg`` :math:`30\mu`,
         ``cg`` :math:`30\mu` (:math:`\mu` times a number for the edge penalties, the paper's :math:`30\mu` of
-        Section 6; a pure number for the lifting penalties of Bassi et al. and Brezzi et al.).
+        Section 6; a pure number for the lifting penalties of Bassi et al. and Brezzi et al.).  sipg and cg raise
+        theirs to 1.5 times the coercivity threshold where :math:`30\mu` is not above it (nearly incompressible
+        material: ``SIPG_THRESHOLD`` of :mod:`ngdgfric.dg.methods`).
     solver : str, optional
         ``"newton"`` (default): the problem condensed onto the contact points and solved there by a
         globalised semismooth Newton method (:mod:`ngdgfric.solvers.newton`), fully coupled for :math:`m_t > 0`;

@@ -141,6 +141,11 @@ def test_an_adaptive_run_that_stops_before_its_tolerance_exits_with_4(tmp_path, 
     assert main(["adaptive", "6.2", "--no-hp", "--order", "1", "--max-seconds", "1e-9", "--tol", "1e-9",
                  "--out", str(tmp_path)]) == 4
     assert "(--max-seconds reached)" in capsys.readouterr().err
+    # without --tol or --rtol the run has the default accuracy: a budget stop before it is said, not an error
+    assert main(["adaptive", "6.2", "--levels", "2", "--out", str(tmp_path), "--overwrite"]) == 0
+    out = capsys.readouterr().out
+    assert "target: eta_h <= rtol |||u_h|||_h with rtol = 0.001, the default" in out
+    assert "stopped before the default accuracy rtol = 0.001 (--levels reached): eta_h = " in out
 
 
 @pytest.mark.slow

@@ -45,7 +45,7 @@ def test_uniform_convergence(tmp_path):
     assert [r["k"] for r in rows] == [1, 2]
     assert rows[0]["paper_error"] == pytest.approx(4.7518e-1)
     # ours/paper compares the true relative error (against the hp reference) with the paper's number
-    for row in rows:  # ours is 0.71-0.77 of the paper's number on every row (README, "How our tables compare")
+    for row in rows:  # ours is 0.73-0.76 of the paper's number on every row (README; the docs' page on the paper)
         assert row["ratio"] == pytest.approx(row["true_relative"] / row["paper_error"], rel=1e-6)
         assert 0.65 < row["ratio"] < 0.85
         assert row["consecutive_ratio"] == pytest.approx(row["energy"] / row["paper_error"], rel=1e-6)
