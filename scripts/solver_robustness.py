@@ -188,7 +188,7 @@ def report(rows, total, seconds, interrupted, budget):
               "that regime.", ""]
     lines += [f"- **{r['id']}** ({r['family']}, {r['method']}, p = {order_text(r)}, {r['mesh']} {size_text(r)}, "
               f"c_n = {data_text(r, 'c_n')}, m_n = {r['m_n']:g}, c_tau = {data_text(r, 'c_tau')}, m_t = {r['m_t']:g}): "
-              f"{r['message'][:300]}" for r in unsolvable] or ["None."]
+              f"`{r['message']}`" for r in unsolvable] or ["None."]  # the solver's whole message, as it printed it
     lines += ["", "## Uzawa failures (not failures of the cases)", ""]
     lines += [f"- {r['id']}: {r['uzawa_message'][:240]}" for r in uzawa_failed] or ["None."]
     lines += ["", "## All cases", "",
