@@ -41,8 +41,8 @@ from .problem import von_mises
 
 __all__ = ["figure", "write_png", "write_vtk", "markdown_table", "uniform_markdown", "rate_text", "colour_cap",
            "vertex_values", "plot_deformed", "write_deformed_png", "estimator_curve", "plot_estimator", "log_ticks",
-           "plot_mesh", "write_adaptive_png", "plot_contact", "ZONE_STYLE", "plot_zone_marks", "plot_zones",
-           "write_contact_png"]
+           "tex_number", "plot_mesh", "write_adaptive_png", "plot_contact", "ZONE_STYLE", "plot_zone_marks",
+           "plot_zones", "write_contact_png"]
 
 ZONE_STYLE = {"contact": dict(color="0.55", lw=7, alpha=0.5), "stick": dict(color="tab:blue", lw=2.5),
               "slip": dict(color="tab:red", lw=2.5)}
@@ -313,13 +313,19 @@ def log_ticks(axis, ratio):
 
 
 def _plain_number(value, _position=None):
-    """A tick label: ``value`` as ``%g`` writes it, its exponent (if any) as a power of ten."""
-    text = f"{value:g}"
-    if "e" not in text:
-        return text
-    mantissa, exponent = text.split("e")
-    power = rf"10^{{{int(exponent)}}}"
-    return rf"${power}$" if mantissa == "1" else rf"${mantissa} \times {power}$"
+    """A tick label: ``value`` as ``%g`` writes it, its exponent (if any) as a power of ten (``tex_number``)."""
+    text = tex_number(value)
+    return f"${text}$" if "10^" in text else text
+
+
+def tex_number(value):
+    """``value`` as TeX (without the dollars): as ``%g`` writes it, an exponent as a power of ten (1e+06 as
+    ``10^{6}``, 2.5e-07 as ``2.5 \\times 10^{-7}``)."""
+    mantissa, _, exponent = f"{value:g}".partition("e")
+    if not exponent:
+        return mantissa
+    power = f"10^{{{int(exponent)}}}"
+    return power if mantissa == "1" else f"{mantissa} \\times {power}"
 
 
 def plot_mesh(ax, mesh, title):

@@ -19,8 +19,6 @@ The DG energy norm :math:`\|\cdot\|_h` of Section 3 itself (:func:`ngdgfric.ener
 measures errors against exact solutions given as CoefficientFunctions (manufactured solutions).
 """
 
-import zipfile
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -35,7 +33,7 @@ from .energy import EXACT_ORDER, difference, energy_matrix, energy_norm, energy_
 from .files import atomic_path
 from .meshes import mesh_arrays, mesh_from_arrays
 from .problem import Polygon, coefficient, is_number, pattern, strain
-from .storage import is_solution_archive, reference_meta, save_solution, solution_from_arrays
+from .storage import is_solution_archive, read_archive, reference_meta, save_solution, solution_from_arrays
 from .transfer import discontinuous
 
 __all__ = ["Reference", "save_reference", "load_reference", "energy_error", "reference_errors", "fingerprint",
@@ -111,7 +109,7 @@ def save_reference(sol, path, eta_h, description=""):
     symmetry sides, contact pairs, curved elements) is stored as a solution file (:func:`ngdgfric.save_solution`,
     :mod:`ngdgfric.storage`) with ``eta_h`` and ``description``: the problem itself is its fingerprint.
     """
-    if not storable(sol.problem):
+    if array_reasons(sol.problem):
         save_solution(sol, path, reference=dict(eta_h=float(eta_h), description=str(description)))
         return
     u, orders = discontinuous(sol)
@@ -151,26 +149,22 @@ def sample_points(points, triangles, segments=None):
     return centres if segments is None else np.concatenate([centres, sample(segments)])
 
 
-def storable(problem):
-    """Whether a reference of ``problem`` can be stored as arrays (``check_storable``)."""
-    try:
-        check_storable(problem)
-    except ValueError:
-        return False
-    return True
-
-
-def check_storable(problem):
-    """ValueError unless a reference of ``problem`` can be stored as arrays and identified by ``fingerprint``: the
-    mesh is stored as arrays (straight triangles, one region) and the fingerprint holds a polygon, one value per
-    datum and u_D = 0 (other scenes: solution files, :mod:`ngdgfric.storage`)."""
-    reasons = [reason for reason, found in (
+def array_reasons(problem):
+    """Why a reference of ``problem`` cannot be stored as arrays and identified by ``fingerprint`` (an empty list if it
+    can): the mesh is stored as arrays (straight triangles, one region) and the fingerprint holds a polygon, one value
+    per datum and u_D = 0; other scenes are stored as solution files (:mod:`ngdgfric.storage`)."""
+    return [reason for reason, found in (
         ("its domain is not a polygon (curved sides, holes or regions need the geometry to rebuild the mesh)",
          not isinstance(problem.geometry, Polygon)),
         ("it has data per region or per side", problem.per_part),
         ("it prescribes a displacement u_D != 0", has_dirichlet_data(problem)),
         ("it has symmetry sides", bool(problem.sides("symmetry"))),
         ("it has contact pairs", bool(problem.pairs))) if found]
+
+
+def check_storable(problem):
+    """ValueError naming the reasons of ``array_reasons``, if there are any."""
+    reasons = array_reasons(problem)
     if reasons:
         raise ValueError(f"references are stored for problems on one polygon with the paper's boundary conditions; "
                          f"{problem.name!r} cannot be: {'; '.join(reasons)}")
@@ -255,14 +249,9 @@ KEYS = ("points", "triangles", "segments", "labels", "orders", "u", "eta_h", "de
 
 
 def _read(path):
-    """The arrays of an .npz file, ValueError naming the file if it cannot be read."""
-    if not zipfile.is_zipfile(path):
-        raise ValueError(f"{path}: not a reference file: not an .npz (zip) archive, or a truncated one")
-    try:
-        with np.load(path, allow_pickle=False) as archive:
-            data = {key: archive[key] for key in archive.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, KeyError) as exc:
-        raise ValueError(f"{path}: not a readable reference file (.npz): {type(exc).__name__}: {exc}") from exc
+    """The arrays of an .npz file (``read_archive``), ValueError naming the file if it cannot be read or is no
+    reference."""
+    data = read_archive(path, "reference file")
     if is_solution_archive(data):
         return data
     missing = [key for key in KEYS if key not in data]

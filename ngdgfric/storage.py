@@ -161,17 +161,16 @@ def is_solution_archive(data):
         str(data["format"]) == FORMAT
 
 
-def read_archive(path):
-    """The arrays of an ``.npz`` file as a dict; ValueError naming the file if it is no zip archive, a truncated or
-    damaged one (CRC-32), or not an ``.npz``."""
+def read_archive(path, kind="solution or reference file"):
+    """The arrays of an ``.npz`` file as a dict; ValueError naming the file (and the ``kind`` of file expected) if it
+    is no zip archive, a truncated or damaged one (CRC-32), or not an ``.npz``."""
     if not zipfile.is_zipfile(path):
-        raise ValueError(f"{path}: not a solution or reference file: not an .npz (zip) archive, or a truncated one")
+        raise ValueError(f"{path}: not a {kind}: not an .npz (zip) archive, or a truncated one")
     try:
         with np.load(path, allow_pickle=False) as archive:
             return {key: archive[key] for key in archive.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, KeyError) as exc:
-        raise ValueError(f"{path}: not a readable solution or reference file (.npz): {type(exc).__name__}: "
-                         f"{exc}") from exc
+        raise ValueError(f"{path}: not a readable {kind} (.npz): {type(exc).__name__}: {exc}") from exc
 
 
 def load_solution(path):

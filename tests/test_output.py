@@ -264,3 +264,11 @@ def test_uniform_markdown_table():
         assert float(c[3]) == pytest.approx(row["energy"], rel=1e-4)
         assert float(c[5]) == pytest.approx(row["eta_h"], rel=1e-4)
         assert (int(c[6]), float(c[7])) == (row["iterations"], pytest.approx(row["seconds"], abs=0.005))
+
+
+def test_tex_number_writes_exponents_as_powers_of_ten():
+    """The one number-to-TeX writer of the tick labels and the scenes' descriptions."""
+    from ngdgfric.output import tex_number
+
+    assert [tex_number(v) for v in (1e6, 2.5e-7, 0.5, 100000.0, -3e12)] == \
+        ["10^{6}", r"2.5 \times 10^{-7}", "0.5", "100000", r"-3 \times 10^{12}"]

@@ -31,6 +31,7 @@ from collections.abc import Callable
 import ngsolve as ngs
 
 from ..meshes import netgen_mesh, uniform_mesh
+from ..output import tex_number
 from ..problem import ContactProblem, Polygon
 from .manufactured import incompressible_contact_manufactured
 
@@ -60,15 +61,6 @@ def _jump(coordinate, c, low, high):
 def _series(coordinate, c, low, high):
     """int_0^coordinate ds / E(s) for the E of :func:`_jump`."""
     return ngs.IfPos(coordinate - c, c / low + (coordinate - c) / high, coordinate / low)
-
-
-def _tex(number):
-    """``number`` as TeX: 1e+06 as 10^{6}, others as :g writes them."""
-    mantissa, _, exponent = f"{number:g}".partition("e")
-    if not exponent:
-        return mantissa
-    power = f"10^{{{int(exponent)}}}"
-    return power if mantissa == "1" else f"{mantissa} \\cdot {power}"
 
 
 def _uniform(problem, first=2):
@@ -162,9 +154,9 @@ def strip(E0=1e3, E1=1e5, c_n=1e6, m_n=2.0, c_tau=10.0, m_t=1.0, pressure=100.0)
     geometry = Polygon.rectangle(0, 0, 8, 1, bottom="contact", right="traction", top="traction", left="dirichlet")
     problem = ContactProblem(E=_jump(ngs.x, 4.0, E0, E1), nu=0.3, f=(0, 0), g=-pressure * n, c_n=c_n, m_n=m_n,
                              g_a=0.0, c_tau=c_tau, m_t=m_t, geometry=geometry, name="bimaterial strip")
-    return Scene("strip-mt", f"strip $8 \\times 1$, $E = {E0:g}$ / ${E1:g}$, $c_n = {_tex(c_n)}$, $m_n = {m_n:g}$, "
-                 f"$c_\\tau = {c_tau:g}$, $m_t = {m_t:g}$", problem, lambda k: uniform_mesh(problem, 2.0 ** -(1 + k)),
-                 levels=3)
+    return Scene("strip-mt", f"strip $8 \\times 1$, $E = {E0:g}$ / ${E1:g}$, $c_n = {tex_number(c_n)}$, "
+                 f"$m_n = {m_n:g}$, $c_\\tau = {c_tau:g}$, $m_t = {m_t:g}$", problem,
+                 lambda k: uniform_mesh(problem, 2.0 ** -(1 + k)), levels=3)
 
 
 def wedge(angle=6.6, E=1000.0, nu=0.3, pressure=10.0):
